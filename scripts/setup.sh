@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# Installs what ahdpack needs to build and test, from Debian's packages only.
+# Safe to run again: it does nothing when every package is already installed.
+set -euo pipefail
+
+PKGS=(
+  build-essential cmake ninja-build pkg-config
+  libopenimageio-dev openimageio-tools libopenexr-dev libimath-dev libopencolorio-dev
+  libglm-dev libcli11-dev nlohmann-json3-dev libzstd-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+  libosmesa6-dev libgl1-mesa-dri libgl-dev
+)
+# Node.js is only needed for the independent KTX2 reader (ktx-parse); a machine that
+# already has node+npm (from any source) keeps it, otherwise Debian's are installed.
+command -v npm >/dev/null 2>&1 || PKGS+=(nodejs npm)
+
+missing=()
+for p in "${PKGS[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+
+if [ ${#missing[@]} -gt 0 ]; then
+  SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+  echo "setup: installing ${missing[*]}"
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi

@@ -1,0 +1,14 @@
+// The ahdpack subcommands. Each file cmd_*.cpp adds one (or a pair of) subcommand(s) to the app;
+// callbacks throw ahd::Error on bad input, which main() turns into one line on stderr and exit 1.
+#pragma once
+#include <CLI/CLI.hpp>
+
+namespace ahd::cli {
+
+void add_convert_command(CLI::App& app);     // cmd_convert.cpp
+void add_decode_command(CLI::App& app);      // cmd_decode.cpp
+void add_inspect_command(CLI::App& app);     // cmd_inspect.cpp
+void add_compress_commands(CLI::App& app);   // cmd_compress.cpp: compress + decompress
+void add_bench_command(CLI::App& app);       // cmd_bench.cpp
+
+}  // namespace ahd::cli

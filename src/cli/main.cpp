@@ -1,0 +1,28 @@
+// ahdpack: SH lightmaps in, AHD directional lightmaps out. A thin shell over the library.
+#include <cstdio>
+#include <exception>
+
+#include "cli/commands.h"
+#include "core/error.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"ahdpack: turn spherical-harmonics lightmaps into filter-safe AHD directional lightmaps"};
+  app.require_subcommand(1);
+  ahd::cli::add_convert_command(app);
+  ahd::cli::add_decode_command(app);
+  ahd::cli::add_inspect_command(app);
+  ahd::cli::add_compress_commands(app);
+  ahd::cli::add_bench_command(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const ahd::Error& e) {
+    std::fprintf(stderr, "ahdpack: error: %s\n", e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "ahdpack: internal error: %s\n", e.what());
+    return 2;
+  }
+  return 0;
+}

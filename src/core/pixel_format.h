@@ -1,0 +1,45 @@
+// The texel formats ahdpack writes, with the facts containers and codecs need about each.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+namespace ahd {
+
+enum class PixelFormat : uint8_t {
+  R8_UNORM,
+  RG8_UNORM,
+  RGBA8_UNORM,
+  RGBA16_SFLOAT,
+  RGBA32_SFLOAT,
+  B10G11R11_UFLOAT,  // Vulkan B10G11R11_UFLOAT_PACK32 == DXGI R11G11B10_FLOAT (R in the low bits)
+  E5B9G9R9_UFLOAT,   // Vulkan E5B9G9R9_UFLOAT_PACK32 == DXGI R9G9B9E5_SHAREDEXP
+  BC4_UNORM,
+  BC5_UNORM,
+  BC6H_UFLOAT,
+  BC6H_SFLOAT,
+};
+
+struct FormatInfo {
+  PixelFormat format;
+  const char* name;        // our name, as used in profiles and manifests ("bc6h-ufloat", ...)
+  uint32_t vk_format;      // VkFormat enum value (KTX2 vkFormat field)
+  uint32_t dxgi_format;    // DXGI_FORMAT enum value (DDS DX10 header)
+  uint32_t gl_internal;    // OpenGL internal format (for the GL tests)
+  int block_width;         // 1 for uncompressed formats, 4 for BCn
+  int block_height;
+  int bytes_per_block;     // bytes per texel for uncompressed formats
+  int channels;            // meaningful channels (R=1, RG=2, RGB=3, RGBA=4)
+  bool is_float;
+  bool is_compressed;
+};
+
+const FormatInfo& format_info(PixelFormat f);
+
+// Looks a format up by its name; returns false when no format has that name.
+bool format_from_name(const std::string& name, PixelFormat* out);
+
+// Bytes of one mip level of w×h texels (whole blocks for compressed formats).
+size_t level_size_bytes(PixelFormat f, uint32_t width, uint32_t height);
+
+}  // namespace ahd

@@ -1,0 +1,123 @@
+#include "fit/ahd_fit.h"
+
+#include "fit/ahd_decode.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ahd {
+
+bool optimal_direction(const IrradiancePoly p[3], const FitOptions& opt, double d[3]) {
+  double v[3] = {0, 0, 0};
+  double l0 = 0;
+  for (int c = 0; c < 3; ++c) {
+    for (int i = 0; i < 3; ++i) v[i] += opt.luma[c] * p[c].e[i];
+    l0 += opt.luma[c] * p[c].e0;
+  }
+  const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  // Relative test against L0 so that the rule is scale-invariant; the absolute floor catches
+  // L0 = 0 with denormal-level L1, where a direction would be noise.
+  if (!(len > opt.no_direction_threshold * std::fabs(l0)) || len < 1e-30) {
+    d[0] = 0, d[1] = 0, d[2] = 1;
+    return false;
+  }
+  for (int i = 0; i < 3; ++i) d[i] = v[i] / len;
+  return true;
+}
+
+void fit_channel(const HemisphereMoments& m, double iz, double dz, double* ca, double* cd, double* t_out) {
+  // General solution of [1 d_z][C_a C_d]ᵀ = I_z (eq. 11): C_a = a0 − d_z t, C_d = b0 + t.
+  const double k = 1.0 / (dz * dz + 1.0);
+  const double a0 = iz * k, b0 = iz * dz * k;
+  // E(t) = ∫ (R0 + t h)² with R0 = a0 + b0 g − E and h = g − d_z: quadratic in t.
+  const double hh = m.g2 - 2.0 * dz * m.g1 + dz * dz * m.g0;
+  const double rh = a0 * m.g1 + b0 * m.g2 - m.f1 - dz * (a0 * m.g0 + b0 * m.g1 - m.f0);
+  double t = hh > 0 ? -rh / hh : 0.0;
+  // Feasible interval: C_d ≥ 0 ⇔ t ≥ −b0;  C_a ≥ 0 ⇔ t ≤ a0/d_z.
+  const double t_min = -b0, t_max = a0 / dz;
+  if (!(t >= t_min)) t = t_min;  // also catches NaN
+  if (t > t_max) t = t_max;
+  if (t == t_min) {
+    *ca = iz, *cd = 0.0;
+  } else if (t == t_max) {
+    *ca = 0.0, *cd = iz / dz;
+  } else {
+    *ca = std::max(0.0, a0 - dz * t);
+    *cd = std::max(0.0, b0 + t);
+  }
+  if (t_out) *t_out = t;
+}
+
+double hemisphere_mse(const HemisphereMoments& m, double ca, double cd) {
+  const double e = ca * ca * m.g0 + cd * cd * m.g2 + m.f2 + 2.0 * ca * cd * m.g1 - 2.0 * ca * m.f0 -
+                   2.0 * cd * m.f1;
+  return std::max(0.0, e) / m.g0;
+}
+
+void fit_channel_unconstrained(const HemisphereMoments& m, double* ca, double* cd) {
+  const double det = m.g0 * m.g2 - m.g1 * m.g1;
+  *ca = (m.f0 * m.g2 - m.g1 * m.f1) / det;
+  *cd = (m.g0 * m.f1 - m.g1 * m.f0) / det;
+}
+
+AhdFit fit_texel(const IrradiancePoly p[3], const FitOptions& opt) {
+  AhdFit out{};
+  out.d[2] = 1.0f;
+  for (int c = 0; c < 3; ++c) out.ratio[c] = 1.0f;
+
+  double d[3];
+  if (!optimal_direction(p, opt, d)) out.flags |= kFitNoDirection;
+  // Decoding divides by d_z: grazing / below-horizon directions are tilted up (ahd_decode.h).
+  if (tilt_above_horizon(d, opt.dz_min)) out.flags |= kFitDirClamped;
+  double iz[3];
+  bool negative = false;
+  for (int c = 0; c < 3; ++c) {
+    iz[c] = p[c].e0 + p[c].e[2] + p[c].q[2][2];  // E(z)
+    if (!std::isfinite(iz[c])) {
+      iz[c] = 0.0;  // readers sanitise; this keeps the fit total even when called directly
+      out.flags |= kFitNonFinite;
+    } else if (iz[c] < 0.0) {
+      iz[c] = 0.0;  // SH ringing: no non-negative lobe reaches a negative I_z
+      negative = true;
+    }
+  }
+  AhdFit colours = fit_colours(p, d, iz, opt);
+  colours.flags |= out.flags | (negative ? kFitNegativeIz : 0);
+  return colours;
+}
+
+AhdFit fit_colours(const IrradiancePoly p[3], const double d[3], const double iz[3], const FitOptions& opt) {
+  AhdFit out{};
+  const double dz = d[2];
+  double ca[3], cd[3];
+  for (int c = 0; c < 3; ++c) {
+    if (!(iz[c] > 0.0)) {
+      ca[c] = cd[c] = 0.0;
+      continue;
+    }
+    const HemisphereMoments m = hemisphere_moments(p[c], d);
+    fit_channel(m, iz[c], dz, &ca[c], &cd[c]);
+  }
+  for (int i = 0; i < 3; ++i) out.d[i] = float(d[i]);
+  const double lum_iz = opt.luma[0] * iz[0] + opt.luma[1] * iz[1] + opt.luma[2] * iz[2];
+  const double lum_ca = opt.luma[0] * ca[0] + opt.luma[1] * ca[1] + opt.luma[2] * ca[2];
+  double r_lum = 1.0;
+  if (lum_iz > 0.0) {
+    r_lum = std::clamp(lum_ca / lum_iz, 0.0, 1.0);
+  } else {
+    out.flags |= kFitBlack;
+  }
+  for (int c = 0; c < 3; ++c) {
+    double r = r_lum;
+    if (opt.ratio_form == RatioForm::Rgb) r = iz[c] > 0.0 ? std::clamp(ca[c] / iz[c], 0.0, 1.0) : 1.0;
+    out.iz[c] = float(iz[c]);
+    out.ratio[c] = float(r);
+    // What the stored parameters decode to at the texel centre (ahd_decode.h).
+    const double a = r * iz[c];
+    out.ca[c] = float(a);
+    out.cd[c] = float((iz[c] - a) / dz);
+  }
+  return out;
+}
+
+}  // namespace ahd

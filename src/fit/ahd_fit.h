@@ -1,0 +1,81 @@
+// The constrained AHD fit of Sloan & Silvennoinen 2018 (§3), one texel at a time.
+//
+// Model: I(n) = C_a + max(0, n·d) C_d, per colour channel, n in the texel's local frame (z = normal).
+// Stored: I_z = C_a + d_z C_d (exact, linear under filtering), d, and ratio = C_a / I_z (RGB form) or
+// L(C_a)/L(I_z) (luminance form). Decode: fit/ahd_decode.h.
+#pragma once
+#include <cstdint>
+
+#include "sh/sh.h"
+
+namespace ahd {
+
+enum class RatioForm : uint8_t { Luminance, Rgb };
+
+struct FitOptions {
+  // Luminance weights for the direction and the luminance ratio (Rec.709 by default).
+  double luma[3] = {0.2126, 0.7152, 0.0722};
+  // Smallest d_z the encoder stores. Decoding divides by d_z; keeping d_z ≥ eps bounds
+  // C_d ≤ I_z / eps. Chosen by measurement (README, "Choosing eps"; `ahdpack bench eps`).
+  double dz_min = 0.1;
+  // |L1 luminance| below this fraction of the L0 luminance means "no preferred direction": d = z.
+  double no_direction_threshold = 1e-6;
+  RatioForm ratio_form = RatioForm::Luminance;
+};
+
+// Why a texel needed a rule (bits of AhdFit::flags; counted in FitStats).
+enum FitFlag : uint8_t {
+  kFitNoDirection = 1,     // L1 ≈ 0: d = z
+  kFitDirClamped = 2,      // d_z < dz_min (grazing or below the horizon): d tilted up to d_z = dz_min
+  kFitNegativeIz = 4,      // I_z < 0 in some channel (SH ringing): that channel stored as 0
+  kFitBlack = 8,           // L(I_z) == 0: ratio set to 1 (pure ambient) by convention
+  kFitNonFinite = 16,      // NaN/Inf reached the fit: that channel stored as 0
+};
+
+// One fitted texel. ca/cd are what the stored (ratio, d, I_z) decode to at the texel centre.
+struct AhdFit {
+  float iz[3];     // irradiance along the local z (the normal), RGB
+  float d[3];      // unit highlight direction, local frame, d[2] ≥ dz_min
+  float ratio[3];  // C_a / I_z per channel (all three equal in the luminance form), in [0,1]
+  float ca[3];     // ambient colour, ≥ 0
+  float cd[3];     // highlight colour, ≥ 0
+  uint8_t flags;   // FitFlag bits
+};
+
+// The hemisphere moments one texel's fit needs, exposed for tests and the unconstrained baseline.
+// Integrals over the upper hemisphere Ω+ (z ≥ 0) with g(ω) = max(0, ω·d):
+struct HemisphereMoments {
+  double g0;  // ∫ 1      = 2π
+  double g1;  // ∫ g
+  double g2;  // ∫ g²
+  double f0;  // ∫ E
+  double f1;  // ∫ E g
+  double f2;  // ∫ E²
+};
+HemisphereMoments hemisphere_moments(const IrradiancePoly& p, const double d[3]);
+
+// Optimal linear direction of the luminance L1 band of the three channel polynomials.
+// Returns false (and d = z) when the L1 luminance is below the threshold.
+bool optimal_direction(const IrradiancePoly p[3], const FitOptions& opt, double d[3]);
+
+// The closed-form minimiser of E(t) (eq. 12) for one channel, clamped to [t_min, t_max]
+// (C_a ≥ 0, C_d ≥ 0); writes C_a, C_d. Requires iz ≥ 0 and d[2] > 0.
+void fit_channel(const HemisphereMoments& m, double iz, double dz, double* ca, double* cd, double* t = nullptr);
+
+// E(t)/(2π) for one channel: the mean squared hemisphere error of the AHD lobe (C_a, C_d) with the
+// direction the moments were computed for.
+double hemisphere_mse(const HemisphereMoments& m, double ca, double cd);
+
+// The colour part of the fit for a GIVEN direction d (unit, d[2] ≥ dz_min) and GIVEN irradiance
+// along the normal iz[c] ≥ 0 (the closed-loop quantiser passes the decoded d and I_z here).
+AhdFit fit_colours(const IrradiancePoly p[3], const double d[3], const double iz[3], const FitOptions& opt);
+
+// Fits one texel from its three channel polynomials (local frame). Always finite output for
+// finite input; constraints always hold (C_a, C_d ≥ 0, ratio in [0,1], d_z ≥ dz_min).
+AhdFit fit_texel(const IrradiancePoly p[3], const FitOptions& opt);
+
+// The unconstrained least-squares fit over the hemisphere (Sloan 2008 style) with the same d:
+// free C_a, C_d minimising E; may be negative and does not preserve I_z. For comparison only.
+void fit_channel_unconstrained(const HemisphereMoments& m, double* ca, double* cd);
+
+}  // namespace ahd

@@ -1,0 +1,32 @@
+// The fit over a whole image: pure function, parallel over texels, deterministic.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "fit/ahd_fit.h"
+#include "sh/sh_image.h"
+
+namespace ahd {
+
+struct AhdImage {
+  int width = 0;
+  int height = 0;
+  std::vector<AhdFit> texels;      // width*height
+  std::vector<uint8_t> coverage;   // copied from the SH image
+};
+
+// How often each rule of the fit fired, over covered texels.
+struct FitStats {
+  size_t texels = 0;
+  size_t covered = 0;
+  size_t no_direction = 0;
+  size_t dir_clamped = 0;
+  size_t negative_iz = 0;
+  size_t black = 0;
+};
+
+// Fits every texel (uncovered ones too; their values are replaced by dilation later).
+AhdImage fit_image(const ShImage& sh, const FitOptions& opt, int threads, FitStats* stats = nullptr);
+
+}  // namespace ahd

@@ -1,0 +1,125 @@
+// Closed-form hemisphere integrals for the AHD fit.
+//
+// With d rotated into the xz-plane, d = (s, 0, c), the region where both z ≥ 0 and ω·d ≥ 0 is a
+// lune whose edge is the y axis. In coordinates around that axis,
+//   ω = (sin α cos β, cos α, sin α sin β),  dω = sin α dα dβ,  α ∈ [0, π],  β ∈ [0, π − θ],
+// and ω·d = sin α sin(β + θ). Every monomial integral over the lune then factors into a Beta-type
+// integral in α and a trigonometric integral in β over [0, B], B = π − θ, both in closed form.
+#include <cmath>
+
+#include "fit/ahd_fit.h"
+
+namespace ahd {
+namespace {
+
+// A(m, b) = ∫_0^π sin^m α cos^b α dα for the (m, b) the fit needs (b odd → 0).
+double alpha_integral(int m, int b) {
+  if (b % 2) return 0.0;
+  if (b == 0) {
+    switch (m) {
+      case 1: return 2.0;
+      case 2: return kPi / 2.0;
+      case 3: return 4.0 / 3.0;
+      case 4: return 3.0 * kPi / 8.0;
+    }
+  }
+  if (b == 2 && m == 2) return kPi / 8.0;  // ∫ sin² cos² = π/8
+  return NAN;  // not needed by the fit
+}
+
+// S(i, j) = ∫_0^B cos^i β sin^j β dβ, i + j ≤ 3, with cos B = −c, sin B = s.
+struct BetaIntegrals {
+  double S[4][4];
+  BetaIntegrals(double B, double s, double c) {
+    const double cB = -c, sB = s;
+    S[0][0] = B;
+    S[1][0] = sB;
+    S[0][1] = 1.0 - cB;
+    S[2][0] = 0.5 * B + 0.5 * sB * cB;
+    S[0][2] = 0.5 * B - 0.5 * sB * cB;
+    S[1][1] = 0.5 * sB * sB;
+    S[3][0] = sB - sB * sB * sB / 3.0;
+    S[0][3] = (1.0 - cB) - (1.0 - cB * cB * cB) / 3.0;
+    S[2][1] = (1.0 - cB * cB * cB) / 3.0;
+    S[1][2] = sB * sB * sB / 3.0;
+  }
+};
+
+// ∫_lune x^a y^b z^cz (ω·d)^p dω for d = (s, 0, c).
+double lune_monomial(const BetaIntegrals& bi, double s, double c, int a, int b, int cz, int p) {
+  // (s cos β + c sin β)^p = Σ_k C(p,k) s^k c^(p-k) cos^k β sin^(p-k) β
+  static const int binom[3][3] = {{1, 0, 0}, {1, 1, 0}, {1, 2, 1}};
+  double beta_part = 0.0;
+  for (int k = 0; k <= p; ++k) {
+    beta_part += binom[p][k] * std::pow(s, k) * std::pow(c, p - k) * bi.S[a + k][cz + p - k];
+  }
+  return alpha_integral(a + cz + p + 1, b) * beta_part;
+}
+
+// ∫_{Ω+} x^a y^b z^c dω = Γ((a+1)/2)Γ((b+1)/2)Γ((c+1)/2)/Γ((a+b+c+3)/2) for even a, b; else 0.
+double hemisphere_monomial(int a, int b, int c) {
+  if (a % 2 || b % 2) return 0.0;
+  return std::tgamma((a + 1) / 2.0) * std::tgamma((b + 1) / 2.0) * std::tgamma((c + 1) / 2.0) /
+         std::tgamma((a + b + c + 3) / 2.0);
+}
+
+// ∫_{Ω+} E² for a quadratic E: expand into monomials of degree ≤ 4.
+double hemisphere_square(const IrradiancePoly& p) {
+  // Coefficients of E as a polynomial: c[a][b][cz] for x^a y^b z^cz, a+b+cz ≤ 2.
+  double c[3][3][3] = {};
+  c[0][0][0] = p.e0;
+  c[1][0][0] = p.e[0];
+  c[0][1][0] = p.e[1];
+  c[0][0][1] = p.e[2];
+  c[2][0][0] = p.q[0][0];
+  c[0][2][0] = p.q[1][1];
+  c[0][0][2] = p.q[2][2];
+  c[1][1][0] = 2 * p.q[0][1];
+  c[1][0][1] = 2 * p.q[0][2];
+  c[0][1][1] = 2 * p.q[1][2];
+  double sum = 0.0;
+  for (int a1 = 0; a1 < 3; ++a1)
+    for (int b1 = 0; a1 + b1 < 3; ++b1)
+      for (int c1 = 0; a1 + b1 + c1 < 3; ++c1) {
+        if (c[a1][b1][c1] == 0.0) continue;
+        for (int a2 = 0; a2 < 3; ++a2)
+          for (int b2 = 0; a2 + b2 < 3; ++b2)
+            for (int c2 = 0; a2 + b2 + c2 < 3; ++c2) {
+              if (c[a2][b2][c2] == 0.0) continue;
+              sum += c[a1][b1][c1] * c[a2][b2][c2] * hemisphere_monomial(a1 + a2, b1 + b2, c1 + c2);
+            }
+      }
+  return sum;
+}
+
+}  // namespace
+
+HemisphereMoments hemisphere_moments(const IrradiancePoly& poly, const double d[3]) {
+  // Rotate about z so that d lies in the xz-plane with d_x ≥ 0 (the hemisphere is invariant).
+  const double rxy = std::sqrt(d[0] * d[0] + d[1] * d[1]);
+  const double cphi = rxy > 0 ? d[0] / rxy : 1.0, sphi = rxy > 0 ? d[1] / rxy : 0.0;
+  const double R[3][3] = {{cphi, sphi, 0}, {-sphi, cphi, 0}, {0, 0, 1}};
+  const IrradiancePoly p = rotate_poly(poly, R);
+  const double c = std::fmax(-1.0, std::fmin(1.0, d[2]));
+  const double s = rxy;
+  const double theta = std::atan2(s, c);
+  const BetaIntegrals bi(kPi - theta, s, c);
+
+  HemisphereMoments m;
+  m.g0 = 2.0 * kPi;
+  m.g1 = lune_monomial(bi, s, c, 0, 0, 0, 1);
+  m.g2 = lune_monomial(bi, s, c, 0, 0, 0, 2);
+  m.f0 = p.e0 * m.g0 + p.e[2] * hemisphere_monomial(0, 0, 1) +
+         (p.q[0][0] + p.q[1][1] + p.q[2][2]) * hemisphere_monomial(2, 0, 0);
+  // ∫ E g over the lune; y-odd monomials vanish by symmetry.
+  m.f1 = p.e0 * m.g1 + p.e[0] * lune_monomial(bi, s, c, 1, 0, 0, 1) +
+         p.e[2] * lune_monomial(bi, s, c, 0, 0, 1, 1) +
+         p.q[0][0] * lune_monomial(bi, s, c, 2, 0, 0, 1) +
+         p.q[1][1] * lune_monomial(bi, s, c, 0, 2, 0, 1) +
+         p.q[2][2] * lune_monomial(bi, s, c, 0, 0, 2, 1) +
+         2.0 * p.q[0][2] * lune_monomial(bi, s, c, 1, 0, 1, 1);
+  m.f2 = hemisphere_square(p);
+  return m;
+}
+
+}  // namespace ahd

@@ -1,0 +1,161 @@
+#include "io/image_io.h"
+
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imageio.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include "core/error.h"
+
+namespace ahd {
+namespace fs = std::filesystem;
+
+namespace {
+
+std::unique_ptr<OIIO::ImageInput> open_input(const std::string& path) {
+  if (!fs::exists(path)) throw file_error(path, "file not found");
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) {
+    std::string why = OIIO::geterror();
+    if (why.empty()) why = "not a readable image";
+    // OIIO messages can span lines; keep the first.
+    why = why.substr(0, why.find('\n'));
+    throw file_error(path, "cannot read image (" + why + ")");
+  }
+  return in;
+}
+
+// A temporary name next to `path` so the final rename stays on one file system.
+std::string temp_name_for(const std::string& path) {
+  static thread_local std::mt19937_64 rng{std::random_device{}()};
+  fs::path p(path);
+  char tag[32];
+  std::snprintf(tag, sizeof tag, ".tmp%08x", unsigned(rng()));
+  return (p.parent_path() / ("." + p.filename().string() + tag + p.extension().string())).string();
+}
+
+void ensure_parent_dir(const std::string& path) {
+  fs::path parent = fs::path(path).parent_path();
+  if (!parent.empty()) {
+    std::error_code ec;
+    fs::create_directories(parent, ec);
+    if (ec) throw file_error(path, "cannot create folder " + parent.string() + " (" + ec.message() + ")");
+  }
+}
+
+}  // namespace
+
+ImageFileInfo read_image_info(const std::string& path) {
+  auto in = open_input(path);
+  const OIIO::ImageSpec& spec = in->spec();
+  ImageFileInfo info;
+  info.width = spec.width;
+  info.height = spec.height;
+  info.channel_names = spec.channelnames;
+  info.is_float = true;
+  for (int c = 0; c < spec.nchannels; ++c) {
+    OIIO::TypeDesc t = spec.channelformat(c);
+    if (t.basetype != OIIO::TypeDesc::HALF && t.basetype != OIIO::TypeDesc::FLOAT &&
+        t.basetype != OIIO::TypeDesc::DOUBLE)
+      info.is_float = false;
+  }
+  // RGBE .hdr files are float data stored in 8-bit mantissas; OIIO reports them as float.
+  info.color_space = spec.get_string_attribute("oiio:ColorSpace");
+  return info;
+}
+
+ImageF read_image(const std::string& path, ImageFileInfo* info_out) {
+  auto in = open_input(path);
+  const OIIO::ImageSpec& spec = in->spec();
+  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
+    throw file_error(path, "image has no pixels");
+  if (spec.depth > 1) throw file_error(path, "volume images are not supported");
+  if (size_t(spec.width) * spec.height * spec.nchannels > (size_t(1) << 32))
+    throw file_error(path, "image too large");
+  ImageF img(spec.width, spec.height, spec.nchannels);
+  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, img.data.data())) {
+    std::string why = in->geterror();
+    throw file_error(path, "cannot read pixels (" + why.substr(0, why.find('\n')) + ")");
+  }
+  if (info_out) *info_out = read_image_info(path);
+  return img;
+}
+
+void write_image(const std::string& path, const ImageF& img, bool half_float,
+                 const std::vector<std::string>& channel_names) {
+  ensure_parent_dir(path);
+  std::string ext = fs::path(path).extension().string();
+  for (auto& ch : ext) ch = char(std::tolower(ch));
+  OIIO::TypeDesc fmt = OIIO::TypeDesc::FLOAT;
+  if (ext == ".exr") fmt = half_float ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT;
+  else if (ext == ".png" || ext == ".tga") fmt = OIIO::TypeDesc::UINT8;
+  OIIO::ImageSpec spec(img.width, img.height, img.channels, fmt);
+  if (!channel_names.empty()) {
+    if (int(channel_names.size()) != img.channels) throw Error("write_image: channel name count mismatch");
+    spec.channelnames = channel_names;
+  } else if (img.channels == 1) {
+    spec.channelnames = {"Y"};
+  }
+  if (ext == ".exr") spec.attribute("compression", "zip");
+  const std::string tmp = temp_name_for(path);
+  auto out = OIIO::ImageOutput::create(tmp);
+  if (!out) throw file_error(path, "no image writer for this extension");
+  if (!out->open(tmp, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, img.data.data())) {
+    std::string why = out->geterror();
+    out.reset();
+    fs::remove(tmp);
+    throw file_error(path, "cannot write image (" + why.substr(0, why.find('\n')) + ")");
+  }
+  out->close();
+  out.reset();
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) {
+    fs::remove(tmp);
+    throw file_error(path, "cannot rename temporary file (" + ec.message() + ")");
+  }
+}
+
+void write_file_atomic(const std::string& path, const std::vector<uint8_t>& bytes) {
+  ensure_parent_dir(path);
+  const std::string tmp = temp_name_for(path);
+  {
+    std::ofstream f(tmp, std::ios::binary);
+    if (!f) throw file_error(path, "cannot open for writing");
+    f.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+    if (!f) {
+      f.close();
+      fs::remove(tmp);
+      throw file_error(path, "write failed");
+    }
+  }
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) {
+    fs::remove(tmp);
+    throw file_error(path, "cannot rename temporary file (" + ec.message() + ")");
+  }
+}
+
+void write_file_atomic(const std::string& path, const std::string& text) {
+  write_file_atomic(path, std::vector<uint8_t>(text.begin(), text.end()));
+}
+
+std::vector<uint8_t> read_file_bytes(const std::string& path, size_t max_bytes) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) throw file_error(path, "file not found");
+  const auto size = fs::file_size(path, ec);
+  if (ec) throw file_error(path, "cannot read size (" + ec.message() + ")");
+  if (size > max_bytes) throw file_error(path, "file too large");
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw file_error(path, "cannot open");
+  std::vector<uint8_t> bytes(size);
+  f.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(size));
+  if (!f) throw file_error(path, "read failed");
+  return bytes;
+}
+
+}  // namespace ahd

@@ -1,0 +1,41 @@
+// Image files in and out (OpenImageIO). The only place that touches image files.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/image.h"
+
+namespace ahd {
+
+// What a file holds, read without its pixels: size, channel names, per-channel float-ness.
+struct ImageFileInfo {
+  int width = 0;
+  int height = 0;
+  std::vector<std::string> channel_names;
+  bool is_float = false;   // every channel is half or float
+  std::string color_space; // OIIO's "oiio:ColorSpace" (may be empty)
+};
+
+// Reads the header of an image file. Throws ahd::Error("<path>: <cause>") when the file is
+// missing or unreadable. Safe on untrusted files (OpenImageIO validates the header).
+ImageFileInfo read_image_info(const std::string& path);
+
+// Reads every channel of subimage 0 / mip 0 as floats (8-bit data is scaled to [0,1]; no colour
+// conversion). Throws ahd::Error on failure.
+ImageF read_image(const std::string& path, ImageFileInfo* info = nullptr);
+
+// Writes a float image as EXR (half when `half_float`, else float), or PNG/TGA/HDR by extension
+// (8-bit formats clamp to [0,1] and round). Channel names default to R,G,B,A / Y. The file is
+// written to a temporary name and renamed at the end, so a failure leaves no partial file.
+void write_image(const std::string& path, const ImageF& img, bool half_float = false,
+                 const std::vector<std::string>& channel_names = {});
+
+// Writes bytes to `path` through a temporary file in the same folder and an atomic rename.
+void write_file_atomic(const std::string& path, const std::vector<uint8_t>& bytes);
+void write_file_atomic(const std::string& path, const std::string& text);
+
+// Reads a whole file. Throws ahd::Error("<path>: cannot open") and refuses files over max_bytes.
+std::vector<uint8_t> read_file_bytes(const std::string& path, size_t max_bytes = size_t(1) << 34);
+
+}  // namespace ahd

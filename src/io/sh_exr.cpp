@@ -1,0 +1,114 @@
+#include "io/sh_exr.h"
+
+#include <cmath>
+#include <map>
+
+#include "core/error.h"
+#include "io/image_io.h"
+
+namespace ahd {
+namespace {
+
+const char* kRgb[3] = {"R", "G", "B"};
+
+std::string sh_channel(int k, int c) { return "sh" + std::to_string(k) + "." + kRgb[c]; }
+
+}  // namespace
+
+void sanitise_sh(ShImage& img, bool derive_coverage, ReadStats* stats) {
+  const size_t per = size_t(img.coeffs) * 3;
+  for (size_t i = 0; i < img.texels(); ++i) {
+    float* t = img.texel(i);
+    bool finite = true, zero = true;
+    for (size_t k = 0; k < per; ++k) {
+      finite &= std::isfinite(t[k]);
+      zero &= t[k] == 0.0f;
+    }
+    if (!finite) {
+      std::fill(t, t + per, 0.0f);
+      img.coverage[i] = 0;
+      if (stats) stats->non_finite_texels++;
+    } else if (derive_coverage && zero) {
+      img.coverage[i] = 0;
+    }
+  }
+  if (stats) stats->coverage_derived = derive_coverage;
+}
+
+ShImage read_canonical_sh(const std::string& path, ReadStats* stats) {
+  ImageFileInfo info = read_image_info(path);
+  if (!info.is_float) throw file_error(path, "SH lightmaps must be half or float EXR data (found 8-bit or integer channels)");
+  std::map<std::string, int> index;
+  for (size_t c = 0; c < info.channel_names.size(); ++c) index[info.channel_names[c]] = int(c);
+  int coeffs = 0;
+  if (index.count(sh_channel(8, 2))) coeffs = 9;
+  else if (index.count(sh_channel(3, 2))) coeffs = 4;
+  else throw file_error(path, "no SH channels: expected sh0.R sh0.G sh0.B … sh3.B (L1) or … sh8.B (L2)");
+  for (int k = 0; k < coeffs; ++k)
+    for (int c = 0; c < 3; ++c)
+      if (!index.count(sh_channel(k, c))) throw file_error(path, "missing channel " + sh_channel(k, c));
+  if (coeffs == 4 && index.count(sh_channel(4, 0)))
+    throw file_error(path, "incomplete L2 channel set (sh4..sh8 partly present)");
+
+  ImageF px = read_image(path);
+  ShImage img = make_sh_image(px.width, px.height, coeffs);
+  for (size_t i = 0; i < img.texels(); ++i) {
+    const float* src = px.data.data() + i * px.channels;
+    float* dst = img.texel(i);
+    for (int k = 0; k < coeffs; ++k)
+      for (int c = 0; c < 3; ++c) dst[k * 3 + c] = src[index[sh_channel(k, c)]];
+  }
+  const bool has_coverage = index.count("coverage") != 0;
+  if (has_coverage) {
+    const int ci = index["coverage"];
+    for (size_t i = 0; i < img.texels(); ++i) img.coverage[i] = px.data[i * px.channels + ci] > 0.5f;
+  }
+  const bool has_normals = index.count("normal.X") && index.count("normal.Y") && index.count("normal.Z");
+  if (has_normals) {
+    img.normals.resize(img.texels() * 3);
+    const int nx = index["normal.X"], ny = index["normal.Y"], nz = index["normal.Z"];
+    for (size_t i = 0; i < img.texels(); ++i) {
+      const float* src = px.data.data() + i * px.channels;
+      double n[3] = {src[nx], src[ny], src[nz]};
+      const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+      if (!(len > 1e-6) || !std::isfinite(len)) {
+        if (img.coverage[i] || !has_coverage)
+          throw file_error(path, "zero-length or non-finite normal at texel (" +
+                                     std::to_string(i % img.width) + ", " + std::to_string(i / img.width) + ")");
+        n[0] = 0, n[1] = 0, n[2] = 1;
+      } else {
+        for (double& v : n) v /= len;
+      }
+      for (int a = 0; a < 3; ++a) img.normals[i * 3 + a] = float(n[a]);
+    }
+  }
+  ReadStats local;
+  sanitise_sh(img, !has_coverage, stats ? stats : &local);
+  return img;
+}
+
+void write_canonical_sh(const std::string& path, const ShImage& img) {
+  const bool normals = !img.normals.empty();
+  const int channels = img.coeffs * 3 + 1 + (normals ? 3 : 0);
+  ImageF px(img.width, img.height, channels);
+  std::vector<std::string> names;
+  for (int k = 0; k < img.coeffs; ++k)
+    for (int c = 0; c < 3; ++c) names.push_back(sh_channel(k, c));
+  names.push_back("coverage");
+  if (normals) {
+    names.push_back("normal.X");
+    names.push_back("normal.Y");
+    names.push_back("normal.Z");
+  }
+  for (size_t i = 0; i < img.texels(); ++i) {
+    float* dst = px.data.data() + i * channels;
+    const float* src = img.texel(i);
+    for (int k = 0; k < img.coeffs * 3; ++k) dst[k] = src[k];
+    dst[img.coeffs * 3] = img.coverage[i] ? 1.0f : 0.0f;
+    if (normals)
+      for (int a = 0; a < 3; ++a) dst[img.coeffs * 3 + 1 + a] = img.normals[i * 3 + a];
+  }
+  write_image(path, px, false, names);
+}
+
+}  // namespace ahd

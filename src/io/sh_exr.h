@@ -1,0 +1,29 @@
+// The tool's canonical SH lightmap file: one multi-channel float EXR.
+//   channels sh0.R sh0.G sh0.B … sh3.B (L1) or … sh8.B (L2), canonical order and normalisation
+//   (sh/sh.h), tangent space; optional `coverage` (> 0.5 = covered); optional `normal.X/Y/Z`
+//   (then the SH is in WORLD space and these are the texels' unit geometric normals).
+#pragma once
+#include <cstddef>
+#include <string>
+
+#include "sh/sh_image.h"
+
+namespace ahd {
+
+// What reading had to fix, counted (never silent).
+struct ReadStats {
+  size_t non_finite_texels = 0;   // NaN/Inf in any coefficient: texel zeroed and marked uncovered
+  bool coverage_derived = false;  // no coverage channel: all-zero SH = uncovered
+};
+
+// Reads and validates the canonical EXR. Throws ahd::Error("<path>: <cause>") for a missing file,
+// a missing or extra sh channel, a non-float file, bad normals.
+ShImage read_canonical_sh(const std::string& path, ReadStats* stats = nullptr);
+
+// Writes the canonical EXR (float channels; with coverage, and normals when present). Atomic.
+void write_canonical_sh(const std::string& path, const ShImage& img);
+
+// Applies the read-time rules (non-finite → zero + uncovered; derived coverage) in place.
+void sanitise_sh(ShImage& img, bool derive_coverage, ReadStats* stats);
+
+}  // namespace ahd

@@ -1,0 +1,61 @@
+// SH lightmap → fitted AHD → quantised planes (closed loop) → textures, with per-stage cost and
+// error. A pure function: no file I/O (the CLI reads inputs and writes what this returns).
+#pragma once
+#include <string>
+#include <vector>
+
+#include "core/texture.h"
+#include "fit/fit_image.h"
+#include "fit/hemisphere_error.h"
+#include "pipeline/plane_codec.h"
+#include "pipeline/profile.h"
+#include "sh/sh_image.h"
+
+namespace ahd {
+
+struct ConvertOptions {
+  FitOptions fit;
+  bool closed_loop = true;
+  bool measure_unconstrained = true;  // also fit the unconstrained LS baseline for the report
+  bool measure_open_loop = true;      // also quantise open loop to report the closed-loop gain
+  PlaneCodecOptions codec;
+  int threads = 0;
+};
+
+struct Plane {
+  std::string name;  // "iz", "dir", "ratio" or "dirratio"
+  Texture texture;
+};
+
+struct StageCost {
+  std::string stage;
+  double seconds = 0;
+};
+
+struct ConvertResult {
+  std::vector<Plane> planes;
+  FitStats fit_stats;
+  ErrorReport fit_error;            // the fitted AHD (before quantisation) vs the SH
+  ErrorReport unconstrained_error;  // the unconstrained LS fit with the same d, vs the SH
+  ErrorReport open_loop_error;      // quantised, ratio from the unquantised fit
+  ErrorReport final_error;          // quantised, what the files decode to, vs the SH
+  PlaneCodecStats codec_stats;
+  std::vector<StageCost> timings;
+};
+
+ConvertResult convert(const ShImage& sh, const Profile& profile, const ConvertOptions& opt);
+
+// The decoded value of every texel of level-0 planes (as the reference decoder reads them):
+// iz (3 floats), d (unit, 3 floats), ratio (3 floats).
+struct DecodedPlanes {
+  int width = 0, height = 0;
+  std::vector<float> iz, d, ratio;
+};
+
+// Decodes the planes of a conversion at mip level `level`. Throws ahd::Error on missing planes.
+DecodedPlanes decode_planes(const std::vector<Plane>& planes, bool ratio_rgb, int level = 0);
+
+// The AHD lobes the decoded planes describe (for measure_error).
+std::vector<AhdLobe> lobes_from_planes(const DecodedPlanes& p, double dz_min);
+
+}  // namespace ahd

@@ -1,0 +1,115 @@
+#include "pipeline/plane_codec.h"
+
+#include <Imath/half.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "core/error.h"
+
+namespace ahd {
+namespace {
+
+constexpr float kHalfMax = 65504.0f;
+
+uint8_t to_unorm8(float v) { return uint8_t(std::lround(std::clamp(std::isfinite(v) ? v : 0.0f, 0.0f, 1.0f) * 255.0f)); }
+
+float get(const ImageF& img, size_t i, int c) {
+  if (c < img.channels) return img.data[i * img.channels + c];
+  return c == 3 ? 1.0f : 0.0f;
+}
+
+}  // namespace
+
+bool plane_format_supported(PixelFormat f) {
+  switch (f) {
+    case PixelFormat::R8_UNORM:
+    case PixelFormat::RG8_UNORM:
+    case PixelFormat::RGBA8_UNORM:
+    case PixelFormat::RGBA16_SFLOAT:
+    case PixelFormat::RGBA32_SFLOAT:
+      return true;
+    default:
+      return false;
+  }
+}
+
+TextureLevel encode_plane(PixelFormat f, const ImageF& img, const PlaneCodecOptions& opt,
+                          PlaneCodecStats* stats) {
+  (void)opt;
+  TextureLevel lvl;
+  lvl.width = uint32_t(img.width);
+  lvl.height = uint32_t(img.height);
+  lvl.data.resize(level_size_bytes(f, lvl.width, lvl.height));
+  const size_t n = img.texels();
+  PlaneCodecStats local;
+  PlaneCodecStats& st = stats ? *stats : local;
+  switch (f) {
+    case PixelFormat::R8_UNORM:
+    case PixelFormat::RG8_UNORM:
+    case PixelFormat::RGBA8_UNORM: {
+      const int ch = format_info(f).channels;
+      for (size_t i = 0; i < n; ++i)
+        for (int c = 0; c < ch; ++c) lvl.data[i * ch + c] = to_unorm8(get(img, i, c));
+      return lvl;
+    }
+    case PixelFormat::RGBA16_SFLOAT: {
+      uint16_t* out = reinterpret_cast<uint16_t*>(lvl.data.data());
+      for (size_t i = 0; i < n; ++i)
+        for (int c = 0; c < 4; ++c) {
+          float v = get(img, i, c);
+          if (!std::isfinite(v)) {
+            st.non_finite++;
+            v = std::isnan(v) ? 0.0f : (v > 0 ? kHalfMax : -kHalfMax);
+          } else if (std::fabs(v) > kHalfMax) {
+            st.clamped++;
+            v = std::copysign(kHalfMax, v);
+          }
+          out[i * 4 + c] = Imath::half(v).bits();
+        }
+      return lvl;
+    }
+    case PixelFormat::RGBA32_SFLOAT: {
+      float* out = reinterpret_cast<float*>(lvl.data.data());
+      for (size_t i = 0; i < n; ++i)
+        for (int c = 0; c < 4; ++c) out[i * 4 + c] = get(img, i, c);
+      return lvl;
+    }
+    default:
+      break;
+  }
+  throw Error(std::string("format ") + format_info(f).name + " is not available in this build");
+}
+
+ImageF decode_plane(PixelFormat f, const TextureLevel& lvl) {
+  if (lvl.data.size() != level_size_bytes(f, lvl.width, lvl.height))
+    throw Error(std::string("level data size does not match its dimensions for ") + format_info(f).name);
+  const int ch = format_info(f).channels;
+  ImageF img(int(lvl.width), int(lvl.height), ch);
+  const size_t n = img.texels();
+  switch (f) {
+    case PixelFormat::R8_UNORM:
+    case PixelFormat::RG8_UNORM:
+    case PixelFormat::RGBA8_UNORM:
+      for (size_t i = 0; i < n * ch; ++i) img.data[i] = lvl.data[i] / 255.0f;
+      return img;
+    case PixelFormat::RGBA16_SFLOAT: {
+      const uint16_t* in = reinterpret_cast<const uint16_t*>(lvl.data.data());
+      for (size_t i = 0; i < n * 4; ++i) {
+        Imath::half h;
+        h.setBits(in[i]);
+        img.data[i] = float(h);
+      }
+      return img;
+    }
+    case PixelFormat::RGBA32_SFLOAT:
+      std::memcpy(img.data.data(), lvl.data.data(), n * 16);
+      return img;
+    default:
+      break;
+  }
+  throw Error(std::string("format ") + format_info(f).name + " is not available in this build");
+}
+
+}  // namespace ahd

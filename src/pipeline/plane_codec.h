@@ -1,0 +1,33 @@
+// One image plane ↔ one texture level of a pixel format: the switch over every codec.
+#pragma once
+#include <cstddef>
+
+#include "core/image.h"
+#include "core/texture.h"
+
+namespace ahd {
+
+struct PlaneCodecOptions {
+  int threads = 0;
+  int bc6h_quality = 1;  // 0 fast, 1 default, 2 high, 3 max
+};
+
+// What encoding had to clamp (counted, reported).
+struct PlaneCodecStats {
+  size_t clamped = 0;     // values outside the format's range (e.g. > 65504 for half)
+  size_t non_finite = 0;  // NaN/Inf inputs
+};
+
+// Encodes `img` (floats; UNORM formats take [0,1], float formats take HDR values) into one level.
+// Uses the first `format_info(f).channels` channels of img (missing ones read as 0, alpha as 1).
+TextureLevel encode_plane(PixelFormat f, const ImageF& img, const PlaneCodecOptions& opt,
+                          PlaneCodecStats* stats = nullptr);
+
+// Decodes one level to floats, format_info(f).channels channels. Throws ahd::Error when the level's
+// byte size does not match its dimensions or the codec is not available.
+ImageF decode_plane(PixelFormat f, const TextureLevel& level);
+
+// True when this build can encode/decode the format.
+bool plane_format_supported(PixelFormat f);
+
+}  // namespace ahd

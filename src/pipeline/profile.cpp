@@ -1,0 +1,71 @@
+#include "pipeline/profile.h"
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "core/error.h"
+
+namespace ahd {
+namespace fs = std::filesystem;
+
+std::string formats_dir() {
+  if (const char* env = std::getenv("AHD_FORMATS_DIR"); env && *env) return env;
+  return AHD_FORMATS_DIR;
+}
+
+Profile load_profile(const std::string& name_or_path) {
+  std::string path = name_or_path;
+  if (fs::path(path).extension() != ".json") path = formats_dir() + "/profiles/" + name_or_path + ".json";
+  std::ifstream f(path);
+  if (!f) {
+    std::string known;
+    for (const auto& n : list_profiles()) known += (known.empty() ? "" : ", ") + n;
+    throw file_error(path, "unknown profile '" + name_or_path + "' (known: " + known + ")");
+  }
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(f);
+  } catch (const std::exception& e) {
+    throw file_error(path, std::string("invalid JSON (") + e.what() + ")");
+  }
+  Profile p;
+  auto format = [&](const char* plane) {
+    const std::string name = j["planes"][plane].get<std::string>();
+    PixelFormat fmt;
+    if (!format_from_name(name, &fmt)) throw file_error(path, "unknown format '" + name + "' for plane " + plane);
+    return fmt;
+  };
+  try {
+    p.name = j.at("name").get<std::string>();
+    p.description = j.value("description", "");
+    const auto& planes = j.at("planes");
+    p.iz = format("iz");
+    if (planes.contains("dirratio")) {
+      p.packed_dir_ratio = true;
+      p.dirratio = format("dirratio");
+      if (p.dirratio != PixelFormat::RGBA8_UNORM) throw file_error(path, "the packed dirratio plane must be rgba8");
+    } else {
+      p.dir = format("dir");
+      p.ratio = format("ratio");
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw file_error(path, std::string("malformed profile (") + e.what() + ")");
+  }
+  if (format_info(p.iz).channels < 3 || !format_info(p.iz).is_float)
+    throw file_error(path, "the iz plane needs an HDR RGB format");
+  return p;
+}
+
+std::vector<std::string> list_profiles() {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(formats_dir() + "/profiles", ec))
+    if (e.path().extension() == ".json") names.push_back(e.path().stem().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+}  // namespace ahd

@@ -1,0 +1,27 @@
+// The hard-case set: SH texels every real bake eventually contains, as named data. Used by the
+// tests (each case asserts finite output and the constraints) and by `ahdpack report hard-cases`
+// (the README's accuracy table).
+#pragma once
+#include <string>
+#include <vector>
+
+#include "sh/sh_image.h"
+
+namespace ahd {
+
+struct HardCase {
+  std::string name;
+  ShImage sh;  // a small tangent-space L2 image (1×N texels) holding the case
+};
+
+// Every case, deterministic. Non-finite cases hold NaN/Inf coefficients as a reader would see them
+// (before sanitisation).
+std::vector<HardCase> hard_cases();
+
+// Adds the radiance-SH of a directional (delta) light of irradiance `rgb` from unit direction d.
+void add_directional_light(float* sh_texel, int coeffs, const double d[3], const double rgb[3]);
+
+// Adds constant radiance (ambient) over the whole sphere.
+void add_ambient(float* sh_texel, const double rgb[3]);
+
+}  // namespace ahd

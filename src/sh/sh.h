@@ -1,0 +1,54 @@
+// Spherical-harmonics math of the tool's one canonical form (see README, "Canonical SH"):
+// real SH, order 0..8 = Y00, y, z, x, xy, yz, 3z²-1, xz, x²-y² (no Condon-Shortley sign),
+// coefficients = projection of incident RADIANCE, in the texel's local frame (z = surface normal).
+// Irradiance means E(n) = ∫ L(ω) max(0, n·ω) dω (no 1/π).
+#pragma once
+
+namespace ahd {
+
+constexpr int kShCoeffsL1 = 4;
+constexpr int kShCoeffsL2 = 9;
+
+// Basis constants of the canonical order.
+constexpr double kY00 = 0.28209479177387814;   // 1/(2√π)
+constexpr double kY1 = 0.4886025119029199;     // √3/(2√π)
+constexpr double kY2a = 1.0925484305920792;    // √15/(2√π)   (xy, yz, xz)
+constexpr double kY20 = 0.31539156525252005;   // √5/(4√π)    (3z²-1)
+constexpr double kY22 = 0.5462742152960396;    // √15/(4√π)   (x²-y²)
+
+// Clamped-cosine convolution weights per band (Ramamoorthi–Hanrahan): Â0 = π, Â1 = 2π/3, Â2 = π/4.
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kA0 = kPi;
+constexpr double kA1 = 2.0 * kPi / 3.0;
+constexpr double kA2 = kPi / 4.0;
+
+// Evaluates the first `count` (4 or 9) basis functions at the unit direction (x, y, z).
+void sh_basis(double x, double y, double z, int count, double* out);
+
+// Irradiance of one colour channel as a polynomial in the unit normal n:
+//   E(n) = e0 + e·n + nᵀ Q n          (Q symmetric; zero for L1 input)
+// The irradiance of band-limited (L1/L2) radiance is exactly such a polynomial, which makes rotation
+// (a change of frame) and the hemisphere integrals of the fit closed-form.
+struct IrradiancePoly {
+  double e0 = 0;
+  double e[3] = {0, 0, 0};
+  double q[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+};
+
+// Converts `count` (4 or 9) radiance-SH coefficients of one channel, read at stride `stride`
+// (coeff k at sh[k * stride]), into the irradiance polynomial.
+IrradiancePoly irradiance_poly(const float* sh, int count, int stride);
+
+// E(n) for a unit normal n.
+double eval_irradiance(const IrradiancePoly& p, const double n[3]);
+
+// The same polynomial expressed in another frame: returns p' with p'(n') = p(Rᵀ n'), where the
+// rows of R are the new frame's x, y, z axes given in the old frame (n' = R n).
+IrradiancePoly rotate_poly(const IrradiancePoly& p, const double R[3][3]);
+
+// Right-handed orthonormal frame around a unit normal n (Duff et al. 2017, "Building an
+// Orthonormal Basis, Revisited"): rows of R are (tangent, bitangent, n). Continuous except at
+// n = -z. This is THE frame ahdpack uses for world-space SH; the shader snippets build the same one.
+void frame_from_normal(const double n[3], double R[3][3]);
+
+}  // namespace ahd
