@@ -1,0 +1,82 @@
+// ahdpack decode NAME.json -o OUT.exr [--level L] [--normals N.exr]: irradiance from the planes.
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include "cli/commands.h"
+#include "containers/container.h"
+#include "core/error.h"
+#include "fit/ahd_decode.h"
+#include "io/image_io.h"
+#include "pipeline/convert.h"
+#include "pipeline/manifest.h"
+
+namespace ahd::cli {
+namespace fs = std::filesystem;
+
+namespace {
+
+struct DecodeArgs {
+  std::string manifest;
+  std::string output;
+  std::string normals;
+  int level = 0;
+};
+
+void run_decode(const DecodeArgs& a) {
+  const std::vector<uint8_t> bytes = read_file_bytes(a.manifest, size_t(1) << 24);
+  const Manifest m = manifest_from_json(std::string(bytes.begin(), bytes.end()), a.manifest);
+  const fs::path dir = fs::path(a.manifest).parent_path();
+  std::vector<Plane> planes;
+  for (const auto& mp : m.planes) {
+    const std::string path = (dir / mp.file).string();
+    Texture t = read_container_file(path);
+    if (t.format != mp.format)
+      throw file_error(path, std::string("holds ") + format_info(t.format).name + " but the manifest says " +
+                                 format_info(mp.format).name);
+    planes.push_back({mp.name, std::move(t)});
+  }
+  if (a.level < 0 || uint32_t(a.level) >= m.levels)
+    throw file_error(a.manifest, "has " + std::to_string(m.levels) + " mip level(s); --level " + std::to_string(a.level) +
+                                     " does not exist");
+  const DecodedPlanes p = decode_planes(planes, m.ratio_form == RatioForm::Rgb, a.level);
+
+  ImageF normals;
+  if (!a.normals.empty()) {
+    normals = read_image(a.normals);
+    if (normals.width != p.width || normals.height != p.height)
+      throw file_error(a.normals, "normal map is " + std::to_string(normals.width) + "x" + std::to_string(normals.height) +
+                                      ", level " + std::to_string(a.level) + " is " + std::to_string(p.width) + "x" +
+                                      std::to_string(p.height));
+    if (normals.channels < 3) throw file_error(a.normals, "normal map needs 3 channels (tangent-space X Y Z)");
+  }
+  ImageF out(p.width, p.height, 3);
+  for (size_t i = 0; i < out.texels(); ++i) {
+    double n[3] = {0, 0, 1};
+    if (normals.channels) {
+      for (int c = 0; c < 3; ++c) n[c] = normals.data[i * normals.channels + c];
+      const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+      if (!(len > 0)) throw file_error(a.normals, "zero-length normal at texel " + std::to_string(i));
+      for (double& v : n) v /= len;
+    }
+    double e[3];
+    decode_irradiance(&p.iz[i * 3], &p.d[i * 3], &p.ratio[i * 3], n, m.dz_min, e);
+    for (int c = 0; c < 3; ++c) out.data[i * 3 + c] = float(e[c]);
+  }
+  write_image(a.output, out, false, {"R", "G", "B"});
+  std::printf("ahdpack decode: level %d (%dx%d) -> %s\n", a.level, p.width, p.height, a.output.c_str());
+}
+
+}  // namespace
+
+void add_decode_command(CLI::App& app) {
+  auto a = std::make_shared<DecodeArgs>();
+  CLI::App* c = app.add_subcommand("decode", "Reconstruct irradiance (RGB float EXR) from a conversion's manifest");
+  c->add_option("manifest", a->manifest, "NAME.json written by convert")->required();
+  c->add_option("-o,--output", a->output, "Output EXR")->required();
+  c->add_option("--level", a->level, "Mip level");
+  c->add_option("--normals", a->normals, "Tangent-space normal map (EXR, XYZ in [-1,1]); default: the surface normal");
+  c->callback([a]() { run_decode(*a); });
+}
+
+}  // namespace ahd::cli

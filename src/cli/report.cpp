@@ -1,0 +1,40 @@
+#include "cli/report.h"
+
+namespace ahd::cli {
+
+void print_error_header(std::FILE* out) {
+  std::fprintf(out, "  %-28s %28s   %28s   %s\n", "", "relative RMSE (mean p99 max)", "log2 RMSE (mean p99 max)",
+               "I_z rel (max)");
+}
+
+void print_error_row(std::FILE* out, const char* label, const ErrorReport& e) {
+  std::fprintf(out, "  %-28s %8.2e %8.2e %8.2e   %8.2e %8.2e %8.2e   %8.2e", label, e.relative.mean, e.relative.p99,
+               e.relative.max, e.log2.mean, e.log2.p99, e.log2.max, e.normal_rel.max);
+  if (e.negative) std::fprintf(out, "   (%zu texels with negative colours)", e.negative);
+  std::fprintf(out, "\n");
+}
+
+nlohmann::json error_json(const ErrorReport& e) {
+  auto stat = [](const ErrorStat& s) { return nlohmann::json{{"mean", s.mean}, {"p99", s.p99}, {"max", s.max}}; };
+  return {{"texels", e.texels},         {"rmse", stat(e.rmse)},           {"relative", stat(e.relative)},
+          {"log2", stat(e.log2)},       {"iz_relative", stat(e.normal_rel)}, {"negative_texels", e.negative}};
+}
+
+nlohmann::json convert_report_json(const ConvertResult& r, double total_seconds) {
+  nlohmann::json j;
+  j["fit_rules"] = {{"texels", r.fit_stats.texels},           {"covered", r.fit_stats.covered},
+                    {"no_direction", r.fit_stats.no_direction}, {"horizon_tilted", r.fit_stats.dir_clamped},
+                    {"negative_iz", r.fit_stats.negative_iz},   {"black", r.fit_stats.black}};
+  j["error"] = {{"fit", error_json(r.fit_error)},
+                {"unconstrained_ls", error_json(r.unconstrained_error)},
+                {"quantised_open_loop", error_json(r.open_loop_error)},
+                {"quantised_closed_loop", error_json(r.final_error)}};
+  j["codec"] = {{"clamped", r.codec_stats.clamped}, {"non_finite", r.codec_stats.non_finite}};
+  nlohmann::json t = nlohmann::json::object();
+  for (const auto& s : r.timings) t[s.stage] = s.seconds;
+  t["total"] = total_seconds;
+  j["seconds"] = t;
+  return j;
+}
+
+}  // namespace ahd::cli

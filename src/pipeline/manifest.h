@@ -1,0 +1,43 @@
+// The JSON manifest written beside every conversion: which files hold which plane, in which
+// format, and every parameter a decoder needs. Versioned: readers refuse versions they don't know.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "core/pixel_format.h"
+#include "fit/ahd_fit.h"
+
+namespace ahd {
+
+constexpr int kManifestVersion = 1;
+
+struct ManifestPlane {
+  std::string name;  // iz | dir | ratio | dirratio
+  std::string file;  // relative to the manifest's folder
+  PixelFormat format = PixelFormat::RGBA16_SFLOAT;
+  uint32_t width = 0, height = 0, levels = 1;
+  uint64_t bytes = 0;
+};
+
+struct Manifest {
+  int version = kManifestVersion;
+  std::string profile;
+  std::string container;  // ktx2 | dds
+  uint32_t width = 0, height = 0, levels = 1;
+  std::vector<ManifestPlane> planes;
+  RatioForm ratio_form = RatioForm::Luminance;
+  double dz_min = 0.1;
+  double luma[3] = {0.2126, 0.7152, 0.0722};
+  std::string direction_encoding = "hemi-octahedral";  // uv = (px+py, px−py), p = d.xy/|d|₁
+  std::string direction_frame = "tangent";             // or "normal-frame" (world SH + normals)
+};
+
+std::string manifest_to_json(const Manifest& m);
+
+// Parses and validates; throws ahd::Error("<path>: <cause>").
+Manifest manifest_from_json(const std::string& text, const std::string& path);
+
+// The key/value pairs every plane texture carries (KTX2 key/value data), describing the encoding.
+std::vector<std::pair<std::string, std::string>> plane_metadata(const Manifest& m, const std::string& plane);
+
+}  // namespace ahd
