@@ -95,7 +95,7 @@ AhdFit fit_colours(const IrradiancePoly p[3], const double d[3], const double iz
       ca[c] = cd[c] = 0.0;
       continue;
     }
-    const HemisphereMoments m = hemisphere_moments(p[c], d);
+    const HemisphereMoments m = hemisphere_moments(p[c], d, /*with_f2=*/false);
     fit_channel(m, iz[c], dz, &ca[c], &cd[c]);
   }
   for (int i = 0; i < 3; ++i) out.d[i] = float(d[i]);

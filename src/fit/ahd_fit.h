@@ -50,9 +50,9 @@ struct HemisphereMoments {
   double g2;  // ∫ g²
   double f0;  // ∫ E
   double f1;  // ∫ E g
-  double f2;  // ∫ E²
+  double f2;  // ∫ E²  (only needed to evaluate E(t); 0 when not requested)
 };
-HemisphereMoments hemisphere_moments(const IrradiancePoly& p, const double d[3]);
+HemisphereMoments hemisphere_moments(const IrradiancePoly& p, const double d[3], bool with_f2 = true);
 
 // Optimal linear direction of the luminance L1 band of the three channel polynomials.
 // Returns false (and d = z) when the L1 luminance is below the threshold.

@@ -49,18 +49,28 @@ struct BetaIntegrals {
 double lune_monomial(const BetaIntegrals& bi, double s, double c, int a, int b, int cz, int p) {
   // (s cos β + c sin β)^p = Σ_k C(p,k) s^k c^(p-k) cos^k β sin^(p-k) β
   static const int binom[3][3] = {{1, 0, 0}, {1, 1, 0}, {1, 2, 1}};
+  const double sp[3] = {1.0, s, s * s}, cp[3] = {1.0, c, c * c};
   double beta_part = 0.0;
-  for (int k = 0; k <= p; ++k) {
-    beta_part += binom[p][k] * std::pow(s, k) * std::pow(c, p - k) * bi.S[a + k][cz + p - k];
-  }
+  for (int k = 0; k <= p; ++k) beta_part += binom[p][k] * sp[k] * cp[p - k] * bi.S[a + k][cz + p - k];
   return alpha_integral(a + cz + p + 1, b) * beta_part;
 }
 
 // ∫_{Ω+} x^a y^b z^c dω = Γ((a+1)/2)Γ((b+1)/2)Γ((c+1)/2)/Γ((a+b+c+3)/2) for even a, b; else 0.
+// Tabulated once for exponents ≤ 4 (all the fit needs).
+struct MonomialTable {
+  double v[5][5][5];
+  MonomialTable() {
+    for (int a = 0; a < 5; ++a)
+      for (int b = 0; b < 5; ++b)
+        for (int c = 0; c < 5; ++c)
+          v[a][b][c] = (a % 2 || b % 2) ? 0.0
+                                        : std::tgamma((a + 1) / 2.0) * std::tgamma((b + 1) / 2.0) *
+                                              std::tgamma((c + 1) / 2.0) / std::tgamma((a + b + c + 3) / 2.0);
+  }
+};
 double hemisphere_monomial(int a, int b, int c) {
-  if (a % 2 || b % 2) return 0.0;
-  return std::tgamma((a + 1) / 2.0) * std::tgamma((b + 1) / 2.0) * std::tgamma((c + 1) / 2.0) /
-         std::tgamma((a + b + c + 3) / 2.0);
+  static const MonomialTable table;
+  return table.v[a][b][c];
 }
 
 // ∫_{Ω+} E² for a quadratic E: expand into monomials of degree ≤ 4.
@@ -94,7 +104,7 @@ double hemisphere_square(const IrradiancePoly& p) {
 
 }  // namespace
 
-HemisphereMoments hemisphere_moments(const IrradiancePoly& poly, const double d[3]) {
+HemisphereMoments hemisphere_moments(const IrradiancePoly& poly, const double d[3], bool with_f2) {
   // Rotate about z so that d lies in the xz-plane with d_x ≥ 0 (the hemisphere is invariant).
   const double rxy = std::sqrt(d[0] * d[0] + d[1] * d[1]);
   const double cphi = rxy > 0 ? d[0] / rxy : 1.0, sphi = rxy > 0 ? d[1] / rxy : 0.0;
@@ -118,7 +128,7 @@ HemisphereMoments hemisphere_moments(const IrradiancePoly& poly, const double d[
          p.q[1][1] * lune_monomial(bi, s, c, 0, 2, 0, 1) +
          p.q[2][2] * lune_monomial(bi, s, c, 0, 0, 2, 1) +
          2.0 * p.q[0][2] * lune_monomial(bi, s, c, 1, 0, 1, 1);
-  m.f2 = hemisphere_square(p);
+  m.f2 = with_f2 ? hemisphere_square(p) : 0.0;
   return m;
 }
 

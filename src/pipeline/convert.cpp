@@ -134,8 +134,8 @@ ConvertResult convert(const ShImage& sh, const Profile& profile, const ConvertOp
   r.timings.push_back({"fit", seconds_since(t0)});
 
   t0 = Clock::now();
-  r.fit_error = measure_error(sh, lobes_from_fit(fit), threads);
-  if (opt.measure_unconstrained) {
+  if (opt.measure) r.fit_error = measure_error(sh, lobes_from_fit(fit), threads);
+  if (opt.measure && opt.measure_unconstrained) {
     std::vector<AhdLobe> lobes(n);
     parallel_for(n, threads, 1024, [&](size_t i) {
       IrradiancePoly p[3];
@@ -148,7 +148,7 @@ ConvertResult convert(const ShImage& sh, const Profile& profile, const ConvertOp
     });
     r.unconstrained_error = measure_error(sh, lobes, threads);
   }
-  r.timings.push_back({"measure fit", seconds_since(t0)});
+  if (opt.measure) r.timings.push_back({"measure fit", seconds_since(t0)});
 
   // 2. Quantise, closed loop: direction first, then I_z, then the ratio refitted against the
   //    DECODED direction and I_z.
@@ -217,6 +217,7 @@ ConvertResult convert(const ShImage& sh, const Profile& profile, const ConvertOp
   r.planes = make_planes(ratio_closed);
   r.timings.push_back({"quantise", seconds_since(t0)});
 
+  if (!opt.measure) return r;
   t0 = Clock::now();
   r.final_error = measure_error(sh, lobes_from_planes(decode_planes(r.planes, ratio_rgb), opt.fit.dz_min), threads);
   if (opt.measure_open_loop) {

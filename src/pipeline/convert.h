@@ -16,6 +16,7 @@ namespace ahd {
 struct ConvertOptions {
   FitOptions fit;
   bool closed_loop = true;
+  bool measure = true;                // measure errors at all (off: pure conversion, for benchmarks)
   bool measure_unconstrained = true;  // also fit the unconstrained LS baseline for the report
   bool measure_open_loop = true;      // also quantise open loop to report the closed-loop gain
   PlaneCodecOptions codec;

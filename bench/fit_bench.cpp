@@ -1,0 +1,64 @@
+// Fit throughput (texels/s on one core) for L1 and L2 input, and the whole in-memory conversion.
+#include <benchmark/benchmark.h>
+
+#include <random>
+
+#include "fit/ahd_fit.h"
+#include "pipeline/convert.h"
+#include "sample/analytic_baker.h"
+#include "sample/hard_cases.h"
+
+using namespace ahd;
+
+namespace {
+
+std::vector<IrradiancePoly> random_polys(int coeffs, size_t n) {
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::normal_distribution<double> g;
+  std::vector<IrradiancePoly> out(n * 3);
+  for (size_t i = 0; i < n; ++i) {
+    float sh[27] = {};
+    for (int l = 0; l < 3; ++l) {
+      double d[3] = {g(rng), g(rng), g(rng)};
+      const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+      for (double& v : d) v /= len;
+      const double rgb[3] = {u(rng), u(rng), u(rng)};
+      add_directional_light(sh, coeffs, d, rgb);
+    }
+    for (int c = 0; c < 3; ++c) out[i * 3 + c] = irradiance_poly(sh + c, coeffs, 3);
+  }
+  return out;
+}
+
+void BM_FitTexel(benchmark::State& state) {
+  const int coeffs = int(state.range(0));
+  const size_t n = 4096;
+  const auto polys = random_polys(coeffs, n);
+  FitOptions opt;
+  size_t i = 0;
+  for (auto _ : state) {
+    AhdFit f = fit_texel(&polys[(i % n) * 3], opt);
+    benchmark::DoNotOptimize(f);
+    ++i;
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()));
+  state.SetLabel(coeffs == 4 ? "L1" : "L2");
+}
+BENCHMARK(BM_FitTexel)->Arg(4)->Arg(9);
+
+void BM_ConvertUncompressed(benchmark::State& state) {
+  BakerOptions bo;
+  bo.width = bo.height = int(state.range(0));
+  const ShImage sh = bake_analytic_scene(bo);
+  const Profile p = load_profile("uncompressed");
+  ConvertOptions opt;
+  opt.threads = 1;
+  opt.codec.threads = 1;
+  opt.measure = false;
+  for (auto _ : state) benchmark::DoNotOptimize(convert(sh, p, opt));
+  state.SetItemsProcessed(int64_t(state.iterations()) * bo.width * bo.height);
+}
+BENCHMARK(BM_ConvertUncompressed)->Arg(256)->Unit(benchmark::kMillisecond);
+
+}  // namespace
