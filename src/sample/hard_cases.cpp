@@ -130,3 +130,26 @@ std::vector<HardCase> hard_cases() {
 }
 
 }  // namespace ahd
+
+#include <random>
+
+namespace ahd {
+
+ShImage grazing_light_set(int n, uint32_t seed) {
+  ShImage img = make_sh_image(n, n, 9);
+  std::mt19937 rng(seed);
+  auto unit = [&]() { return double(rng() >> 8) * (1.0 / 16777216.0); };
+  for (size_t i = 0; i < img.texels(); ++i) {
+    const double elev = (-10.0 + 100.0 * (double(i) + 0.5) / double(img.texels())) * kPi / 180.0;
+    const double az = 2 * kPi * unit();
+    const double d[3] = {std::cos(elev) * std::cos(az), std::cos(elev) * std::sin(az), std::sin(elev)};
+    const double rgb[3] = {0.5 + unit(), 0.5 + unit(), 0.5 + unit()};
+    add_directional_light(img.texel(i), 9, d, rgb);
+    const double a = std::pow(10.0, -3.0 + 2.5 * unit());
+    const double amb[3] = {a, a, a};
+    add_ambient(img.texel(i), amb);
+  }
+  return img;
+}
+
+}  // namespace ahd

@@ -25,3 +25,12 @@ void add_directional_light(float* sh_texel, int coeffs, const double d[3], const
 void add_ambient(float* sh_texel, const double rgb[3]);
 
 }  // namespace ahd
+
+namespace ahd {
+
+// n×n texels, each lit by one directional light at an elevation spread uniformly from the
+// horizon-below (−10°) to the normal (90°), random azimuth and colour, plus ambient from 0.1 % to
+// 30 % of the light. The set that decides the horizon rule's eps (`ahdpack report eps`).
+ShImage grazing_light_set(int n, uint32_t seed);
+
+}  // namespace ahd
