@@ -22,8 +22,8 @@ struct ConvertArgs {
   std::string input;
   std::string output;
   std::string profile = "uncompressed";
-  std::string ratio = "luminance";
-  double dz_min = 0.1;
+  std::string ratio;  // empty: the profile's ratio form
+  double dz_min = 0.05;
   bool open_loop = false;
   bool zstd = false;
   int threads = 0;
@@ -51,10 +51,12 @@ void run_convert(const ConvertArgs& a) {
   opt.codec.threads = a.threads;
   opt.fit.dz_min = a.dz_min;
   opt.closed_loop = !a.open_loop;
-  if (a.ratio == "rgb") opt.fit.ratio_form = RatioForm::Rgb;
-  else if (a.ratio != "luminance") throw Error("--ratio must be 'luminance' or 'rgb'");
   if (!(a.dz_min > 0 && a.dz_min < 1)) throw Error("--eps must be in (0, 1)");
   const Profile profile = load_profile(a.profile);
+  if (profile.ratio_rgb) opt.fit.ratio_form = RatioForm::Rgb;
+  if (a.ratio == "rgb") opt.fit.ratio_form = RatioForm::Rgb;
+  else if (a.ratio == "luminance") opt.fit.ratio_form = RatioForm::Luminance;
+  else if (!a.ratio.empty()) throw Error("--ratio must be 'luminance' or 'rgb'");
 
   // Input.
   auto t0 = Clock::now();
@@ -163,7 +165,7 @@ void add_convert_command(CLI::App& app) {
   c->add_option("input", a->input, "Canonical SH EXR (sh0.R … sh8.B); omit for the built-in sample");
   c->add_option("-o,--output", a->output, "OUT.ktx2 or OUT.dds: writes OUT.<plane>.<ext>, OUT.json, OUT.report.json");
   c->add_option("--profile", a->profile, "Output profile name or .json file (formats/profiles)");
-  c->add_option("--ratio", a->ratio, "Ratio form: luminance (one channel) or rgb");
+  c->add_option("--ratio", a->ratio, "Ratio form: luminance (one channel) or rgb (default: the profile's)");
   c->add_option("--eps", a->dz_min, "Smallest stored d_z (the horizon rule)");
   c->add_flag("--open-loop", a->open_loop, "Quantise the ratio from the unquantised fit (for comparison)");
   c->add_flag("--zstd", a->zstd, "Zstandard supercompression (KTX2)");

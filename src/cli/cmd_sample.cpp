@@ -62,16 +62,18 @@ void add_sample_command(CLI::App& app) {
     const char* names[2] = {"grazing-light set (64x64)", "analytic scene (128x128)"};
     for (int s = 0; s < 2; ++s) {
       std::printf("%s, profile %s: relative hemisphere RMSE vs SH (mean / p99 / max)\n", names[s], p.name.c_str());
-      std::printf("  %-6s %-9s %-32s %-32s %s\n", "eps", "Cd<=Iz/e", "fit", "quantised closed loop", "tilted");
-      for (double eps : {0.02, 0.05, 0.1, 0.15, 0.2, 0.3}) {
+      std::printf("  %-6s %-9s %-27s %-27s %-18s %s\n", "eps", "Cd<=Iz/e", "fit rel (mean p99 max)",
+                  "quantised rel", "quantised log2", "tilted");
+      for (double eps : {0.01, 0.02, 0.05, 0.1, 0.2, 0.3}) {
         ConvertOptions opt;
         opt.fit.dz_min = eps;
         opt.measure_unconstrained = false;
         opt.measure_open_loop = false;
         const ConvertResult res = convert(sets[s], p, opt);
-        std::printf("  %-6.2f %-9.1f %.2e %.2e %.2e  %.2e %.2e %.2e  %zu\n", eps, 1.0 / eps, res.fit_error.relative.mean,
-                    res.fit_error.relative.p99, res.fit_error.relative.max, res.final_error.relative.mean,
-                    res.final_error.relative.p99, res.final_error.relative.max, res.fit_stats.dir_clamped);
+        std::printf("  %-6.2f %-9.0f %.2e %.2e %.2e   %.2e %.2e %.2e   %.2e %.2e    %zu\n", eps, 1.0 / eps,
+                    res.fit_error.relative.mean, res.fit_error.relative.p99, res.fit_error.relative.max,
+                    res.final_error.relative.mean, res.final_error.relative.p99, res.final_error.relative.max,
+                    res.final_error.log2.mean, res.final_error.log2.p99, res.fit_stats.dir_clamped);
       }
     }
   });

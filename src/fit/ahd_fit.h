@@ -17,7 +17,7 @@ struct FitOptions {
   double luma[3] = {0.2126, 0.7152, 0.0722};
   // Smallest d_z the encoder stores. Decoding divides by d_z; keeping d_z ≥ eps bounds
   // C_d ≤ I_z / eps. Chosen by measurement (README, "Choosing eps"; `ahdpack bench eps`).
-  double dz_min = 0.1;
+  double dz_min = 0.05;
   // |L1 luminance| below this fraction of the L0 luminance means "no preferred direction": d = z.
   double no_direction_threshold = 1e-6;
   RatioForm ratio_form = RatioForm::Luminance;

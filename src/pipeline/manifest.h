@@ -26,7 +26,7 @@ struct Manifest {
   uint32_t width = 0, height = 0, levels = 1;
   std::vector<ManifestPlane> planes;
   RatioForm ratio_form = RatioForm::Luminance;
-  double dz_min = 0.1;
+  double dz_min = 0.05;
   double luma[3] = {0.2126, 0.7152, 0.0722};
   std::string direction_encoding = "hemi-octahedral";  // uv = (px+py, px−py), p = d.xy/|d|₁
   std::string direction_frame = "tangent";             // or "normal-frame" (world SH + normals)

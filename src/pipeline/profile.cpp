@@ -41,6 +41,9 @@ Profile load_profile(const std::string& name_or_path) {
   try {
     p.name = j.at("name").get<std::string>();
     p.description = j.value("description", "");
+    const std::string form = j.value("ratio_form", "luminance");
+    if (form != "luminance" && form != "rgb") throw file_error(path, "ratio_form must be 'luminance' or 'rgb'");
+    p.ratio_rgb = form == "rgb";
     const auto& planes = j.at("planes");
     p.iz = format("iz");
     if (planes.contains("dirratio")) {

@@ -16,6 +16,7 @@ struct Profile {
   PixelFormat dir = PixelFormat::RG8_UNORM;
   PixelFormat ratio = PixelFormat::R8_UNORM;
   PixelFormat dirratio = PixelFormat::RGBA8_UNORM;
+  bool ratio_rgb = false;  // "ratio_form": "rgb" — C_a/I_z per channel instead of L(C_a)/L(I_z)
 };
 
 // The folder holding profiles/ and shaders/: $AHD_FORMATS_DIR, else the source tree's formats/.
