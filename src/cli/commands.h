@@ -10,6 +10,7 @@ void add_decode_command(CLI::App& app);      // cmd_decode.cpp
 void add_inspect_command(CLI::App& app);     // cmd_inspect.cpp
 void add_compress_commands(CLI::App& app);   // cmd_compress.cpp: compress + decompress
 void add_bench_command(CLI::App& app);       // cmd_bench.cpp
-void add_sample_command(CLI::App& app);      // cmd_sample.cpp: sample + report
+void add_sample_command(CLI::App& app);      // cmd_sample.cpp
+void add_report_command(CLI::App& app);      // cmd_report.cpp: hard-cases, eps, profiles
 
 }  // namespace ahd::cli

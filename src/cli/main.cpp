@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
   ahd::cli::add_compress_commands(app);
   ahd::cli::add_bench_command(app);
   ahd::cli::add_sample_command(app);
+  ahd::cli::add_report_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -26,6 +26,13 @@ struct FitStats {
   size_t black = 0;
 };
 
+// One mip level after the fit stage: the SH it was fitted from and the fitted (dilated) AHD.
+// The quantiser needs both: the closed loop refits the ratio against the SH.
+struct FittedLevel {
+  ShImage sh;
+  AhdImage ahd;
+};
+
 // Fits every texel (uncovered ones too; their values are replaced by dilation later).
 AhdImage fit_image(const ShImage& sh, const FitOptions& opt, int threads, FitStats* stats = nullptr);
 

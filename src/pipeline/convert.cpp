@@ -17,13 +17,6 @@ double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-Texture single_level(PixelFormat f, TextureLevel lvl) {
-  Texture t;
-  t.format = f;
-  t.levels.push_back(std::move(lvl));
-  return t;
-}
-
 // Direction → hemi-octahedral uv in [0,1]² (what UNORM planes store).
 void dir_to_unit_uv(const float d[3], float uv01[2]) {
   const double dd[3] = {d[0], d[1], std::max(0.0f, d[2])};
@@ -112,10 +105,9 @@ std::vector<AhdLobe> lobes_from_planes(const DecodedPlanes& p, double dz_min) {
   return lobes;
 }
 
-ConvertResult convert(const ShImage& sh, const Profile& profile, const ConvertOptions& opt) {
-  ConvertResult r;
-  const int threads = opt.threads;
-  const size_t n = sh.texels();
+namespace {
+
+void check_profile(const Profile& profile, const ConvertOptions& opt) {
   const bool ratio_rgb = opt.fit.ratio_form == RatioForm::Rgb;
   if (profile.packed_dir_ratio && ratio_rgb)
     throw Error("profile " + profile.name + " packs one ratio channel; use the luminance ratio form");
@@ -127,17 +119,110 @@ ConvertResult convert(const ShImage& sh, const Profile& profile, const ConvertOp
   if (ratio_rgb && !profile.packed_dir_ratio && format_info(profile.ratio).channels < 3)
     throw Error("the RGB ratio form needs a 3- or 4-channel ratio format (profile " + profile.name + " has " +
                 format_info(profile.ratio).name + ")");
+}
 
-  // 1. Fit.
+// Planes of one level, closed loop: direction first, then I_z, then the ratio refitted against
+// the DECODED direction and I_z (covered texels; uncovered ones keep their dilated ratio).
+struct LevelPlanes {
+  TextureLevel iz, dir, ratio, dirratio;           // closed loop (or open when !closed_loop)
+  TextureLevel ratio_open, dirratio_open;          // open loop, for the report
+};
+
+LevelPlanes quantise_level(const FittedLevel& lv, const Profile& profile, const ConvertOptions& opt,
+                           PlaneCodecStats* stats) {
+  const ShImage& sh = lv.sh;
+  const AhdImage& fit = lv.ahd;
+  const size_t n = sh.texels();
+  const int w = sh.width, h = sh.height;
+  const bool ratio_rgb = opt.fit.ratio_form == RatioForm::Rgb;
+  ImageF uv(w, h, 2), izi(w, h, 3);
+  for (size_t i = 0; i < n; ++i) {
+    dir_to_unit_uv(fit.texels[i].d, &uv.data[i * 2]);
+    for (int c = 0; c < 3; ++c) izi.data[i * 3 + c] = fit.texels[i].iz[c];
+  }
+  LevelPlanes out;
+  out.iz = encode_plane(profile.iz, izi, opt.codec, stats);
+  const ImageF iz_dec = decode_plane(profile.iz, out.iz);
+  ImageF dir_dec;
+  if (!profile.packed_dir_ratio) {
+    out.dir = encode_plane(profile.dir, uv, opt.codec);
+    dir_dec = decode_plane(profile.dir, out.dir);
+  } else {
+    // The packed plane is RGBA8: the direction's decoded value is its 8-bit rounding.
+    dir_dec = ImageF(w, h, 2);
+    for (size_t i = 0; i < n * 2; ++i) dir_dec.data[i] = float(std::lround(uv.data[i] * 255.0f)) / 255.0f;
+  }
+  const int rch = ratio_rgb ? 3 : 1;
+  ImageF ratio_closed(w, h, rch), ratio_open(w, h, rch);
+  parallel_for(n, opt.threads, 1024, [&](size_t i) {
+    const AhdFit& f = fit.texels[i];
+    for (int c = 0; c < rch; ++c) ratio_open.data[i * rch + c] = ratio_closed.data[i * rch + c] = f.ratio[c];
+    if (!opt.closed_loop || !sh.coverage[i]) return;
+    float dq[3];
+    unit_uv_to_dir(&dir_dec.data[i * dir_dec.channels], dq);
+    double d[3] = {dq[0], dq[1], dq[2]};
+    tilt_above_horizon(d, opt.fit.dz_min);  // as the decoder will
+    double iz[3];
+    for (int c = 0; c < 3; ++c) iz[c] = std::max(0.0f, iz_dec.data[i * iz_dec.channels + c]);
+    IrradiancePoly p[3];
+    local_polys(sh, i, p);
+    const AhdFit g = fit_colours(p, d, iz, opt.fit);
+    for (int c = 0; c < rch; ++c) ratio_closed.data[i * rch + c] = g.ratio[c];
+  });
+  auto packed = [&](const ImageF& ratio) {
+    ImageF img(w, h, 4);
+    for (size_t i = 0; i < n; ++i) {
+      img.data[i * 4 + 0] = uv.data[i * 2 + 0];
+      img.data[i * 4 + 1] = uv.data[i * 2 + 1];
+      img.data[i * 4 + 2] = ratio.data[i * rch];
+      img.data[i * 4 + 3] = 1.0f;
+    }
+    return encode_plane(profile.dirratio, img, opt.codec);
+  };
+  if (profile.packed_dir_ratio) {
+    out.dirratio = packed(ratio_closed);
+    if (opt.measure && opt.measure_open_loop) out.dirratio_open = packed(ratio_open);
+  } else {
+    out.ratio = encode_plane(profile.ratio, ratio_closed, opt.codec);
+    if (opt.measure && opt.measure_open_loop) out.ratio_open = encode_plane(profile.ratio, ratio_open, opt.codec);
+  }
+  return out;
+}
+
+std::vector<Plane> planes_of(const Profile& profile, const std::vector<LevelPlanes>& lv, bool open_loop) {
+  auto texture = [&](PixelFormat f, TextureLevel LevelPlanes::*member) {
+    Texture t;
+    t.format = f;
+    for (const auto& l : lv) t.levels.push_back(l.*member);
+    return t;
+  };
+  std::vector<Plane> planes;
+  planes.push_back({"iz", texture(profile.iz, &LevelPlanes::iz)});
+  if (profile.packed_dir_ratio) {
+    planes.push_back({"dirratio", texture(profile.dirratio, open_loop ? &LevelPlanes::dirratio_open : &LevelPlanes::dirratio)});
+  } else {
+    planes.push_back({"dir", texture(profile.dir, &LevelPlanes::dir)});
+    planes.push_back({"ratio", texture(profile.ratio, open_loop ? &LevelPlanes::ratio_open : &LevelPlanes::ratio)});
+  }
+  return planes;
+}
+
+}  // namespace
+
+std::vector<FittedLevel> fit_levels(const ShImage& sh, const ConvertOptions& opt, ConvertResult* r) {
   auto t0 = Clock::now();
-  const AhdImage fit = fit_image(sh, opt.fit, threads, &r.fit_stats);
-  r.timings.push_back({"fit", seconds_since(t0)});
+  std::vector<FittedLevel> levels;
+  levels.push_back({sh, fit_image(sh, opt.fit, opt.threads, &r->fit_stats)});
+  r->timings.push_back({"fit", seconds_since(t0)});
+  if (!opt.measure) return levels;
 
   t0 = Clock::now();
-  if (opt.measure) r.fit_error = measure_error(sh, lobes_from_fit(fit), threads);
-  if (opt.measure && opt.measure_unconstrained) {
+  const AhdImage& fit = levels[0].ahd;
+  r->fit_error = measure_error(sh, lobes_from_fit(fit), opt.threads);
+  if (opt.measure_unconstrained) {
+    const size_t n = sh.texels();
     std::vector<AhdLobe> lobes(n);
-    parallel_for(n, threads, 1024, [&](size_t i) {
+    parallel_for(n, opt.threads, 1024, [&](size_t i) {
       IrradiancePoly p[3];
       local_polys(sh, i, p);
       const double d[3] = {fit.texels[i].d[0], fit.texels[i].d[1], fit.texels[i].d[2]};
@@ -146,85 +231,41 @@ ConvertResult convert(const ShImage& sh, const Profile& profile, const ConvertOp
         lobes[i].d[c] = d[c];
       }
     });
-    r.unconstrained_error = measure_error(sh, lobes, threads);
+    r->unconstrained_error = measure_error(sh, lobes, opt.threads);
   }
-  if (opt.measure) r.timings.push_back({"measure fit", seconds_since(t0)});
+  r->timings.push_back({"measure fit", seconds_since(t0)});
+  return levels;
+}
 
-  // 2. Quantise, closed loop: direction first, then I_z, then the ratio refitted against the
-  //    DECODED direction and I_z.
+void quantise_levels(const std::vector<FittedLevel>& levels, const Profile& profile, const ConvertOptions& opt,
+                     ConvertResult* r) {
+  check_profile(profile, opt);
+  const bool ratio_rgb = opt.fit.ratio_form == RatioForm::Rgb;
+  auto t0 = Clock::now();
+  std::vector<LevelPlanes> lv;
+  for (const FittedLevel& l : levels) lv.push_back(quantise_level(l, profile, opt, &r->codec_stats));
+  r->planes = planes_of(profile, lv, false);
+  r->timings.push_back({"quantise", seconds_since(t0)});
+  if (!opt.measure) return;
+
   t0 = Clock::now();
-  const int w = sh.width, h = sh.height;
-  ImageF uv(w, h, 2), izi(w, h, 3);
-  for (size_t i = 0; i < n; ++i) {
-    dir_to_unit_uv(fit.texels[i].d, &uv.data[i * 2]);
-    for (int c = 0; c < 3; ++c) izi.data[i * 3 + c] = fit.texels[i].iz[c];
-  }
-  Texture iz_tex = single_level(profile.iz, encode_plane(profile.iz, izi, opt.codec, &r.codec_stats));
-  const ImageF iz_dec = decode_plane(profile.iz, iz_tex.levels[0]);
+  r->level_error.clear();
+  for (size_t l = 0; l < levels.size(); ++l)
+    r->level_error.push_back(measure_error(
+        levels[l].sh, lobes_from_planes(decode_planes(r->planes, ratio_rgb, int(l)), opt.fit.dz_min), opt.threads));
+  r->final_error = r->level_error[0];
+  if (opt.measure_open_loop)
+    r->open_loop_error = measure_error(
+        levels[0].sh, lobes_from_planes(decode_planes(planes_of(profile, lv, true), ratio_rgb, 0), opt.fit.dz_min),
+        opt.threads);
+  r->timings.push_back({"measure quantised", seconds_since(t0)});
+}
 
-  // Direction: for packed profiles it shares a texture with the ratio, quantised per texel (RGBA8),
-  // so its decoded value is known before the ratio is chosen.
-  ImageF dir_dec;
-  Texture dir_tex;
-  if (!profile.packed_dir_ratio) {
-    dir_tex = single_level(profile.dir, encode_plane(profile.dir, uv, opt.codec));
-    dir_dec = decode_plane(profile.dir, dir_tex.levels[0]);
-  } else {
-    dir_dec = ImageF(w, h, 2);
-    for (size_t i = 0; i < n * 2; ++i) dir_dec.data[i] = std::lround(uv.data[i] * 255.0f) / 255.0f;
-  }
-
-  const int rch = ratio_rgb ? 3 : 1;
-  ImageF ratio_closed(w, h, rch), ratio_open(w, h, rch);
-  parallel_for(n, threads, 1024, [&](size_t i) {
-    const AhdFit& f = fit.texels[i];
-    for (int c = 0; c < rch; ++c) ratio_open.data[i * rch + c] = f.ratio[c];
-    if (!opt.closed_loop) {
-      for (int c = 0; c < rch; ++c) ratio_closed.data[i * rch + c] = f.ratio[c];
-      return;
-    }
-    float dq[3];
-    unit_uv_to_dir(&dir_dec.data[i * dir_dec.channels], dq);
-    double d[3] = {dq[0], dq[1], dq[2]};
-    tilt_above_horizon(d, opt.fit.dz_min);  // as the decoder will
-    const double iz[3] = {std::max(0.0f, iz_dec.data[i * iz_dec.channels + 0]),
-                          std::max(0.0f, iz_dec.data[i * iz_dec.channels + 1]),
-                          std::max(0.0f, iz_dec.data[i * iz_dec.channels + 2])};
-    IrradiancePoly p[3];
-    local_polys(sh, i, p);
-    const AhdFit g = fit_colours(p, d, iz, opt.fit);
-    for (int c = 0; c < rch; ++c) ratio_closed.data[i * rch + c] = g.ratio[c];
-  });
-
-  auto make_planes = [&](const ImageF& ratio) {
-    std::vector<Plane> planes;
-    planes.push_back({"iz", iz_tex});
-    if (profile.packed_dir_ratio) {
-      ImageF packed(w, h, 4);
-      for (size_t i = 0; i < n; ++i) {
-        packed.data[i * 4 + 0] = uv.data[i * 2 + 0];
-        packed.data[i * 4 + 1] = uv.data[i * 2 + 1];
-        packed.data[i * 4 + 2] = ratio.data[i * rch];
-        packed.data[i * 4 + 3] = 1.0f;
-      }
-      planes.push_back({"dirratio", single_level(profile.dirratio, encode_plane(profile.dirratio, packed, opt.codec))});
-    } else {
-      planes.push_back({"dir", dir_tex});
-      planes.push_back({"ratio", single_level(profile.ratio, encode_plane(profile.ratio, ratio, opt.codec))});
-    }
-    return planes;
-  };
-  r.planes = make_planes(ratio_closed);
-  r.timings.push_back({"quantise", seconds_since(t0)});
-
-  if (!opt.measure) return r;
-  t0 = Clock::now();
-  r.final_error = measure_error(sh, lobes_from_planes(decode_planes(r.planes, ratio_rgb), opt.fit.dz_min), threads);
-  if (opt.measure_open_loop) {
-    r.open_loop_error =
-        measure_error(sh, lobes_from_planes(decode_planes(make_planes(ratio_open), ratio_rgb), opt.fit.dz_min), threads);
-  }
-  r.timings.push_back({"measure quantised", seconds_since(t0)});
+ConvertResult convert(const ShImage& sh, const Profile& profile, const ConvertOptions& opt) {
+  check_profile(profile, opt);
+  ConvertResult r;
+  const std::vector<FittedLevel> levels = fit_levels(sh, opt, &r);
+  quantise_levels(levels, profile, opt, &r);
   return r;
 }
 

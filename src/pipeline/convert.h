@@ -21,6 +21,7 @@ struct ConvertOptions {
   bool measure_open_loop = true;      // also quantise open loop to report the closed-loop gain
   PlaneCodecOptions codec;
   int threads = 0;
+  int max_levels = 0;  // mip levels to write: 0 = the full chain down to 1×1
 };
 
 struct Plane {
@@ -39,12 +40,23 @@ struct ConvertResult {
   ErrorReport fit_error;            // the fitted AHD (before quantisation) vs the SH
   ErrorReport unconstrained_error;  // the unconstrained LS fit with the same d, vs the SH
   ErrorReport open_loop_error;      // quantised, ratio from the unquantised fit
-  ErrorReport final_error;          // quantised, what the files decode to, vs the SH
+  ErrorReport final_error;          // quantised, what the files decode to, vs the SH (level 0)
+  std::vector<ErrorReport> level_error;  // the same for every mip level, vs that level's SH
   PlaneCodecStats codec_stats;
   std::vector<StageCost> timings;
 };
 
+// The whole conversion: fit_levels then quantise_levels.
 ConvertResult convert(const ShImage& sh, const Profile& profile, const ConvertOptions& opt);
+
+// Fit stage: the SH mip chain, the AHD fit of every level, dilation of uncovered texels.
+// Fills r->fit_stats, r->fit_error and r->unconstrained_error (level 0) and timings.
+std::vector<FittedLevel> fit_levels(const ShImage& sh, const ConvertOptions& opt, ConvertResult* r);
+
+// Quantise stage: planes of every level for the profile (closed loop per level), measured against
+// each level's SH. Also what `transcode` runs on a stored intermediate.
+void quantise_levels(const std::vector<FittedLevel>& levels, const Profile& profile, const ConvertOptions& opt,
+                     ConvertResult* r);
 
 // The decoded value of every texel of level-0 planes (as the reference decoder reads them):
 // iz (3 floats), d (unit, 3 floats), ratio (3 floats).

@@ -335,10 +335,18 @@ TEST(Fit, HardCasesStayFiniteAndConstrained) {
     if (hc.name.rfind("NaN", 0) == 0) {
       EXPECT_EQ(rs.non_finite_texels, 3u) << "NaN, +Inf and −Inf texels are counted";
     }
-    if (hc.name.rfind("black", 0) == 0) EXPECT_EQ(st.black, fit.texels.size());
-    if (hc.name.rfind("pure ambient", 0) == 0) EXPECT_EQ(st.no_direction, fit.texels.size());
-    if (hc.name.rfind("negative SH", 0) == 0) EXPECT_GE(st.negative_iz, 1u);
-    if (hc.name.rfind("directional light swept", 0) == 0) EXPECT_GE(st.dir_clamped, 6u);
+    if (hc.name.rfind("black", 0) == 0) {
+      EXPECT_EQ(st.black, fit.texels.size());
+    }
+    if (hc.name.rfind("pure ambient", 0) == 0) {
+      EXPECT_EQ(st.no_direction, fit.texels.size());
+    }
+    if (hc.name.rfind("negative SH", 0) == 0) {
+      EXPECT_GE(st.negative_iz, 1u);
+    }
+    if (hc.name.rfind("directional light swept", 0) == 0) {
+      EXPECT_GE(st.dir_clamped, 6u);
+    }
     if (hc.name.rfind("two opposed", 0) == 0) {
       // Lights at ±x cancel L1 exactly: no preferred direction.
       EXPECT_TRUE(fit.texels[1].flags & kFitNoDirection);

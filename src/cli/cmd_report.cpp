@@ -1,0 +1,141 @@
+// ahdpack report …: the accuracy tables of the README, each from one command anyone can rerun.
+//   hard-cases  the fit and the quantised planes on the hard-case set
+//   eps         the horizon rule's eps against error (how the default was chosen)
+//   profiles    every profile end to end: bytes per texel, error vs the source SH, open vs closed loop
+#include <cstdio>
+
+#include "cli/commands.h"
+#include "cli/report.h"
+#include "io/sh_exr.h"
+#include "pipeline/convert.h"
+#include "sample/analytic_baker.h"
+#include "sample/hard_cases.h"
+
+namespace ahd::cli {
+
+namespace {
+
+// All hard cases in one image (sanitised as a reader would), for whole-set figures.
+ShImage hard_case_image() {
+  std::vector<HardCase> cases = hard_cases();
+  size_t n = 0;
+  for (const auto& c : cases) n += c.sh.texels();
+  ShImage all = make_sh_image(int(n), 1, 9);
+  size_t at = 0;
+  for (auto& c : cases) {
+    ReadStats rs;
+    sanitise_sh(c.sh, false, &rs);
+    for (size_t i = 0; i < c.sh.texels(); ++i, ++at) {
+      std::copy(c.sh.texel(i), c.sh.texel(i) + 27, all.texel(at));
+      all.coverage[at] = c.sh.coverage[i];
+    }
+  }
+  return all;
+}
+
+void report_profiles(int size) {
+  BakerOptions bo;
+  bo.width = bo.height = size;
+  const ShImage sets[2] = {bake_analytic_scene(bo), hard_case_image()};
+  const char* names[2] = {"analytic scene", "hard-case set"};
+  std::printf("| profile | bytes/texel | set | loop | rel RMSE mean | rel p99 | rel max | log2 RMSE mean | log2 p99 | log2 max | I_z rel p99 | I_z rel max |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const std::string& name : list_profiles()) {
+    const Profile p = load_profile(name);
+    bool ok = true;
+    for (PixelFormat f : {p.iz, p.dir, p.ratio, p.dirratio}) ok &= plane_format_supported(f);
+    if (!ok) {
+      std::printf("| %s | – | – | – | not available in this build | | | | | | | |\n", name.c_str());
+      continue;
+    }
+    double bpt = 0;
+    auto bytes = [](PixelFormat f) {
+      const FormatInfo& i = format_info(f);
+      return double(i.bytes_per_block) / (i.block_width * i.block_height);
+    };
+    bpt = bytes(p.iz) + (p.packed_dir_ratio ? bytes(p.dirratio) : bytes(p.dir) + bytes(p.ratio));
+    for (int s = 0; s < 2; ++s) {
+      ConvertOptions opt;
+      opt.measure_unconstrained = false;
+      if (p.ratio_rgb) opt.fit.ratio_form = RatioForm::Rgb;
+      const ConvertResult r = convert(sets[s], p, opt);
+      for (int loop = 0; loop < 2; ++loop) {
+        const ErrorReport& e = loop ? r.final_error : r.open_loop_error;
+        std::printf("| %s | %.2f | %s | %s | %.2e | %.2e | %.2e | %.2e | %.2e | %.2e | %.2e | %.2e |\n", name.c_str(), bpt,
+                    names[s], loop ? "closed" : "open", e.relative.mean, e.relative.p99, e.relative.max, e.log2.mean,
+                    e.log2.p99, e.log2.max, e.normal_rel.p99, e.normal_rel.max);
+      }
+    }
+  }
+}
+
+}  // namespace
+
+void add_report_command(CLI::App& app) {
+  CLI::App* r = app.add_subcommand("report", "Accuracy reports");
+  CLI::App* h = r->add_subcommand("hard-cases", "Fit and quantise the hard-case set; print the error table");
+  auto profile = std::make_shared<std::string>("uncompressed");
+  h->add_option("--profile", *profile, "Output profile");
+  h->callback([profile]() {
+    const Profile p = load_profile(*profile);
+    std::printf("Hard cases, profile %s. Errors vs the source SH over 64 hemisphere normals, relative to the "
+                "texel's mean irradiance; I_z = error along the normal.\n\n", p.name.c_str());
+    std::printf("| case | texels | rules fired | fit rel mean | fit rel max | fit I_z max | LS rel mean | LS I_z max | "
+                "LS negative texels | quantised rel max | quantised I_z max |\n|---|---|---|---|---|---|---|---|---|---|---|\n");
+    for (HardCase& hc : hard_cases()) {
+      ReadStats rs;
+      sanitise_sh(hc.sh, false, &rs);
+      ConvertOptions opt;
+      opt.threads = 1;
+      const ConvertResult res = convert(hc.sh, p, opt);
+      std::string rules;
+      auto add = [&](const char* what, size_t n) {
+        if (n) rules += (rules.empty() ? "" : ", ") + std::string(what) + " " + std::to_string(n);
+      };
+      add("no-direction", res.fit_stats.no_direction);
+      add("horizon", res.fit_stats.dir_clamped);
+      add("negative I_z", res.fit_stats.negative_iz);
+      add("black", res.fit_stats.black);
+      add("non-finite", rs.non_finite_texels);
+      std::printf("| %s | %zu | %s | %.2e | %.2e | %.1e | %.2e | %.1e | %zu | %.2e | %.1e |\n", hc.name.c_str(),
+                  hc.sh.texels(), rules.empty() ? "–" : rules.c_str(), res.fit_error.relative.mean,
+                  res.fit_error.relative.max, res.fit_error.normal_rel.max, res.unconstrained_error.relative.mean,
+                  res.unconstrained_error.normal_rel.max, res.unconstrained_error.negative, res.final_error.relative.max,
+                  res.final_error.normal_rel.max);
+    }
+  });
+
+  CLI::App* e = r->add_subcommand("eps", "Measure the horizon rule: error against eps on grazing light and the sample");
+  auto eprofile = std::make_shared<std::string>("uncompressed");
+  e->add_option("--profile", *eprofile, "Output profile");
+  e->callback([eprofile]() {
+    const Profile p = load_profile(*eprofile);
+    BakerOptions bo;
+    bo.width = bo.height = 128;
+    const ShImage sets[2] = {grazing_light_set(64, 1), bake_analytic_scene(bo)};
+    const char* names[2] = {"grazing-light set (64x64)", "analytic scene (128x128)"};
+    for (int s = 0; s < 2; ++s) {
+      std::printf("%s, profile %s: relative hemisphere RMSE vs SH (mean / p99 / max)\n", names[s], p.name.c_str());
+      std::printf("  %-6s %-9s %-27s %-27s %-18s %s\n", "eps", "Cd<=Iz/e", "fit rel (mean p99 max)",
+                  "quantised rel", "quantised log2", "tilted");
+      for (double eps : {0.01, 0.02, 0.05, 0.1, 0.2, 0.3}) {
+        ConvertOptions opt;
+        opt.fit.dz_min = eps;
+        opt.measure_unconstrained = false;
+        opt.measure_open_loop = false;
+        const ConvertResult res = convert(sets[s], p, opt);
+        std::printf("  %-6.2f %-9.0f %.2e %.2e %.2e   %.2e %.2e %.2e   %.2e %.2e    %zu\n", eps, 1.0 / eps,
+                    res.fit_error.relative.mean, res.fit_error.relative.p99, res.fit_error.relative.max,
+                    res.final_error.relative.mean, res.final_error.relative.p99, res.final_error.relative.max,
+                    res.final_error.log2.mean, res.final_error.log2.p99, res.fit_stats.dir_clamped);
+      }
+    }
+  });
+
+  CLI::App* pr = r->add_subcommand("profiles", "Every profile end to end on the analytic scene and the hard-case set");
+  auto psize = std::make_shared<int>(256);
+  pr->add_option("--size", *psize, "Analytic scene size");
+  pr->callback([psize]() { report_profiles(*psize); });
+}
+
+}  // namespace ahd::cli

@@ -1,0 +1,161 @@
+#include "io/ahd_intermediate.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <filesystem>
+#include <map>
+
+#include "core/error.h"
+#include "fit/ahd_decode.h"
+
+namespace ahd {
+namespace fs = std::filesystem;
+
+namespace {
+
+const char* kRgb[3] = {"R", "G", "B"};
+const char* kXyz[3] = {"X", "Y", "Z"};
+
+std::vector<std::string> channel_names(int coeffs, bool normals) {
+  std::vector<std::string> n;
+  for (int k = 0; k < coeffs; ++k)
+    for (int c = 0; c < 3; ++c) n.push_back("sh" + std::to_string(k) + "." + kRgb[c]);
+  n.push_back("coverage");
+  if (normals)
+    for (int c = 0; c < 3; ++c) n.push_back(std::string("normal.") + kXyz[c]);
+  for (int c = 0; c < 3; ++c) n.push_back(std::string("ahd.iz.") + kRgb[c]);
+  for (int c = 0; c < 3; ++c) n.push_back(std::string("ahd.d.") + kXyz[c]);
+  for (int c = 0; c < 3; ++c) n.push_back(std::string("ahd.ratio.") + kRgb[c]);
+  n.push_back("ahd.flags");
+  return n;
+}
+
+std::vector<float> pack_level(const FittedLevel& l, int nch) {
+  const ShImage& sh = l.sh;
+  std::vector<float> px(sh.texels() * size_t(nch));
+  const bool normals = !sh.normals.empty();
+  for (size_t i = 0; i < sh.texels(); ++i) {
+    float* o = &px[i * nch];
+    const float* t = sh.texel(i);
+    int k = 0;
+    for (int j = 0; j < sh.coeffs * 3; ++j) o[k++] = t[j];
+    o[k++] = sh.coverage[i] ? 1.0f : 0.0f;
+    if (normals)
+      for (int c = 0; c < 3; ++c) o[k++] = sh.normals[i * 3 + c];
+    const AhdFit& f = l.ahd.texels[i];
+    for (int c = 0; c < 3; ++c) o[k++] = f.iz[c];
+    for (int c = 0; c < 3; ++c) o[k++] = f.d[c];
+    for (int c = 0; c < 3; ++c) o[k++] = f.ratio[c];
+    o[k++] = float(f.flags);
+  }
+  return px;
+}
+
+}  // namespace
+
+void write_intermediate(const std::string& path, const std::vector<FittedLevel>& levels, const FitOptions& fit) {
+  if (levels.empty()) throw Error("write_intermediate: no levels");
+  const int coeffs = levels[0].sh.coeffs;
+  const bool normals = !levels[0].sh.normals.empty();
+  const std::vector<std::string> names = channel_names(coeffs, normals);
+  const int nch = int(names.size());
+  fs::path tmp = fs::path(path).parent_path() / ("." + fs::path(path).filename().string() + ".tmp.exr");
+  if (!fs::path(path).parent_path().empty()) fs::create_directories(fs::path(path).parent_path());
+  auto out = OIIO::ImageOutput::create(tmp.string());
+  if (!out) throw file_error(path, "no EXR writer");
+  for (size_t l = 0; l < levels.size(); ++l) {
+    const ShImage& sh = levels[l].sh;
+    OIIO::ImageSpec spec(sh.width, sh.height, nch, OIIO::TypeDesc::FLOAT);
+    spec.channelnames = names;
+    spec.tile_width = spec.tile_height = 64;
+    spec.attribute("compression", "zip");
+    spec.attribute("openexr:roundingmode", 0);  // ROUND_DOWN: the max(1, floor(n/2)) chain
+    spec.attribute("ahd:intermediate_version", kIntermediateVersion);
+    spec.attribute("ahd:dz_min", float(fit.dz_min));
+    spec.attribute("ahd:ratio_form", fit.ratio_form == RatioForm::Rgb ? "rgb" : "luminance");
+    spec.attribute("ahd:luma", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 3), std::vector<float>{float(fit.luma[0]), float(fit.luma[1]), float(fit.luma[2])}.data());
+    const auto mode = l == 0 ? OIIO::ImageOutput::Create : OIIO::ImageOutput::AppendMIPLevel;
+    if (l == 0 && levels.size() > 1 && !out->supports("mipmap")) throw file_error(path, "EXR writer lacks mipmaps");
+    const std::vector<float> px = pack_level(levels[l], nch);
+    if (!out->open(tmp.string(), spec, mode) || !out->write_image(OIIO::TypeDesc::FLOAT, px.data())) {
+      std::string why = out->geterror();
+      out.reset();
+      fs::remove(tmp);
+      throw file_error(path, "cannot write intermediate (" + why.substr(0, why.find('\n')) + ")");
+    }
+  }
+  out->close();
+  out.reset();
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) {
+    fs::remove(tmp);
+    throw file_error(path, "cannot rename temporary file (" + ec.message() + ")");
+  }
+}
+
+std::vector<FittedLevel> read_intermediate(const std::string& path, FitOptions* fit) {
+  if (!fs::exists(path)) throw file_error(path, "file not found");
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) throw file_error(path, "not a readable EXR");
+  const OIIO::ImageSpec& spec0 = in->spec();
+  if (spec0.get_int_attribute("ahd:intermediate_version", -1) != kIntermediateVersion)
+    throw file_error(path, "not an ahdpack intermediate of version " + std::to_string(kIntermediateVersion));
+  std::map<std::string, int> index;
+  for (int c = 0; c < spec0.nchannels; ++c) index[spec0.channelnames[size_t(c)]] = c;
+  const int coeffs = index.count("sh8.B") ? 9 : 4;
+  const bool normals = index.count("normal.X") != 0;
+  const std::vector<std::string> names = channel_names(coeffs, normals);
+  std::vector<int> src;  // file channel of each name
+  for (const auto& n : names) {
+    if (!index.count(n)) throw file_error(path, "missing channel " + n);
+    src.push_back(index[n]);
+  }
+  if (fit) {
+    fit->dz_min = spec0.get_float_attribute("ahd:dz_min", 0.05f);
+    fit->ratio_form = spec0.get_string_attribute("ahd:ratio_form") == "rgb" ? RatioForm::Rgb : RatioForm::Luminance;
+    if (const OIIO::ParamValue* p = spec0.find_attribute("ahd:luma"); p && p->nvalues() * int(p->type().aggregate) == 3)
+      for (int i = 0; i < 3; ++i) fit->luma[i] = static_cast<const float*>(p->data())[i];
+  }
+  std::vector<FittedLevel> levels;
+  for (int mip = 0; in->seek_subimage(0, mip); ++mip) {
+    const OIIO::ImageSpec& spec = in->spec();
+    const int expect_w = levels.empty() ? spec.width : std::max(1, levels.back().sh.width / 2);
+    const int expect_h = levels.empty() ? spec.height : std::max(1, levels.back().sh.height / 2);
+    if (spec.width != expect_w || spec.height != expect_h || spec.nchannels != spec0.nchannels)
+      throw file_error(path, "mip level " + std::to_string(mip) + " has an unexpected size");
+    std::vector<float> px(size_t(spec.width) * spec.height * spec.nchannels);
+    if (!in->read_image(0, mip, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, px.data()))
+      throw file_error(path, "cannot read mip level " + std::to_string(mip));
+    FittedLevel l;
+    l.sh = make_sh_image(spec.width, spec.height, coeffs);
+    if (normals) l.sh.normals.resize(l.sh.texels() * 3);
+    l.ahd.width = spec.width;
+    l.ahd.height = spec.height;
+    l.ahd.texels.resize(l.sh.texels());
+    for (size_t i = 0; i < l.sh.texels(); ++i) {
+      const float* p = &px[i * spec.nchannels];
+      size_t k = 0;  // walks `names` in the order channel_names() lists them
+      auto next = [&]() { return p[src[k++]]; };
+      float* t = l.sh.texel(i);
+      for (int j = 0; j < coeffs * 3; ++j) t[j] = next();
+      l.sh.coverage[i] = next() > 0.5f;
+      if (normals)
+        for (int c = 0; c < 3; ++c) l.sh.normals[i * 3 + c] = next();
+      AhdFit& f = l.ahd.texels[i];
+      for (int c = 0; c < 3; ++c) f.iz[c] = next();
+      for (int c = 0; c < 3; ++c) f.d[c] = next();
+      for (int c = 0; c < 3; ++c) f.ratio[c] = next();
+      f.flags = uint8_t(next());
+      double ca[3], cd[3], u[3];
+      decode_colours(f.iz, f.d, f.ratio, fit ? fit->dz_min : 0.05, ca, cd, u);
+      for (int c = 0; c < 3; ++c) f.ca[c] = float(ca[c]), f.cd[c] = float(cd[c]);
+    }
+    l.ahd.coverage = l.sh.coverage;
+    levels.push_back(std::move(l));
+  }
+  if (levels.empty()) throw file_error(path, "no levels");
+  return levels;
+}
+
+}  // namespace ahd
