@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   ahd::cli::add_bench_command(app);
   ahd::cli::add_sample_command(app);
   ahd::cli::add_report_command(app);
+  ahd::cli::add_transcode_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -2,6 +2,8 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <map>
 
@@ -71,9 +73,13 @@ void write_intermediate(const std::string& path, const std::vector<FittedLevel>&
     spec.attribute("compression", "zip");
     spec.attribute("openexr:roundingmode", 0);  // ROUND_DOWN: the max(1, floor(n/2)) chain
     spec.attribute("ahd:intermediate_version", kIntermediateVersion);
-    spec.attribute("ahd:dz_min", float(fit.dz_min));
+    // Doubles as text (%.17g): the fit parameters must come back bit for bit.
+    char num[128];
+    std::snprintf(num, sizeof num, "%.17g", fit.dz_min);
+    spec.attribute("ahd:dz_min", num);
     spec.attribute("ahd:ratio_form", fit.ratio_form == RatioForm::Rgb ? "rgb" : "luminance");
-    spec.attribute("ahd:luma", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 3), std::vector<float>{float(fit.luma[0]), float(fit.luma[1]), float(fit.luma[2])}.data());
+    std::snprintf(num, sizeof num, "%.17g %.17g %.17g", fit.luma[0], fit.luma[1], fit.luma[2]);
+    spec.attribute("ahd:luma", num);
     const auto mode = l == 0 ? OIIO::ImageOutput::Create : OIIO::ImageOutput::AppendMIPLevel;
     if (l == 0 && levels.size() > 1 && !out->supports("mipmap")) throw file_error(path, "EXR writer lacks mipmaps");
     const std::vector<float> px = pack_level(levels[l], nch);
@@ -112,10 +118,13 @@ std::vector<FittedLevel> read_intermediate(const std::string& path, FitOptions* 
     src.push_back(index[n]);
   }
   if (fit) {
-    fit->dz_min = spec0.get_float_attribute("ahd:dz_min", 0.05f);
+    const std::string dz = spec0.get_string_attribute("ahd:dz_min");
+    fit->dz_min = std::strtod(dz.c_str(), nullptr);
+    if (!(fit->dz_min > 0 && fit->dz_min < 1)) throw file_error(path, "invalid ahd:dz_min '" + dz + "'");
     fit->ratio_form = spec0.get_string_attribute("ahd:ratio_form") == "rgb" ? RatioForm::Rgb : RatioForm::Luminance;
-    if (const OIIO::ParamValue* p = spec0.find_attribute("ahd:luma"); p && p->nvalues() * int(p->type().aggregate) == 3)
-      for (int i = 0; i < 3; ++i) fit->luma[i] = static_cast<const float*>(p->data())[i];
+    const std::string luma = spec0.get_string_attribute("ahd:luma");
+    if (std::sscanf(luma.c_str(), "%lf %lf %lf", &fit->luma[0], &fit->luma[1], &fit->luma[2]) != 3)
+      throw file_error(path, "invalid ahd:luma '" + luma + "'");
   }
   std::vector<FittedLevel> levels;
   for (int mip = 0; in->seek_subimage(0, mip); ++mip) {
