@@ -3,7 +3,7 @@
 namespace ahd::cli {
 
 void print_error_header(std::FILE* out) {
-  std::fprintf(out, "  %-28s %28s   %28s   %s\n", "", "relative RMSE (mean p99 max)", "log2 RMSE (mean p99 max)",
+  std::fprintf(out, "  %-28s %-29s  %-29s  %s\n", "", "relative RMSE (mean p99 max)", "log2 RMSE (mean p99 max)",
                "I_z rel (max)");
 }
 

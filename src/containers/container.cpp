@@ -1,0 +1,44 @@
+#include "containers/container.h"
+
+#include <algorithm>
+#include <filesystem>
+
+#include "containers/dds.h"
+#include "containers/ktx2.h"
+#include "core/error.h"
+#include "io/image_io.h"
+
+namespace ahd {
+
+ContainerKind container_kind_from_path(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  if (ext == ".ktx2") return ContainerKind::KTX2;
+  if (ext == ".dds") return ContainerKind::DDS;
+  throw file_error(path, "unknown container extension (use .ktx2 or .dds)");
+}
+
+std::vector<uint8_t> encode_container(ContainerKind kind, const Texture& tex, bool zstd) {
+  if (kind == ContainerKind::DDS) return write_dds(tex);
+  Ktx2WriteOptions o;
+  o.zstd = zstd;
+  return write_ktx2(tex, o);
+}
+
+Texture decode_container(ContainerKind kind, const uint8_t* data, size_t size, const std::string& path) {
+  return kind == ContainerKind::DDS ? read_dds(data, size, path) : read_ktx2(data, size, path);
+}
+
+Texture read_container_file(const std::string& path) {
+  const std::vector<uint8_t> bytes = read_file_bytes(path);
+  const bool ktx = bytes.size() >= 4 && bytes[0] == 0xAB && bytes[1] == 'K' && bytes[2] == 'T' && bytes[3] == 'X';
+  const bool dds = bytes.size() >= 4 && bytes[0] == 'D' && bytes[1] == 'D' && bytes[2] == 'S' && bytes[3] == ' ';
+  if (!ktx && !dds) throw file_error(path, "neither a KTX2 nor a DDS file");
+  return decode_container(ktx ? ContainerKind::KTX2 : ContainerKind::DDS, bytes.data(), bytes.size(), path);
+}
+
+void write_container_file(const std::string& path, const Texture& tex, bool zstd) {
+  write_file_atomic(path, encode_container(container_kind_from_path(path), tex, zstd));
+}
+
+}  // namespace ahd

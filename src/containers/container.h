@@ -1,0 +1,31 @@
+// Containers: one Texture ↔ the bytes of a KTX2 or DDS file, and file-level helpers.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/texture.h"
+
+namespace ahd {
+
+enum class ContainerKind { KTX2, DDS };
+
+// By extension (.ktx2 / .dds, any case). Throws ahd::Error("<path>: …") for anything else.
+ContainerKind container_kind_from_path(const std::string& path);
+
+// Serialises `tex` (levels[0] = full size; each level must hold exactly level_size_bytes()).
+// `zstd` supercompresses KTX2 levels (ignored for DDS). Throws ahd::Error on an invalid texture.
+std::vector<uint8_t> encode_container(ContainerKind kind, const Texture& tex, bool zstd = false);
+
+// Parses untrusted bytes; every field is validated before any allocation. Throws
+// ahd::Error("<path_for_errors>: <cause>") on anything malformed, truncated or unsupported.
+Texture decode_container(ContainerKind kind, const uint8_t* data, size_t size, const std::string& path_for_errors);
+
+// Reads a file and detects the container by its magic bytes.
+Texture read_container_file(const std::string& path);
+
+// Encodes and writes atomically (temporary name + rename).
+void write_container_file(const std::string& path, const Texture& tex, bool zstd = false);
+
+}  // namespace ahd

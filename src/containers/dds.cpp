@@ -1,0 +1,136 @@
+#include "containers/dds.h"
+
+#include <algorithm>
+
+#include "containers/byte_io.h"
+#include "core/error.h"
+
+namespace ahd {
+namespace {
+
+constexpr uint32_t kMagic = 0x20534444;  // "DDS "
+constexpr uint32_t kHeaderSize = 124, kPixelFormatSize = 32;
+constexpr uint32_t DDSD_CAPS = 0x1, DDSD_HEIGHT = 0x2, DDSD_WIDTH = 0x4, DDSD_PITCH = 0x8,
+                   DDSD_PIXELFORMAT = 0x1000, DDSD_MIPMAPCOUNT = 0x20000, DDSD_LINEARSIZE = 0x80000;
+constexpr uint32_t DDPF_FOURCC = 0x4;
+constexpr uint32_t DDSCAPS_COMPLEX = 0x8, DDSCAPS_TEXTURE = 0x1000, DDSCAPS_MIPMAP = 0x400000;
+constexpr uint32_t kResourceTexture2D = 3;
+constexpr uint32_t kMaxDimension = 1u << 16;
+
+constexpr uint32_t fourcc(char a, char b, char c, char d) {
+  return uint32_t(uint8_t(a)) | uint32_t(uint8_t(b)) << 8 | uint32_t(uint8_t(c)) << 16 | uint32_t(uint8_t(d)) << 24;
+}
+
+bool format_from_dxgi(uint32_t dxgi, PixelFormat* out) {
+  for (int i = 0; i <= int(PixelFormat::BC6H_SFLOAT); ++i) {
+    if (format_info(PixelFormat(i)).dxgi_format == dxgi) {
+      *out = PixelFormat(i);
+      return true;
+    }
+  }
+  return false;
+}
+
+uint32_t max_levels(uint32_t w, uint32_t h) {
+  uint32_t n = 1;
+  for (uint32_t m = std::max(w, h); m > 1; m >>= 1) ++n;
+  return n;
+}
+
+// pitchOrLinearSize per the DDS docs: linear size of level 0 for block formats, else the row pitch.
+uint32_t pitch_or_linear_size(PixelFormat f, uint32_t w, uint32_t h) {
+  const FormatInfo& fi = format_info(f);
+  if (fi.is_compressed) return uint32_t(level_size_bytes(f, w, h));
+  return w * uint32_t(fi.bytes_per_block);
+}
+
+}  // namespace
+
+std::vector<uint8_t> write_dds(const Texture& tex) {
+  using namespace bytes;
+  if (tex.levels.empty()) throw Error("DDS: texture has no levels");
+  const uint32_t w = tex.levels[0].width, h = tex.levels[0].height;
+  if (w == 0 || h == 0 || w > kMaxDimension || h > kMaxDimension) throw Error("DDS: invalid texture size");
+  if (tex.levels.size() > max_levels(w, h)) throw Error("DDS: more mip levels than the size allows");
+  for (size_t l = 0; l < tex.levels.size(); ++l) {
+    const TextureLevel& lv = tex.levels[l];
+    if (lv.width != std::max(1u, w >> l) || lv.height != std::max(1u, h >> l) ||
+        lv.data.size() != level_size_bytes(tex.format, lv.width, lv.height))
+      throw Error("DDS: level " + std::to_string(l) + " has the wrong size or byte count");
+  }
+  const FormatInfo& fi = format_info(tex.format);
+  const uint32_t levels = uint32_t(tex.levels.size());
+  std::vector<uint8_t> b;
+  put32(b, kMagic);
+  put32(b, kHeaderSize);
+  put32(b, DDSD_CAPS | DDSD_HEIGHT | DDSD_WIDTH | DDSD_PIXELFORMAT | DDSD_MIPMAPCOUNT |
+               (fi.is_compressed ? DDSD_LINEARSIZE : DDSD_PITCH));
+  put32(b, h);
+  put32(b, w);
+  put32(b, pitch_or_linear_size(tex.format, w, h));
+  put32(b, 0);       // depth
+  put32(b, levels);  // mipMapCount
+  for (int i = 0; i < 11; ++i) put32(b, 0);
+  put32(b, kPixelFormatSize);
+  put32(b, DDPF_FOURCC);
+  put32(b, fourcc('D', 'X', '1', '0'));
+  for (int i = 0; i < 5; ++i) put32(b, 0);  // bit count and masks
+  put32(b, DDSCAPS_TEXTURE | (levels > 1 ? DDSCAPS_COMPLEX | DDSCAPS_MIPMAP : 0));
+  for (int i = 0; i < 4; ++i) put32(b, 0);  // caps2..4, reserved2
+  // DDS_HEADER_DXT10
+  put32(b, fi.dxgi_format);
+  put32(b, kResourceTexture2D);
+  put32(b, 0);  // miscFlag
+  put32(b, 1);  // arraySize
+  put32(b, 0);  // miscFlags2: alpha mode unknown
+  for (const TextureLevel& lv : tex.levels) b.insert(b.end(), lv.data.begin(), lv.data.end());
+  return b;
+}
+
+Texture read_dds(const uint8_t* data, size_t size, const std::string& path) {
+  bytes::Reader r(data, size, path);
+  if (size < 4 + kHeaderSize || r.u32(0) != kMagic) r.fail("not a DDS file (bad magic)");
+  if (r.u32(4) != kHeaderSize || r.u32(76) != kPixelFormatSize) r.fail("invalid DDS header size");
+  const uint32_t h = r.u32(12), w = r.u32(16), depth = r.u32(24);
+  uint32_t levels = r.u32(28);
+  const uint32_t pf_flags = r.u32(80), cc = r.u32(84);
+  if (w == 0 || h == 0 || w > kMaxDimension || h > kMaxDimension)
+    r.fail("unsupported size " + std::to_string(w) + "x" + std::to_string(h));
+  if (depth > 1) r.fail("volume textures are not supported");
+  if (levels == 0) levels = 1;
+  if (levels > max_levels(w, h)) r.fail("invalid mip count " + std::to_string(levels));
+  if (!(pf_flags & DDPF_FOURCC)) r.fail("only FourCC DDS files (DX10, ATI1/BC4U, ATI2/BC5U) are supported");
+  Texture tex;
+  size_t data_at = 4 + kHeaderSize;
+  if (cc == fourcc('D', 'X', '1', '0')) {
+    const uint32_t dxgi = r.u32(128), dim = r.u32(132), misc = r.u32(136), array = r.u32(140);
+    if (!format_from_dxgi(dxgi, &tex.format)) r.fail("unsupported DXGI format " + std::to_string(dxgi));
+    if (dim != kResourceTexture2D) r.fail("only 2D textures are supported");
+    if (misc & 0x4) r.fail("cube maps are not supported");
+    if (array > 1) r.fail("texture arrays are not supported");
+    data_at += 20;
+  } else if (cc == fourcc('A', 'T', 'I', '1') || cc == fourcc('B', 'C', '4', 'U')) {
+    tex.format = PixelFormat::BC4_UNORM;
+  } else if (cc == fourcc('A', 'T', 'I', '2') || cc == fourcc('B', 'C', '5', 'U')) {
+    tex.format = PixelFormat::BC5_UNORM;
+  } else {
+    r.fail("unsupported FourCC");
+  }
+  uint64_t total = 0;
+  for (uint32_t l = 0; l < levels; ++l) total += level_size_bytes(tex.format, std::max(1u, w >> l), std::max(1u, h >> l));
+  r.need(data_at, total, "level data");
+  tex.levels.resize(levels);
+  size_t at = data_at;
+  for (uint32_t l = 0; l < levels; ++l) {
+    TextureLevel& lv = tex.levels[l];
+    lv.width = std::max(1u, w >> l);
+    lv.height = std::max(1u, h >> l);
+    const size_t n = level_size_bytes(tex.format, lv.width, lv.height);
+    const uint8_t* src = r.at(at, n, "level data");
+    lv.data.assign(src, src + n);
+    at += n;
+  }
+  return tex;
+}
+
+}  // namespace ahd

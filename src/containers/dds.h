@@ -1,0 +1,21 @@
+// DDS writer and reader (DX10 extended header) for the formats in core/pixel_format.h:
+// 2D, array size 1, full or partial mip chain. DDS has no key/value store: metadata is not written
+// (the JSON manifest carries it) and read_dds returns none.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/texture.h"
+
+namespace ahd {
+
+// Throws ahd::Error on an invalid texture.
+std::vector<uint8_t> write_dds(const Texture& tex);
+
+// Safe on untrusted input: header fields are validated before any allocation. Accepts DX10 files
+// of our formats and the legacy FourCC ATI1/BC4U (BC4) and ATI2/BC5U (BC5).
+Texture read_dds(const uint8_t* data, size_t size, const std::string& path_for_errors);
+
+}  // namespace ahd

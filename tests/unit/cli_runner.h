@@ -1,0 +1,19 @@
+// Runs the built ahdpack binary from tests and captures what it prints.
+#pragma once
+#include <string>
+#include <vector>
+
+namespace ahd_test {
+
+struct CliResult {
+  int exit_code = -1;
+  std::string output;  // stdout and stderr together
+};
+
+// Runs AHD_CLI_PATH with the arguments (each shell-quoted).
+CliResult run_cli(const std::vector<std::string>& args);
+
+// A fresh empty folder under the system temp dir.
+std::string temp_dir(const std::string& tag);
+
+}  // namespace ahd_test
