@@ -25,3 +25,9 @@ if [ ${#missing[@]} -gt 0 ]; then
   $SUDO apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
+
+# The independent KTX2 reader for the tests (tests/tools/package.json, pinned by its lockfile).
+tools="$(dirname "$0")/../tests/tools"
+if [ ! -d "$tools/node_modules/ktx-parse" ]; then
+  (cd "$tools" && npm ci --no-audit --no-fund --loglevel=error >/dev/null)
+fi

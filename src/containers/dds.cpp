@@ -12,7 +12,7 @@ constexpr uint32_t kMagic = 0x20534444;  // "DDS "
 constexpr uint32_t kHeaderSize = 124, kPixelFormatSize = 32;
 constexpr uint32_t DDSD_CAPS = 0x1, DDSD_HEIGHT = 0x2, DDSD_WIDTH = 0x4, DDSD_PITCH = 0x8,
                    DDSD_PIXELFORMAT = 0x1000, DDSD_MIPMAPCOUNT = 0x20000, DDSD_LINEARSIZE = 0x80000;
-constexpr uint32_t DDPF_FOURCC = 0x4;
+constexpr uint32_t DDPF_ALPHAPIXELS = 0x1, DDPF_FOURCC = 0x4, DDPF_RGB = 0x40;
 constexpr uint32_t DDSCAPS_COMPLEX = 0x8, DDSCAPS_TEXTURE = 0x1000, DDSCAPS_MIPMAP = 0x400000;
 constexpr uint32_t kResourceTexture2D = 3;
 constexpr uint32_t kMaxDimension = 1u << 16;
@@ -71,18 +71,34 @@ std::vector<uint8_t> write_dds(const Texture& tex) {
   put32(b, 0);       // depth
   put32(b, levels);  // mipMapCount
   for (int i = 0; i < 11; ++i) put32(b, 0);
+  // Like DirectXTex, a legacy pixel format where one describes the format exactly (more readers
+  // understand it, OpenImageIO among them), the DX10 extension for everything else.
+  const bool legacy_bc = tex.format == PixelFormat::BC4_UNORM || tex.format == PixelFormat::BC5_UNORM;
+  const bool legacy_rgba8 = tex.format == PixelFormat::RGBA8_UNORM;
   put32(b, kPixelFormatSize);
-  put32(b, DDPF_FOURCC);
-  put32(b, fourcc('D', 'X', '1', '0'));
-  for (int i = 0; i < 5; ++i) put32(b, 0);  // bit count and masks
+  if (legacy_rgba8) {
+    put32(b, DDPF_RGB | DDPF_ALPHAPIXELS);
+    put32(b, 0);
+    put32(b, 32);
+    put32(b, 0x000000FF);
+    put32(b, 0x0000FF00);
+    put32(b, 0x00FF0000);
+    put32(b, 0xFF000000);
+  } else {
+    put32(b, DDPF_FOURCC);
+    put32(b, legacy_bc ? (tex.format == PixelFormat::BC4_UNORM ? fourcc('B', 'C', '4', 'U') : fourcc('B', 'C', '5', 'U'))
+                       : fourcc('D', 'X', '1', '0'));
+    for (int i = 0; i < 5; ++i) put32(b, 0);  // bit count and masks
+  }
   put32(b, DDSCAPS_TEXTURE | (levels > 1 ? DDSCAPS_COMPLEX | DDSCAPS_MIPMAP : 0));
   for (int i = 0; i < 4; ++i) put32(b, 0);  // caps2..4, reserved2
-  // DDS_HEADER_DXT10
-  put32(b, fi.dxgi_format);
-  put32(b, kResourceTexture2D);
-  put32(b, 0);  // miscFlag
-  put32(b, 1);  // arraySize
-  put32(b, 0);  // miscFlags2: alpha mode unknown
+  if (!legacy_bc && !legacy_rgba8) {  // DDS_HEADER_DXT10
+    put32(b, fi.dxgi_format);
+    put32(b, kResourceTexture2D);
+    put32(b, 0);  // miscFlag
+    put32(b, 1);  // arraySize
+    put32(b, 0);  // miscFlags2: alpha mode unknown
+  }
   for (const TextureLevel& lv : tex.levels) b.insert(b.end(), lv.data.begin(), lv.data.end());
   return b;
 }
@@ -99,10 +115,15 @@ Texture read_dds(const uint8_t* data, size_t size, const std::string& path) {
   if (depth > 1) r.fail("volume textures are not supported");
   if (levels == 0) levels = 1;
   if (levels > max_levels(w, h)) r.fail("invalid mip count " + std::to_string(levels));
-  if (!(pf_flags & DDPF_FOURCC)) r.fail("only FourCC DDS files (DX10, ATI1/BC4U, ATI2/BC5U) are supported");
   Texture tex;
   size_t data_at = 4 + kHeaderSize;
-  if (cc == fourcc('D', 'X', '1', '0')) {
+  const bool rgba8_masks = (pf_flags & DDPF_RGB) && (pf_flags & DDPF_ALPHAPIXELS) && r.u32(88) == 32 &&
+                           r.u32(92) == 0xFF && r.u32(96) == 0xFF00 && r.u32(100) == 0xFF0000 && r.u32(104) == 0xFF000000u;
+  if (rgba8_masks) {
+    tex.format = PixelFormat::RGBA8_UNORM;
+  } else if (!(pf_flags & DDPF_FOURCC)) {
+    r.fail("unsupported DDS pixel format (we read DX10, BC4U/ATI1, BC5U/ATI2 and 32-bit RGBA)");
+  } else if (cc == fourcc('D', 'X', '1', '0')) {
     const uint32_t dxgi = r.u32(128), dim = r.u32(132), misc = r.u32(136), array = r.u32(140);
     if (!format_from_dxgi(dxgi, &tex.format)) r.fail("unsupported DXGI format " + std::to_string(dxgi));
     if (dim != kResourceTexture2D) r.fail("only 2D textures are supported");
