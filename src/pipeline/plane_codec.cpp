@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "codecs/packed_float.h"
 #include "core/error.h"
 
 namespace ahd {
@@ -29,6 +30,8 @@ bool plane_format_supported(PixelFormat f) {
     case PixelFormat::RGBA8_UNORM:
     case PixelFormat::RGBA16_SFLOAT:
     case PixelFormat::RGBA32_SFLOAT:
+    case PixelFormat::B10G11R11_UFLOAT:
+    case PixelFormat::E5B9G9R9_UFLOAT:
       return true;
     default:
       return false;
@@ -76,6 +79,19 @@ TextureLevel encode_plane(PixelFormat f, const ImageF& img, const PlaneCodecOpti
         for (int c = 0; c < 4; ++c) out[i * 4 + c] = get(img, i, c);
       return lvl;
     }
+    case PixelFormat::B10G11R11_UFLOAT:
+    case PixelFormat::E5B9G9R9_UFLOAT: {
+      PackStats ps;
+      const bool e5 = f == PixelFormat::E5B9G9R9_UFLOAT;
+      for (size_t i = 0; i < n; ++i) {
+        const float r = get(img, i, 0), g = get(img, i, 1), b = get(img, i, 2);
+        const uint32_t v = e5 ? pack_rgb9e5(r, g, b, &ps) : pack_b10g11r11(r, g, b, &ps);
+        std::memcpy(&lvl.data[i * 4], &v, 4);
+      }
+      st.clamped += ps.negative + ps.too_large;
+      st.non_finite += ps.non_finite;
+      return lvl;
+    }
     default:
       break;
   }
@@ -105,6 +121,15 @@ ImageF decode_plane(PixelFormat f, const TextureLevel& lvl) {
     }
     case PixelFormat::RGBA32_SFLOAT:
       std::memcpy(img.data.data(), lvl.data.data(), n * 16);
+      return img;
+    case PixelFormat::B10G11R11_UFLOAT:
+    case PixelFormat::E5B9G9R9_UFLOAT:
+      for (size_t i = 0; i < n; ++i) {
+        uint32_t v;
+        std::memcpy(&v, &lvl.data[i * 4], 4);
+        if (f == PixelFormat::E5B9G9R9_UFLOAT) unpack_rgb9e5(v, &img.data[i * 3]);
+        else unpack_b10g11r11(v, &img.data[i * 3]);
+      }
       return img;
     default:
       break;

@@ -1,0 +1,48 @@
+// Dilation: values for the texels no chart covers, so that bilinear filtering, mips and 4×4 block
+// codecs never pull garbage into a chart.
+//
+// Rule (iterative flood fill, Jacobi rings): ring 0 = the covered texels (never changed). Ring r+1 =
+// the uncovered texels with at least one 8-neighbour in rings ≤ r; each takes the weighted mean of
+// those neighbours only (edge neighbours weight 2, corner neighbours weight 1: closer texels count
+// more), all of ring r+1 computed from the state after ring r. Hence:
+// - the result is a function of the covered texels alone (garbage in uncovered texels never
+//   survives), and independent of the thread count and visiting order;
+// - every value is a convex combination of covered values (no overshoot: I_z stays ≥ 0, ratios in
+//   [0,1]);
+// - the fill reaches every texel of the image when at least one texel is covered, so 4×4 blocks
+//   straddling chart edges hold smooth values; an image with no covered texel is filled with 0;
+// - ring 1 (the guard band, one texel around each chart) sees only its own chart when the gutter
+//   between two charts is ≥ 2 texels wide: no bleeding across gutters at the level where they exist.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "core/image.h"
+#include "fit/fit_image.h"
+
+namespace ahd {
+
+struct DilateStats {
+  size_t covered = 0;  // texels left as they were
+  size_t guard = 0;    // ring-1 texels: uncovered, 8-adjacent to a covered texel
+  size_t filled = 0;   // all uncovered texels given a value (= texels - covered)
+  int rings = 0;       // flood-fill rings needed to reach every texel
+};
+
+// Dilates every channel of `plane` in place. coverage: width*height bytes, nonzero = covered.
+// Throws ahd::Error when the sizes disagree.
+void dilate(ImageF& plane, const std::vector<uint8_t>& coverage, int threads, DilateStats* stats = nullptr);
+
+// Dilates a fitted image in place (uncovered texels only): I_z, d and ratio are filled by dilate();
+// d is filled as a 3-vector and renormalised (the mean of unit vectors with d_z ≥ dz_min keeps
+// d_z ≥ dz_min after renormalisation; the horizon rule is applied anyway); ca/cd are then derived
+// with the reference decoder (decode_colours) so the texel is self-consistent; flags = 0.
+// Why the 3-vector and not the stored hemi-octahedral uv: the fit stage does not know the plane
+// encoding, and the 3-vector mean is encoding-independent.
+void dilate_ahd(AhdImage& img, double dz_min, int threads, DilateStats* stats = nullptr);
+
+// The optional coverage plane for engines that want it: R8, 255 = covered, 0 = not.
+Image8 coverage_plane(int width, int height, const std::vector<uint8_t>& coverage);
+
+}  // namespace ahd
