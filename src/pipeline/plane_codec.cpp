@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "codecs/bc4.h"
+#include "codecs/bc5.h"
 #include "codecs/packed_float.h"
 #include "core/error.h"
 
@@ -32,6 +34,8 @@ bool plane_format_supported(PixelFormat f) {
     case PixelFormat::RGBA32_SFLOAT:
     case PixelFormat::B10G11R11_UFLOAT:
     case PixelFormat::E5B9G9R9_UFLOAT:
+    case PixelFormat::BC4_UNORM:
+    case PixelFormat::BC5_UNORM:
       return true;
     default:
       return false;
@@ -40,7 +44,6 @@ bool plane_format_supported(PixelFormat f) {
 
 TextureLevel encode_plane(PixelFormat f, const ImageF& img, const PlaneCodecOptions& opt,
                           PlaneCodecStats* stats) {
-  (void)opt;
   TextureLevel lvl;
   lvl.width = uint32_t(img.width);
   lvl.height = uint32_t(img.height);
@@ -92,6 +95,12 @@ TextureLevel encode_plane(PixelFormat f, const ImageF& img, const PlaneCodecOpti
       st.non_finite += ps.non_finite;
       return lvl;
     }
+    case PixelFormat::BC4_UNORM:
+      lvl.data = bc4_encode_image(img, 0, opt.threads);
+      return lvl;
+    case PixelFormat::BC5_UNORM:
+      lvl.data = bc5_encode_image(img, opt.threads);
+      return lvl;
     default:
       break;
   }
@@ -131,6 +140,11 @@ ImageF decode_plane(PixelFormat f, const TextureLevel& lvl) {
         else unpack_b10g11r11(v, &img.data[i * 3]);
       }
       return img;
+    case PixelFormat::BC4_UNORM:
+      bc4_decode_image(lvl.data.data(), img.width, img.height, 8, 0, img, 0);
+      return img;
+    case PixelFormat::BC5_UNORM:
+      return bc5_decode_image(lvl.data.data(), img.width, img.height);
     default:
       break;
   }

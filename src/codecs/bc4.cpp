@@ -1,0 +1,153 @@
+#include "codecs/bc4.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/parallel.h"
+
+namespace ahd {
+namespace {
+
+uint64_t read_indices(const uint8_t* b) {
+  uint64_t v = 0;
+  for (int i = 0; i < 6; ++i) v |= uint64_t(b[2 + i]) << (8 * i);
+  return v;
+}
+
+// Best index per texel for a palette; returns the squared error.
+float assign(const float v[16], const float pal[8], uint8_t idx[16]) {
+  float err = 0;
+  for (int i = 0; i < 16; ++i) {
+    int best = 0;
+    float bd = std::fabs(v[i] - pal[0]);
+    for (int k = 1; k < 8; ++k) {
+      const float d = std::fabs(v[i] - pal[k]);
+      if (d < bd) bd = d, best = k;
+    }
+    idx[i] = uint8_t(best);
+    err += bd * bd;
+  }
+  return err;
+}
+
+void write_block(uint8_t r0, uint8_t r1, const uint8_t idx[16], uint8_t out[8]) {
+  out[0] = r0;
+  out[1] = r1;
+  uint64_t bits = 0;
+  for (int i = 0; i < 16; ++i) bits |= uint64_t(idx[i] & 7) << (3 * i);
+  for (int i = 0; i < 6; ++i) out[2 + i] = uint8_t(bits >> (8 * i));
+}
+
+}  // namespace
+
+void bc4_palette(uint8_t r0, uint8_t r1, float pal[8]) {
+  pal[0] = r0 / 255.0f;
+  pal[1] = r1 / 255.0f;
+  if (r0 > r1) {
+    for (int k = 2; k < 8; ++k) pal[k] = float(((8 - k) * r0 + (k - 1) * r1) / (7.0 * 255.0));
+  } else {
+    for (int k = 2; k < 6; ++k) pal[k] = float(((6 - k) * r0 + (k - 1) * r1) / (5.0 * 255.0));
+    pal[6] = 0.0f;
+    pal[7] = 1.0f;
+  }
+}
+
+void bc4_decode_block(const uint8_t block[8], float out[16]) {
+  float pal[8];
+  bc4_palette(block[0], block[1], pal);
+  const uint64_t bits = read_indices(block);
+  for (int i = 0; i < 16; ++i) out[i] = pal[(bits >> (3 * i)) & 7];
+}
+
+void bc4_decode_block_unorm8(const uint8_t block[8], uint8_t out[16]) {
+  const int r0 = block[0], r1 = block[1];
+  const bool eight = r0 > r1;
+  const uint32_t step = eight ? 255 * 64 / 7 : 255 * 64 / 5;
+  uint8_t pal[8] = {uint8_t(r0), uint8_t(r1), 0, 0, 0, 0, 0, 255};
+  for (int k = 2; k < (eight ? 8 : 6); ++k) {
+    const uint32_t w = (step * uint32_t(k - 1)) >> 6;             // weight in 1/256 units
+    const uint32_t delta = uint32_t(r1 - r0) & 0xFFFF;            // 16-bit lane arithmetic
+    const uint32_t interp = ((delta * w) & 0xFFFF) >> 8;
+    pal[k] = uint8_t(r0 + interp);                                // 8-bit wrap-around add
+  }
+  const uint64_t bits = read_indices(block);
+  for (int i = 0; i < 16; ++i) out[i] = pal[(bits >> (3 * i)) & 7];
+}
+
+void bc4_encode_block(const float texels[16], uint8_t out[8], int effort) {
+  float v[16];
+  float lo = 1.0f, hi = 0.0f;
+  for (int i = 0; i < 16; ++i) {
+    v[i] = std::clamp(std::isfinite(texels[i]) ? texels[i] : 0.0f, 0.0f, 1.0f);
+    lo = std::min(lo, v[i]);
+    hi = std::max(hi, v[i]);
+  }
+  const int qlo = int(std::floor(lo * 255.0f)), qhi = int(std::ceil(hi * 255.0f));
+  if (qlo == qhi) {  // constant block: exact with r0 = r1 (6-value mode, every index 0)
+    const uint8_t idx[16] = {};
+    const uint8_t q = uint8_t(std::lround(v[0] * 255.0f));
+    write_block(q, q, idx, out);
+    return;
+  }
+  const int radius = effort <= 0 ? 0 : effort == 1 ? 2 : 4;
+  float best = INFINITY;
+  uint8_t best_idx[16], idx[16], b0 = 0, b1 = 0;
+  float pal[8];
+  auto consider = [&](int r0, int r1) {
+    if (r0 < 0 || r0 > 255 || r1 < 0 || r1 > 255) return;
+    bc4_palette(uint8_t(r0), uint8_t(r1), pal);
+    const float e = assign(v, pal, idx);
+    if (e < best) {
+      best = e, b0 = uint8_t(r0), b1 = uint8_t(r1);
+      std::copy(idx, idx + 16, best_idx);
+    }
+  };
+  // 8-value mode: r0 > r1, endpoints near the range (hi, lo).
+  for (int a = -radius; a <= radius; ++a)
+    for (int b = -radius; b <= radius; ++b)
+      if (qhi + a > qlo + b) consider(qhi + a, qlo + b);
+  // 6-value mode (r0 ≤ r1) with exact 0 and 1 available: endpoints span the values strictly
+  // inside (0, 1), which helps blocks that touch the ends of the range.
+  float ilo = 1.0f, ihi = 0.0f;
+  for (float x : v)
+    if (x > 0.0f && x < 1.0f) ilo = std::min(ilo, x), ihi = std::max(ihi, x);
+  if (ilo <= ihi) {
+    const int plo = int(std::floor(ilo * 255.0f)), phi = int(std::ceil(ihi * 255.0f));
+    for (int a = -radius; a <= radius; ++a)
+      for (int b = -radius; b <= radius; ++b)
+        if (plo + a <= phi + b) consider(plo + a, phi + b);
+  }
+  write_block(b0, b1, best_idx, out);
+}
+
+std::vector<uint8_t> bc4_encode_image(const ImageF& img, int channel, int threads, int effort) {
+  const int bw = (img.width + 3) / 4, bh = (img.height + 3) / 4;
+  std::vector<uint8_t> out(size_t(bw) * bh * 8);
+  parallel_for(size_t(bw) * bh, threads, 64, [&](size_t b) {
+    const int bx = int(b % bw), by = int(b / bw);
+    float v[16];
+    for (int y = 0; y < 4; ++y)
+      for (int x = 0; x < 4; ++x) {
+        const int sx = std::min(bx * 4 + x, img.width - 1), sy = std::min(by * 4 + y, img.height - 1);
+        v[y * 4 + x] = img.at(sx, sy)[channel];
+      }
+    bc4_encode_block(v, &out[b * 8], effort);
+  });
+  return out;
+}
+
+void bc4_decode_image(const uint8_t* blocks, int width, int height, int stride, int offset, ImageF& out, int channel) {
+  const int bw = (width + 3) / 4, bh = (height + 3) / 4;
+  for (int by = 0; by < bh; ++by)
+    for (int bx = 0; bx < bw; ++bx) {
+      float v[16];
+      bc4_decode_block(blocks + (size_t(by) * bw + bx) * stride + offset, v);
+      for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 4; ++x) {
+          const int px = bx * 4 + x, py = by * 4 + y;
+          if (px < width && py < height) out.at(px, py)[channel] = v[y * 4 + x];
+        }
+    }
+}
+
+}  // namespace ahd

@@ -1,0 +1,112 @@
+// BC4/BC5: the palette rules of both modes, exact constant blocks, partial blocks, and the
+// encoder's error against the best endpoints an exhaustive search finds.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "codecs/bc4.h"
+#include "codecs/bc5.h"
+
+using namespace ahd;
+
+namespace {
+
+float block_sse(const float v[16], const uint8_t blk[8]) {
+  float d[16], e = 0;
+  bc4_decode_block(blk, d);
+  for (int i = 0; i < 16; ++i) e += (d[i] - v[i]) * (d[i] - v[i]);
+  return e;
+}
+
+// Best achievable SSE over all 65536 endpoint pairs (each texel takes its nearest palette entry).
+float exhaustive_sse(const float v[16]) {
+  float best = INFINITY, pal[8];
+  for (int r0 = 0; r0 < 256; ++r0)
+    for (int r1 = 0; r1 < 256; ++r1) {
+      bc4_palette(uint8_t(r0), uint8_t(r1), pal);
+      float e = 0;
+      for (int i = 0; i < 16 && e < best; ++i) {
+        float bd = INFINITY;
+        for (float p : pal) bd = std::min(bd, (v[i] - p) * (v[i] - p));
+        e += bd;
+      }
+      best = std::min(best, e);
+    }
+  return best;
+}
+
+}  // namespace
+
+TEST(Bc4, PaletteFollowsBothModes) {
+  float pal[8];
+  bc4_palette(200, 60, pal);  // r0 > r1: 8 values
+  EXPECT_FLOAT_EQ(pal[0], 200 / 255.0f);
+  EXPECT_FLOAT_EQ(pal[1], 60 / 255.0f);
+  EXPECT_FLOAT_EQ(pal[2], (6 * 200 + 1 * 60) / (7 * 255.0f));
+  EXPECT_FLOAT_EQ(pal[7], (1 * 200 + 6 * 60) / (7 * 255.0f));
+  bc4_palette(60, 200, pal);  // r0 <= r1: 6 values + 0 and 1
+  EXPECT_FLOAT_EQ(pal[2], (4 * 60 + 1 * 200) / (5 * 255.0f));
+  EXPECT_FLOAT_EQ(pal[5], (1 * 60 + 4 * 200) / (5 * 255.0f));
+  EXPECT_EQ(pal[6], 0.0f);
+  EXPECT_EQ(pal[7], 1.0f);
+  // Index bits: texel i at bits 3i of bytes 2..7, little endian.
+  const uint8_t blk[8] = {255, 0, 0b11111010, 0, 0, 0, 0, 0b11100000};  // t0 = 2, t1 = 7, t15 = 7
+  float out[16];
+  bc4_decode_block(blk, out);
+  EXPECT_FLOAT_EQ(out[0], (6 * 255) / (7 * 255.0f));
+  EXPECT_FLOAT_EQ(out[1], 255 / (7 * 255.0f));
+  EXPECT_FLOAT_EQ(out[15], 255 / (7 * 255.0f));
+  EXPECT_FLOAT_EQ(out[2], 1.0f);
+}
+
+TEST(Bc4, ConstantBlocksAreExact) {
+  for (int q = 0; q < 256; ++q) {
+    float v[16];
+    std::fill(v, v + 16, q / 255.0f);
+    uint8_t blk[8];
+    bc4_encode_block(v, blk);
+    EXPECT_EQ(block_sse(v, blk), 0.0f) << q;
+  }
+}
+
+TEST(Bc4, EncoderIsCloseToExhaustiveSearch) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(0, 1);
+  double ours = 0, best = 0;
+  int blocks = 0;
+  for (int b = 0; b < 60; ++b) {
+    float v[16];
+    const float a = u(rng), s = u(rng) * (b % 3 == 0 ? 1.0f : 0.2f);
+    for (int i = 0; i < 16; ++i) {
+      v[i] = std::clamp(a + s * (b % 2 ? u(rng) - 0.5f : (i % 4) / 3.0f - 0.5f), 0.0f, 1.0f);
+      if (b % 7 == 0 && i < 2) v[i] = float(i);  // blocks touching 0 and 1
+    }
+    uint8_t blk[8];
+    bc4_encode_block(v, blk);
+    ours += block_sse(v, blk);
+    best += exhaustive_sse(v);
+    ++blocks;
+  }
+  std::printf("BC4 encoder: mean SSE %.3g vs exhaustive optimum %.3g over %d blocks (ratio %.3f)\n", ours / blocks,
+              best / blocks, blocks, ours / best);
+  EXPECT_LE(ours, best * 1.25 + 1e-9);
+}
+
+TEST(Bc5, RoundTripAndPartialBlocks) {
+  ImageF img(7, 5, 2);
+  for (int y = 0; y < 5; ++y)
+    for (int x = 0; x < 7; ++x) {
+      img.at(x, y)[0] = x / 6.0f;
+      img.at(x, y)[1] = y / 4.0f;
+    }
+  for (int threads : {1, 2}) {
+    const std::vector<uint8_t> b = bc5_encode_image(img, threads);
+    ASSERT_EQ(b.size(), size_t(2 * 2 * 16));
+    const ImageF d = bc5_decode_image(b.data(), 7, 5);
+    for (int y = 0; y < 5; ++y)
+      for (int x = 0; x < 7; ++x)
+        for (int c = 0; c < 2; ++c) EXPECT_NEAR(d.at(x, y)[c], img.at(x, y)[c], 1.0f / 255) << x << "," << y;
+    if (threads == 2) EXPECT_EQ(b, bc5_encode_image(img, 1));
+  }
+}
