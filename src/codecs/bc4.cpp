@@ -117,6 +117,54 @@ void bc4_encode_block(const float texels[16], uint8_t out[8], int effort) {
       for (int b = -radius; b <= radius; ++b)
         if (plo + a <= phi + b) consider(plo + a, phi + b);
   }
+  // Ramps and clusters often fit best with endpoints BEYOND the data range, so that the data's
+  // min and max land on inner palette entries: try every pair of palette positions for them.
+  if (effort > 0) {
+    for (int mode = 0; mode < 2; ++mode) {
+      const bool eight = mode == 0;
+      const int steps = eight ? 7 : 5;
+      const float lo8 = (eight ? lo : ilo) * 255.0f, hi8 = (eight ? hi : ihi) * 255.0f;
+      if (!(hi8 > lo8)) continue;
+      for (int ta = 0; ta < steps; ++ta)
+        for (int tb = ta + 1; tb <= steps; ++tb) {
+          const float d = (hi8 - lo8) * steps / float(tb - ta);
+          const float base = lo8 - d * ta / steps;  // palette value at t = 0
+          const int b = int(std::lround(base)), top = int(std::lround(base + d));
+          for (int da = -(effort > 1); da <= (effort > 1); ++da)
+            for (int db = -(effort > 1); db <= (effort > 1); ++db) {
+              // 8-value mode ascends from r1 to r0; 6-value mode from r0 to r1.
+              if (eight && top + da > b + db) consider(top + da, b + db);
+              if (!eight && b + db <= top + da) consider(b + db, top + da);
+            }
+        }
+    }
+  }
+  // Least-squares refinement: with the indices fixed, the best real endpoints solve a 2×2 system
+  // (each palette entry is (1−f)·r0 + f·r1); round, re-assign, repeat, and look around the result.
+  if (effort > 0) {
+    for (int iter = 0; iter < 2 + 2 * effort; ++iter) {
+      const bool eight = b0 > b1;
+      double s00 = 0, s01 = 0, s11 = 0, t0 = 0, t1 = 0;
+      for (int i = 0; i < 16; ++i) {
+        const int k = best_idx[i];
+        if (!eight && k >= 6) continue;  // exact 0 / 1 entries do not depend on the endpoints
+        const double f = k == 0 ? 0.0 : k == 1 ? 1.0 : (k - 1) / (eight ? 7.0 : 5.0);
+        const double x = v[i] * 255.0;
+        s00 += (1 - f) * (1 - f), s01 += (1 - f) * f, s11 += f * f;
+        t0 += (1 - f) * x, t1 += f * x;
+      }
+      const double det = s00 * s11 - s01 * s01;
+      if (std::fabs(det) < 1e-9) break;
+      const int e0 = int(std::lround((t0 * s11 - s01 * t1) / det)), e1 = int(std::lround((s00 * t1 - s01 * t0) / det));
+      const uint8_t p0 = b0, p1 = b1;
+      for (int a = -1; a <= 1; ++a)
+        for (int b = -1; b <= 1; ++b) {
+          const int r0 = std::clamp(e0 + a, 0, 255), r1 = std::clamp(e1 + b, 0, 255);
+          if ((r0 > r1) == eight) consider(r0, r1);
+        }
+      if (p0 == b0 && p1 == b1) break;
+    }
+  }
   write_block(b0, b1, best_idx, out);
 }
 

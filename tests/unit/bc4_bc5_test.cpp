@@ -51,13 +51,13 @@ TEST(Bc4, PaletteFollowsBothModes) {
   EXPECT_EQ(pal[6], 0.0f);
   EXPECT_EQ(pal[7], 1.0f);
   // Index bits: texel i at bits 3i of bytes 2..7, little endian.
-  const uint8_t blk[8] = {255, 0, 0b11111010, 0, 0, 0, 0, 0b11100000};  // t0 = 2, t1 = 7, t15 = 7
+  const uint8_t blk[8] = {255, 0, 0b11111010, 0, 0, 0, 0, 0b11100000};  // t0 = 2, t1 = 7, t2 = 3, t15 = 7
   float out[16];
   bc4_decode_block(blk, out);
   EXPECT_FLOAT_EQ(out[0], (6 * 255) / (7 * 255.0f));
   EXPECT_FLOAT_EQ(out[1], 255 / (7 * 255.0f));
   EXPECT_FLOAT_EQ(out[15], 255 / (7 * 255.0f));
-  EXPECT_FLOAT_EQ(out[2], 1.0f);
+  EXPECT_FLOAT_EQ(out[2], (5 * 255) / (7 * 255.0f));
 }
 
 TEST(Bc4, ConstantBlocksAreExact) {
@@ -90,7 +90,7 @@ TEST(Bc4, EncoderIsCloseToExhaustiveSearch) {
   }
   std::printf("BC4 encoder: mean SSE %.3g vs exhaustive optimum %.3g over %d blocks (ratio %.3f)\n", ours / blocks,
               best / blocks, blocks, ours / best);
-  EXPECT_LE(ours, best * 1.25 + 1e-9);
+  EXPECT_LE(ours, best * 1.10 + 1e-9);  // measured 1.04
 }
 
 TEST(Bc5, RoundTripAndPartialBlocks) {
