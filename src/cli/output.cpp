@@ -80,6 +80,9 @@ void print_conversion(const std::string& source, const OutputPaths& out, const M
     if (non_finite_inputs) std::printf(", non-finite input texels zeroed %zu", non_finite_inputs);
     std::printf("\n");
   }
+  if (!r.dilate_stats.empty())
+    std::printf("dilation: %zu guard texels around the charts, %zu texels filled in %d rings (level 0)\n",
+                r.dilate_stats[0].guard, r.dilate_stats[0].filled, r.dilate_stats[0].rings);
   if (r.codec_stats.clamped || r.codec_stats.non_finite)
     std::printf("codec: %zu values clamped to the format's range, %zu non-finite\n", r.codec_stats.clamped,
                 r.codec_stats.non_finite);

@@ -30,6 +30,15 @@ nlohmann::json convert_report_json(const ConvertResult& r, double total_seconds)
                 {"quantised_open_loop", error_json(r.open_loop_error)},
                 {"quantised_closed_loop", error_json(r.final_error)}};
   j["codec"] = {{"clamped", r.codec_stats.clamped}, {"non_finite", r.codec_stats.non_finite}};
+  nlohmann::json levels = nlohmann::json::array();
+  for (size_t l = 0; l < r.level_error.size(); ++l) {
+    nlohmann::json e = error_json(r.level_error[l]);
+    if (l < r.dilate_stats.size())
+      e["dilation"] = {{"covered", r.dilate_stats[l].covered}, {"guard", r.dilate_stats[l].guard},
+                       {"filled", r.dilate_stats[l].filled}, {"rings", r.dilate_stats[l].rings}};
+    levels.push_back(e);
+  }
+  j["levels"] = levels;
   nlohmann::json t = nlohmann::json::object();
   for (const auto& s : r.timings) t[s.stage] = s.seconds;
   t["total"] = total_seconds;

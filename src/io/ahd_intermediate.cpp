@@ -71,6 +71,10 @@ void write_intermediate(const std::string& path, const std::vector<FittedLevel>&
     spec.channelnames = names;
     spec.tile_width = spec.tile_height = 64;
     spec.attribute("compression", "zip");
+    if (levels.size() > 1) {  // OpenEXR needs to know up front that the file holds mip levels
+      spec.attribute("textureformat", "Plain Texture");
+      spec.attribute("openexr:levelmode", 1);  // MIPMAP_LEVELS
+    }
     spec.attribute("openexr:roundingmode", 0);  // ROUND_DOWN: the max(1, floor(n/2)) chain
     spec.attribute("ahd:intermediate_version", kIntermediateVersion);
     // Doubles as text (%.17g): the fit parameters must come back bit for bit.

@@ -34,9 +34,11 @@ namespace ahd {
 // commute on curved charts (the children have different frames).
 enum class NormalRule {
   // Default. Each child is rotated into ITS OWN local frame (frame_from_normal) first, then the
-  // local-frame SH is averaged; levels ≥ 1 are tangent-space images (normals empty). Chosen because
-  // the planes store local-frame values and the GPU filters them in local-frame terms, and because
-  // it keeps I_z (and all local-frame SH) exactly linear across levels: no pops between levels.
+  // local-frame SH is averaged. Chosen because the planes store local-frame values and the GPU
+  // filters them in local-frame terms, and because it keeps I_z (and all local-frame SH) exactly
+  // linear across levels: no pops between levels. Levels ≥ 1 hold local-frame SH; their normals are
+  // all +z (frame_from_normal(+z) is exactly the identity) rather than empty, so every level of a
+  // chain has normals iff level 0 has (the intermediate EXR stores one channel set for all levels).
   RotateThenAverage,
   // World-space SH and normals are averaged (normals renormalised; a zero mean normal falls back to
   // the first covered child's normal) and the fit rotates afterwards. World-space lighting of the

@@ -36,7 +36,8 @@ constexpr int kMaxVals = kShCoeffsL2 * 3;
 // rotated via the irradiance polynomial (exact for band-limited L1/L2) for world-space ones.
 void local_coeffs(const ShImage& img, size_t i, double out[kMaxVals]) {
   const int nv = img.coeffs * 3;
-  if (img.normals.empty()) {
+  const float* nf = img.normals.empty() ? nullptr : &img.normals[i * 3];
+  if (!nf || (nf[0] == 0.0f && nf[1] == 0.0f && nf[2] == 1.0f)) {  // identity frame: no round trip
     const float* t = img.texel(i);
     for (int v = 0; v < nv; ++v) out[v] = t[v];
     return;
@@ -96,6 +97,11 @@ ShImage downsample_sh(const ShImage& src, int threads, NormalRule rule) {
   dst.data.assign(size_t(W) * H * src.coeffs * 3, 0.0f);
   dst.coverage.assign(size_t(W) * H, 0);
   if (keep_world) dst.normals.assign(size_t(W) * H * 3, 0.0f);
+  if (world && !keep_world) {
+    // Local-frame SH, flagged as "world space with normal +z": the identity frame (see NormalRule).
+    dst.normals.assign(size_t(W) * H * 3, 0.0f);
+    for (size_t i = 0; i < size_t(W) * H; ++i) dst.normals[i * 3 + 2] = 1.0f;
+  }
   const int nv = src.coeffs * 3;
 
   parallel_for(size_t(W) * H, threads, 64, [&](size_t o) {

@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "core/parallel.h"
 #include "fit/ahd_decode.h"
+#include "mips/mips.h"
 
 namespace ahd {
 namespace {
@@ -211,9 +212,11 @@ std::vector<Plane> planes_of(const Profile& profile, const std::vector<LevelPlan
 
 std::vector<FittedLevel> fit_levels(const ShImage& sh, const ConvertOptions& opt, ConvertResult* r) {
   auto t0 = Clock::now();
-  std::vector<FittedLevel> levels;
-  levels.push_back({sh, fit_image(sh, opt.fit, opt.threads, &r->fit_stats)});
-  r->timings.push_back({"fit", seconds_since(t0)});
+  std::vector<FitStats> fit_stats;
+  std::vector<FittedLevel> levels =
+      fit_mip_chain(sh, opt.fit, opt.max_levels, opt.threads, &fit_stats, &r->dilate_stats);
+  r->fit_stats = fit_stats[0];
+  r->timings.push_back({"mips, fit, dilate", seconds_since(t0)});
   if (!opt.measure) return levels;
 
   t0 = Clock::now();

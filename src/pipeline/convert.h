@@ -7,6 +7,7 @@
 #include "core/texture.h"
 #include "fit/fit_image.h"
 #include "fit/hemisphere_error.h"
+#include "mips/dilate.h"
 #include "pipeline/plane_codec.h"
 #include "pipeline/profile.h"
 #include "sh/sh_image.h"
@@ -36,7 +37,8 @@ struct StageCost {
 
 struct ConvertResult {
   std::vector<Plane> planes;
-  FitStats fit_stats;
+  FitStats fit_stats;                   // level 0
+  std::vector<DilateStats> dilate_stats;  // per level: guard texels, rings
   ErrorReport fit_error;            // the fitted AHD (before quantisation) vs the SH
   ErrorReport unconstrained_error;  // the unconstrained LS fit with the same d, vs the SH
   ErrorReport open_loop_error;      // quantised, ratio from the unquantised fit

@@ -12,6 +12,7 @@
 #include "io/image_io.h"
 #include "io/sh_exr.h"
 #include "pipeline/convert.h"
+#include "pipeline/plane_codec.h"
 #include "sample/analytic_baker.h"
 
 namespace fs = std::filesystem;
@@ -74,6 +75,29 @@ TEST(Cli, ConvertBuiltInSampleWritesPlanesManifestAndReport) {
     fs::remove_all(d);
     fs::create_directories(d);
   }
+  fs::remove_all(d);
+}
+
+TEST(Cli, FullMipChainsByDefaultAndDecodeLevel) {
+  const fs::path d = ahd_test::temp_dir("cli_mips");
+  ASSERT_EQ(run_cli({"convert", "-o", (d / "m.dds").string(), "--sample-size", "40", "-q"}).exit_code, 0);
+  const ahd::Texture t = ahd::read_container_file((d / "m.iz.dds").string());
+  ASSERT_EQ(t.levels.size(), 6u);  // 40, 20, 10, 5, 2, 1
+  EXPECT_EQ(t.levels[3].width, 5u);
+  const auto r = run_cli({"decode", (d / "m.json").string(), "--level", "3", "-o", (d / "e3.exr").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const ahd::ImageF e = ahd::read_image((d / "e3.exr").string());
+  EXPECT_EQ(e.width, 5);
+  EXPECT_EQ(e.height, 5);
+  // Along the normal the decode is I_z itself: the decoded level must equal the iz plane's level 3.
+  const ahd::ImageF iz = ahd::decode_plane(t.format, t.levels[3]);
+  for (size_t i = 0; i < e.texels(); ++i)
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(e.data[i * 3 + c], iz.data[i * iz.channels + c], 1e-6f * (1 + iz.data[i * iz.channels + c]));
+  const auto bad = run_cli({"decode", (d / "m.json").string(), "--level", "6", "-o", (d / "e6.exr").string()});
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_NE(bad.output.find("--level 6 does not exist"), std::string::npos) << bad.output;
+  EXPECT_EQ(run_cli({"convert", "-o", (d / "one.ktx2").string(), "--sample-size", "40", "--levels", "1", "-q"}).exit_code, 0);
+  EXPECT_EQ(ahd::read_container_file((d / "one.iz.ktx2").string()).levels.size(), 1u);
   fs::remove_all(d);
 }
 

@@ -1,0 +1,313 @@
+// Dilation: garbage independence under GPU-style bilinear sampling, no bleeding across gutters,
+// reach, convexity, thread independence, the AhdImage form and the coverage plane.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <random>
+
+#include "core/error.h"
+#include "fit/fit_image.h"
+#include "codecs/octahedral.h"
+#include "mips/dilate.h"
+#include "sample/analytic_baker.h"
+
+using namespace ahd;
+
+namespace {
+
+struct Planes {
+  int w, h;
+  std::vector<uint8_t> coverage;
+  ImageF iz, uv, ratio;  // 3, 2 and 1 channels, as the pipeline stores them
+};
+
+// Several rectangular charts with gutters of ≥ 2 texels and smooth per-chart values.
+std::vector<uint8_t> chart_coverage(int w, int h, int* charts = nullptr, std::vector<int>* id = nullptr) {
+  std::vector<uint8_t> cov(size_t(w) * h, 0);
+  if (id) id->assign(cov.size(), -1);
+  int k = 0;
+  for (int y0 = 1; y0 + 4 <= h; y0 += 11)
+    for (int x0 = 2; x0 + 4 <= w; x0 += 13, ++k) {
+      const int x1 = std::min(w, x0 + 7 + k % 4), y1 = std::min(h, y0 + 6 + k % 3);  // gutters 2..6
+      for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) {
+          cov[size_t(y) * w + x] = 1;
+          if (id) (*id)[size_t(y) * w + x] = k;
+        }
+    }
+  if (charts) *charts = k;
+  return cov;
+}
+
+Planes synthetic(int w, int h) {
+  Planes p{w, h, chart_coverage(w, h), ImageF(w, h, 3), ImageF(w, h, 2), ImageF(w, h, 1)};
+  if (w < 6)  // too narrow for the rectangles: charts are bands of rows 4..8 and 12..14
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) p.coverage[size_t(y) * w + x] = (y >= 4 && y < 9) || (y >= 12 && y < 15);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      for (int c = 0; c < 3; ++c) p.iz.at(x, y)[c] = float(2.0 + std::sin(0.3 * x + c) * std::cos(0.2 * y) + 0.5 * c);
+      p.uv.at(x, y)[0] = float(0.5 + 0.4 * std::sin(0.21 * x + 0.1 * y));
+      p.uv.at(x, y)[1] = float(0.5 + 0.4 * std::cos(0.17 * y - 0.05 * x));
+      p.ratio.at(x, y)[0] = float(0.5 + 0.45 * std::sin(0.13 * (x + y)));
+    }
+  return p;
+}
+
+void fill_garbage(ImageF& img, const std::vector<uint8_t>& cov, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> g(-1e7f, 1e7f);
+  for (size_t i = 0; i < cov.size(); ++i)
+    if (!cov[i])
+      for (int c = 0; c < img.channels; ++c) img.data[i * img.channels + c] = g(rng);
+}
+
+// GPU bilinear with clamp-to-edge, at texel coordinates (x, y) where texel centres are integers.
+void bilinear(const ImageF& img, double x, double y, double* out) {
+  const int x0 = int(std::floor(x)), y0 = int(std::floor(y));
+  const double fx = x - x0, fy = y - y0;
+  auto cl = [](int v, int n) { return std::clamp(v, 0, n - 1); };
+  const float* a = img.at(cl(x0, img.width), cl(y0, img.height));
+  const float* b = img.at(cl(x0 + 1, img.width), cl(y0, img.height));
+  const float* c = img.at(cl(x0, img.width), cl(y0 + 1, img.height));
+  const float* d = img.at(cl(x0 + 1, img.width), cl(y0 + 1, img.height));
+  for (int k = 0; k < img.channels; ++k)
+    out[k] = (1 - fy) * ((1 - fx) * a[k] + fx * b[k]) + fy * ((1 - fx) * c[k] + fx * d[k]);
+}
+
+// Worst relative difference of bilinear samples on a 5×5 grid within ±0.5 texel of every covered
+// texel's centre.
+double footprint_difference(const ImageF& a, const ImageF& b, const std::vector<uint8_t>& cov) {
+  double worst = 0;
+  for (int y = 0; y < a.height; ++y)
+    for (int x = 0; x < a.width; ++x) {
+      if (!cov[size_t(y) * a.width + x]) continue;
+      for (int j = 0; j < 5; ++j)
+        for (int i = 0; i < 5; ++i) {
+          double sa[16], sb[16];
+          bilinear(a, x - 0.5 + 0.25 * i, y - 0.5 + 0.25 * j, sa);
+          bilinear(b, x - 0.5 + 0.25 * i, y - 0.5 + 0.25 * j, sb);
+          for (int c = 0; c < a.channels; ++c)
+            worst = std::max(worst, std::fabs(sa[c] - sb[c]) / std::max(std::fabs(sa[c]), 1e-6));
+        }
+    }
+  return worst;
+}
+
+}  // namespace
+
+TEST(Dilate, BilinearInsideChartsIgnoresGutterGarbage) {
+  for (auto [w, h] : {std::pair{64, 64}, {37, 23}, {1, 17}}) {
+    const Planes p = synthetic(w, h);
+    for (const ImageF* src : {&p.iz, &p.uv, &p.ratio}) {
+      ImageF a = *src, b = *src;
+      fill_garbage(a, p.coverage, 1);
+      fill_garbage(b, p.coverage, 2);
+      // Sensitivity of the measure: without dilation the garbage shows through the footprints.
+      if (w > 1) {
+        EXPECT_GT(footprint_difference(a, b, p.coverage), 1.0);
+      }
+      DilateStats sa, sb;
+      dilate(a, p.coverage, 2, &sa);
+      dilate(b, p.coverage, 1, &sb);
+      for (float v : a.data) ASSERT_TRUE(std::isfinite(v) && std::fabs(v) < 100.0f) << "every texel reached";
+      const double diff = footprint_difference(a, b, p.coverage);
+      EXPECT_LE(diff, 1e-4) << w << "x" << h;
+      EXPECT_EQ(sa.rings, sb.rings);
+      EXPECT_EQ(sa.guard, sb.guard);
+      if (src == &p.iz)
+        std::printf("  %dx%d atlas: covered %zu, guard texels %zu, filled %zu, rings %d, footprint diff %.1e\n", w, h,
+                    sa.covered, sa.guard, sa.filled, sa.rings, diff);
+    }
+  }
+}
+
+// The same on the analytic scene's fitted planes, as the pipeline stores them (d as the
+// hemi-octahedral uv in [0,1]²).
+TEST(Dilate, AnalyticScenePlanesIgnoreGutterGarbage) {
+  for (auto [w, h] : {std::pair{64, 64}, {37, 23}}) {
+    BakerOptions bo;
+    bo.width = w;
+    bo.height = h;
+    bo.area_samples = 3;
+    const ShImage sh = bake_analytic_scene(bo);
+    const AhdImage fit = fit_image(sh, FitOptions{}, 2);
+    ImageF iz(w, h, 3), uv(w, h, 2), ratio(w, h, 1);
+    for (size_t i = 0; i < sh.texels(); ++i) {
+      const AhdFit& f = fit.texels[i];
+      for (int c = 0; c < 3; ++c) iz.data[i * 3 + c] = f.iz[c];
+      const double d[3] = {f.d[0], f.d[1], f.d[2]};
+      double e[2];
+      hemi_oct_encode(d, e);
+      uv.data[i * 2] = float(e[0] * 0.5 + 0.5);
+      uv.data[i * 2 + 1] = float(e[1] * 0.5 + 0.5);
+      ratio.data[i] = f.ratio[0];
+    }
+    for (const ImageF* src : {&iz, &uv, &ratio}) {
+      ImageF a = *src, b = *src;
+      fill_garbage(a, sh.coverage, 11);
+      fill_garbage(b, sh.coverage, 12);
+      EXPECT_GT(footprint_difference(a, b, sh.coverage), 1.0);
+      DilateStats st;
+      dilate(a, sh.coverage, 2, &st);
+      dilate(b, sh.coverage, 1);
+      const double diff = footprint_difference(a, b, sh.coverage);
+      EXPECT_LE(diff, 1e-4);
+      EXPECT_GT(st.guard, 0u);
+      if (src == &iz)
+        std::printf("  analytic %dx%d: covered %zu, guard texels %zu, filled %zu, rings %d, footprint diff %.1e\n", w,
+                    h, st.covered, st.guard, st.filled, st.rings, diff);
+    }
+  }
+}
+
+TEST(Dilate, NoBleedingAcrossGuttersOfTwoTexels) {
+  const int w = 70, h = 40;
+  int charts = 0;
+  std::vector<int> id;
+  const std::vector<uint8_t> cov = chart_coverage(w, h, &charts, &id);
+  ASSERT_GE(charts, 6);
+  ImageF img(w, h, 1);
+  for (size_t i = 0; i < cov.size(); ++i) img.data[i] = cov[i] ? float(10 * (id[i] + 1)) : -5.0f;
+  DilateStats st;
+  dilate(img, cov, 2, &st);
+  // Every guard texel (8-adjacent to a chart) touches exactly one chart, so it holds that chart's
+  // constant exactly; counted independently here.
+  size_t guard = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      if (cov[size_t(y) * w + x]) continue;
+      int owner = -1;
+      bool two = false;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int nx = x + dx, ny = y + dy;
+          if (nx < 0 || ny < 0 || nx >= w || ny >= h || !cov[size_t(ny) * w + nx]) continue;
+          const int k = id[size_t(ny) * w + nx];
+          if (owner >= 0 && owner != k) two = true;
+          owner = k;
+        }
+      if (owner < 0) continue;
+      ++guard;
+      ASSERT_FALSE(two) << "test atlas must have gutters ≥ 2";
+      EXPECT_EQ(img.data[size_t(y) * w + x], float(10 * (owner + 1))) << x << "," << y;
+    }
+  EXPECT_EQ(st.guard, guard);
+  size_t covered = 0;
+  for (uint8_t c : cov) covered += c;
+  EXPECT_EQ(st.covered, covered);
+  EXPECT_EQ(st.filled, cov.size() - covered);
+}
+
+TEST(Dilate, RingsAreChebyshevDistanceAndValuesConvex) {
+  // One covered texel in a corner: ring r is the texels at Chebyshev distance r.
+  ImageF img(10, 7, 2);
+  std::vector<uint8_t> cov(70, 0);
+  cov[0] = 1;
+  img.data[0] = 3.5f, img.data[1] = -1.25f;
+  fill_garbage(img, cov, 5);
+  DilateStats st;
+  dilate(img, cov, 2, &st);
+  EXPECT_EQ(st.rings, 9);
+  EXPECT_EQ(st.guard, 3u);
+  for (size_t i = 0; i < 70; ++i) {
+    EXPECT_EQ(img.data[i * 2], 3.5f);
+    EXPECT_EQ(img.data[i * 2 + 1], -1.25f);
+  }
+
+  // Convexity: every filled value lies within the covered values' range, per channel.
+  const Planes p = synthetic(53, 31);
+  ImageF a = p.iz;
+  fill_garbage(a, p.coverage, 9);
+  float lo[3] = {1e30f, 1e30f, 1e30f}, hi[3] = {-1e30f, -1e30f, -1e30f};
+  for (size_t i = 0; i < p.coverage.size(); ++i)
+    if (p.coverage[i])
+      for (int c = 0; c < 3; ++c) lo[c] = std::min(lo[c], a.data[i * 3 + c]), hi[c] = std::max(hi[c], a.data[i * 3 + c]);
+  dilate(a, p.coverage, 2);
+  for (size_t i = 0; i < p.coverage.size(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_GE(a.data[i * 3 + c], lo[c] - 1e-5f);
+      EXPECT_LE(a.data[i * 3 + c], hi[c] + 1e-5f);
+    }
+}
+
+TEST(Dilate, EmptyAndFullCoverage) {
+  ImageF img(5, 4, 3);
+  std::vector<uint8_t> none(20, 0), all(20, 1);
+  fill_garbage(img, none, 3);
+  ImageF full = img;
+  DilateStats st;
+  dilate(img, none, 2, &st);
+  for (float v : img.data) EXPECT_EQ(v, 0.0f);
+  EXPECT_EQ(st.rings, 0);
+  EXPECT_EQ(st.filled, 20u);
+  const ImageF before = full;
+  dilate(full, all, 2, &st);
+  EXPECT_EQ(full.data, before.data);
+  EXPECT_EQ(st.covered, 20u);
+  EXPECT_EQ(st.filled, 0u);
+  EXPECT_THROW(dilate(img, std::vector<uint8_t>(3, 1), 1), Error);
+}
+
+TEST(Dilate, ThreadCountDoesNotChangeTheResult) {
+  const Planes p = synthetic(211, 157);  // rings longer than the parallel grain
+  ImageF a = p.iz, b = p.iz;
+  fill_garbage(a, p.coverage, 4);
+  b = a;
+  dilate(a, p.coverage, 1);
+  dilate(b, p.coverage, 2);
+  EXPECT_EQ(std::memcmp(a.data.data(), b.data.data(), a.data.size() * sizeof(float)), 0);
+}
+
+TEST(Dilate, AhdImageFilledTexelsAreValidAndGarbageFree) {
+  BakerOptions bo;
+  bo.width = 37;
+  bo.height = 23;
+  bo.area_samples = 3;
+  const ShImage sh = bake_analytic_scene(bo);
+  const FitOptions opt;
+  const AhdImage fit = fit_image(sh, opt, 2);
+  AhdImage a = fit, b = fit;
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<float> g(-1e6f, 1e6f);
+  for (AhdImage* x : {&a, &b})
+    for (size_t i = 0; i < x->texels.size(); ++i)
+      if (!x->coverage[i])
+        for (int c = 0; c < 3; ++c)
+          x->texels[i].iz[c] = g(rng), x->texels[i].d[c] = g(rng), x->texels[i].ratio[c] = g(rng);
+  DilateStats st;
+  dilate_ahd(a, opt.dz_min, 2, &st);
+  dilate_ahd(b, opt.dz_min, 1);
+  EXPECT_GT(st.guard, 0u);
+  EXPECT_GT(st.filled, 0u);
+  for (size_t i = 0; i < a.texels.size(); ++i) {
+    const AhdFit& f = a.texels[i];
+    if (a.coverage[i]) {
+      ASSERT_EQ(std::memcmp(&f, &fit.texels[i], sizeof(AhdFit)), 0) << "covered texels untouched";
+      continue;
+    }
+    ASSERT_EQ(std::memcmp(&f, &b.texels[i], sizeof(AhdFit)), 0) << "garbage-independent";
+    EXPECT_NEAR(f.d[0] * f.d[0] + f.d[1] * f.d[1] + f.d[2] * f.d[2], 1.0f, 1e-5f);
+    EXPECT_GE(f.d[2], opt.dz_min - 1e-6);
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_GE(f.iz[c], 0.0f);
+      EXPECT_GE(f.ratio[c], 0.0f);
+      EXPECT_LE(f.ratio[c], 1.0f);
+      EXPECT_GE(f.ca[c], 0.0f);
+      EXPECT_GE(f.cd[c], 0.0f);
+      // Self-consistent: the lobe gives back I_z along the normal.
+      EXPECT_NEAR(f.ca[c] + f.d[2] * f.cd[c], f.iz[c], 1e-4 * (f.iz[c] + 1e-6));
+    }
+  }
+}
+
+TEST(Dilate, CoveragePlaneIsR8) {
+  const std::vector<uint8_t> cov = {1, 0, 7, 0, 0, 1};
+  const Image8 p = coverage_plane(3, 2, cov);
+  EXPECT_EQ(p.channels, 1);
+  EXPECT_EQ(p.data, (std::vector<uint8_t>{255, 0, 255, 0, 0, 255}));
+  EXPECT_THROW(coverage_plane(2, 2, cov), Error);
+}
