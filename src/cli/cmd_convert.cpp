@@ -32,6 +32,7 @@ struct ConvertArgs {
   unsigned seed = 0;
   int levels = 0;
   bool keep_intermediate = false;
+  bool coverage_plane = false;
   bool quiet = false;
 };
 
@@ -49,6 +50,7 @@ void run_convert(const ConvertArgs& a) {
   opt.fit.dz_min = a.dz_min;
   opt.closed_loop = !a.open_loop;
   opt.max_levels = a.levels;
+  opt.coverage_plane = a.coverage_plane;
   if (!(a.dz_min > 0 && a.dz_min < 1)) throw Error("--eps must be in (0, 1)");
   const Profile profile = load_profile(a.profile);
   if (profile.ratio_rgb) opt.fit.ratio_form = RatioForm::Rgb;
@@ -110,6 +112,7 @@ void add_convert_command(CLI::App& app) {
   c->add_flag("--open-loop", a->open_loop, "Quantise the ratio from the unquantised fit (for comparison)");
   c->add_flag("--zstd", a->zstd, "Zstandard supercompression (KTX2)");
   c->add_option("--levels", a->levels, "Mip levels to write (0 = full chain)")->check(CLI::NonNegativeNumber);
+  c->add_flag("--coverage-plane", a->coverage_plane, "Also write OUT.coverage.<ext>: R8, 255 where a chart covers the texel");
   c->add_flag("--keep-intermediate", a->keep_intermediate, "Also write OUT.ahd.exr, the lossless fitted planes for transcode");
   c->add_option("--threads", a->threads, "Worker threads (0 = all)");
   c->add_option("--sample-size", a->sample_size, "Built-in sample: width and height")->check(CLI::Range(1, 8192));

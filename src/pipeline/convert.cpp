@@ -248,6 +248,15 @@ void quantise_levels(const std::vector<FittedLevel>& levels, const Profile& prof
   std::vector<LevelPlanes> lv;
   for (const FittedLevel& l : levels) lv.push_back(quantise_level(l, profile, opt, &r->codec_stats));
   r->planes = planes_of(profile, lv, false);
+  if (opt.coverage_plane) {
+    Texture cov;
+    cov.format = PixelFormat::R8_UNORM;
+    for (const FittedLevel& l : levels) {
+      const Image8 c = coverage_plane(l.sh.width, l.sh.height, l.ahd.coverage);
+      cov.levels.push_back({uint32_t(c.width), uint32_t(c.height), c.data});
+    }
+    r->planes.push_back({"coverage", std::move(cov)});
+  }
   r->timings.push_back({"quantise", seconds_since(t0)});
   if (!opt.measure) return;
 

@@ -23,10 +23,11 @@ struct ConvertOptions {
   PlaneCodecOptions codec;
   int threads = 0;
   int max_levels = 0;  // mip levels to write: 0 = the full chain down to 1×1
+  bool coverage_plane = false;  // also write an R8 "coverage" plane (255 = covered) per level
 };
 
 struct Plane {
-  std::string name;  // "iz", "dir", "ratio" or "dirratio"
+  std::string name;  // "iz", "dir", "ratio", "dirratio" or "coverage"
   Texture texture;
 };
 

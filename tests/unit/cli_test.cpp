@@ -98,6 +98,13 @@ TEST(Cli, FullMipChainsByDefaultAndDecodeLevel) {
   EXPECT_NE(bad.output.find("--level 6 does not exist"), std::string::npos) << bad.output;
   EXPECT_EQ(run_cli({"convert", "-o", (d / "one.ktx2").string(), "--sample-size", "40", "--levels", "1", "-q"}).exit_code, 0);
   EXPECT_EQ(ahd::read_container_file((d / "one.iz.ktx2").string()).levels.size(), 1u);
+  // The optional coverage plane: R8, 255 on charts, 0 in gutters, with its own mip chain.
+  ASSERT_EQ(run_cli({"convert", "-o", (d / "c.ktx2").string(), "--sample-size", "40", "--coverage-plane", "-q"}).exit_code, 0);
+  const ahd::Texture cov = ahd::read_container_file((d / "c.coverage.ktx2").string());
+  EXPECT_EQ(cov.format, ahd::PixelFormat::R8_UNORM);
+  EXPECT_EQ(cov.levels.size(), 6u);
+  EXPECT_EQ(cov.levels[0].data[0], 0);      // corner: gutter
+  EXPECT_EQ(cov.levels[0].data[5 * 40 + 5], 255);  // inside the floor chart
   fs::remove_all(d);
 }
 
