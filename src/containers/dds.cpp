@@ -21,22 +21,6 @@ constexpr uint32_t fourcc(char a, char b, char c, char d) {
   return uint32_t(uint8_t(a)) | uint32_t(uint8_t(b)) << 8 | uint32_t(uint8_t(c)) << 16 | uint32_t(uint8_t(d)) << 24;
 }
 
-bool format_from_dxgi(uint32_t dxgi, PixelFormat* out) {
-  for (int i = 0; i <= int(PixelFormat::BC6H_SFLOAT); ++i) {
-    if (format_info(PixelFormat(i)).dxgi_format == dxgi) {
-      *out = PixelFormat(i);
-      return true;
-    }
-  }
-  return false;
-}
-
-uint32_t max_levels(uint32_t w, uint32_t h) {
-  uint32_t n = 1;
-  for (uint32_t m = std::max(w, h); m > 1; m >>= 1) ++n;
-  return n;
-}
-
 // pitchOrLinearSize per the DDS docs: linear size of level 0 for block formats, else the row pitch.
 uint32_t pitch_or_linear_size(PixelFormat f, uint32_t w, uint32_t h) {
   const FormatInfo& fi = format_info(f);
@@ -48,16 +32,8 @@ uint32_t pitch_or_linear_size(PixelFormat f, uint32_t w, uint32_t h) {
 
 std::vector<uint8_t> write_dds(const Texture& tex) {
   using namespace bytes;
-  if (tex.levels.empty()) throw Error("DDS: texture has no levels");
+  check_texture_levels(tex, "DDS", kMaxDimension);
   const uint32_t w = tex.levels[0].width, h = tex.levels[0].height;
-  if (w == 0 || h == 0 || w > kMaxDimension || h > kMaxDimension) throw Error("DDS: invalid texture size");
-  if (tex.levels.size() > max_levels(w, h)) throw Error("DDS: more mip levels than the size allows");
-  for (size_t l = 0; l < tex.levels.size(); ++l) {
-    const TextureLevel& lv = tex.levels[l];
-    if (lv.width != std::max(1u, w >> l) || lv.height != std::max(1u, h >> l) ||
-        lv.data.size() != level_size_bytes(tex.format, lv.width, lv.height))
-      throw Error("DDS: level " + std::to_string(l) + " has the wrong size or byte count");
-  }
   const FormatInfo& fi = format_info(tex.format);
   const uint32_t levels = uint32_t(tex.levels.size());
   std::vector<uint8_t> b;
@@ -114,7 +90,7 @@ Texture read_dds(const uint8_t* data, size_t size, const std::string& path) {
     r.fail("unsupported size " + std::to_string(w) + "x" + std::to_string(h));
   if (depth > 1) r.fail("volume textures are not supported");
   if (levels == 0) levels = 1;
-  if (levels > max_levels(w, h)) r.fail("invalid mip count " + std::to_string(levels));
+  if (levels > full_mip_count(w, h)) r.fail("invalid mip count " + std::to_string(levels));
   Texture tex;
   size_t data_at = 4 + kHeaderSize;
   const bool rgba8_masks = (pf_flags & DDPF_RGB) && (pf_flags & DDPF_ALPHAPIXELS) && r.u32(88) == 32 &&

@@ -26,37 +26,13 @@ uint32_t type_size(PixelFormat f) {
   }
 }
 
-bool format_from_vk(uint32_t vk, PixelFormat* out) {
-  for (int i = 0; i <= int(PixelFormat::BC6H_SFLOAT); ++i) {
-    if (format_info(PixelFormat(i)).vk_format == vk) {
-      *out = PixelFormat(i);
-      return true;
-    }
-  }
-  return false;
-}
-
-uint32_t max_levels(uint32_t w, uint32_t h) {
-  uint32_t n = 1;
-  for (uint32_t m = std::max(w, h); m > 1; m >>= 1) ++n;
-  return n;
-}
-
 }  // namespace
 
 std::vector<uint8_t> write_ktx2(const Texture& tex, const Ktx2WriteOptions& opt) {
   using namespace bytes;
   const FormatInfo& fi = format_info(tex.format);
-  if (tex.levels.empty()) throw Error("KTX2: texture has no levels");
+  check_texture_levels(tex, "KTX2", kMaxDimension);
   const uint32_t w = tex.levels[0].width, h = tex.levels[0].height;
-  if (w == 0 || h == 0 || w > kMaxDimension || h > kMaxDimension) throw Error("KTX2: invalid texture size");
-  if (tex.levels.size() > max_levels(w, h)) throw Error("KTX2: more mip levels than the size allows");
-  for (size_t l = 0; l < tex.levels.size(); ++l) {
-    const TextureLevel& lv = tex.levels[l];
-    if (lv.width != std::max(1u, w >> l) || lv.height != std::max(1u, h >> l) ||
-        lv.data.size() != level_size_bytes(tex.format, lv.width, lv.height))
-      throw Error("KTX2: level " + std::to_string(l) + " has the wrong size or byte count");
-  }
   const uint32_t levels = uint32_t(tex.levels.size());
 
   std::vector<uint8_t> b(kIdentifier, kIdentifier + 12);
@@ -133,7 +109,7 @@ Texture read_ktx2(const uint8_t* data, size_t size, const std::string& path) {
   if (w == 0 || h == 0 || w > kMaxDimension || h > kMaxDimension)
     r.fail("unsupported size " + std::to_string(w) + "x" + std::to_string(h));
   if (depth != 0 || layers > 1 || faces != 1) r.fail("only 2D textures with one layer and one face are supported");
-  if (levels == 0 || levels > max_levels(w, h)) r.fail("invalid level count " + std::to_string(levels));
+  if (levels == 0 || levels > full_mip_count(w, h)) r.fail("invalid level count " + std::to_string(levels));
   if (scheme != kSchemeNone && scheme != kSchemeZstd) r.fail("unsupported supercompression scheme " + std::to_string(scheme));
   r.need(kHeaderBytes, uint64_t(kLevelIndexEntry) * levels, "level index");
 

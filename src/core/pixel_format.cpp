@@ -40,6 +40,24 @@ bool format_from_name(const std::string& name, PixelFormat* out) {
   return false;
 }
 
+bool format_from_vk(uint32_t vk, PixelFormat* out) {
+  for (const auto& info : kFormats)
+    if (info.vk_format == vk) return *out = info.format, true;
+  return false;
+}
+
+bool format_from_dxgi(uint32_t dxgi, PixelFormat* out) {
+  for (const auto& info : kFormats)
+    if (info.dxgi_format == dxgi) return *out = info.format, true;
+  return false;
+}
+
+uint32_t full_mip_count(uint32_t width, uint32_t height) {
+  uint32_t n = 1;
+  for (uint32_t m = width > height ? width : height; m > 1; m >>= 1) ++n;
+  return n;
+}
+
 size_t level_size_bytes(PixelFormat f, uint32_t width, uint32_t height) {
   const FormatInfo& info = format_info(f);
   const size_t bw = (size_t(width) + info.block_width - 1) / info.block_width;

@@ -42,4 +42,11 @@ bool format_from_name(const std::string& name, PixelFormat* out);
 // Bytes of one mip level of w×h texels (whole blocks for compressed formats).
 size_t level_size_bytes(PixelFormat f, uint32_t width, uint32_t height);
 
+// Looks a format up by its VkFormat / DXGI_FORMAT value; false when we do not support it.
+bool format_from_vk(uint32_t vk_format, PixelFormat* out);
+bool format_from_dxgi(uint32_t dxgi_format, PixelFormat* out);
+
+// Levels of the full mip chain of a w×h image: 1 + floor(log2(max(w, h))).
+uint32_t full_mip_count(uint32_t width, uint32_t height);
+
 }  // namespace ahd

@@ -22,4 +22,8 @@ struct Texture {
   std::vector<std::pair<std::string, std::string>> metadata;
 };
 
+// Throws ahd::Error("<what>: …") unless the texture has 1..full_mip_count levels of the chain's
+// sizes (max(1, n >> level)), each holding exactly level_size_bytes(), and a size in [1, max_dim].
+void check_texture_levels(const Texture& tex, const char* what, uint32_t max_dim);
+
 }  // namespace ahd

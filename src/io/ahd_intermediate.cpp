@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "fit/ahd_decode.h"
+#include "io/image_io.h"
 
 namespace ahd {
 namespace fs = std::filesystem;
@@ -61,8 +62,8 @@ void write_intermediate(const std::string& path, const std::vector<FittedLevel>&
   const bool normals = !levels[0].sh.normals.empty();
   const std::vector<std::string> names = channel_names(coeffs, normals);
   const int nch = int(names.size());
-  fs::path tmp = fs::path(path).parent_path() / ("." + fs::path(path).filename().string() + ".tmp.exr");
   if (!fs::path(path).parent_path().empty()) fs::create_directories(fs::path(path).parent_path());
+  const fs::path tmp = temp_path_for(path);
   auto out = OIIO::ImageOutput::create(tmp.string());
   if (!out) throw file_error(path, "no EXR writer");
   for (size_t l = 0; l < levels.size(); ++l) {
@@ -96,12 +97,7 @@ void write_intermediate(const std::string& path, const std::vector<FittedLevel>&
   }
   out->close();
   out.reset();
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    fs::remove(tmp);
-    throw file_error(path, "cannot rename temporary file (" + ec.message() + ")");
-  }
+  publish_temp_file(tmp.string(), path);
 }
 
 std::vector<FittedLevel> read_intermediate(const std::string& path, FitOptions* fit) {

@@ -28,14 +28,26 @@ std::unique_ptr<OIIO::ImageInput> open_input(const std::string& path) {
   return in;
 }
 
-// A temporary name next to `path` so the final rename stays on one file system.
-std::string temp_name_for(const std::string& path) {
+}  // namespace
+
+std::string temp_path_for(const std::string& path) {
   static thread_local std::mt19937_64 rng{std::random_device{}()};
   fs::path p(path);
   char tag[32];
   std::snprintf(tag, sizeof tag, ".tmp%08x", unsigned(rng()));
   return (p.parent_path() / ("." + p.filename().string() + tag + p.extension().string())).string();
 }
+
+void publish_temp_file(const std::string& tmp, const std::string& path) {
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) {
+    fs::remove(tmp);
+    throw file_error(path, "cannot rename temporary file (" + ec.message() + ")");
+  }
+}
+
+namespace {
 
 void ensure_parent_dir(const std::string& path) {
   fs::path parent = fs::path(path).parent_path();
@@ -100,7 +112,7 @@ void write_image(const std::string& path, const ImageF& img, bool half_float,
     spec.channelnames = {"Y"};
   }
   if (ext == ".exr") spec.attribute("compression", "zip");
-  const std::string tmp = temp_name_for(path);
+  const std::string tmp = temp_path_for(path);
   auto out = OIIO::ImageOutput::create(tmp);
   if (!out) throw file_error(path, "no image writer for this extension");
   if (!out->open(tmp, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, img.data.data())) {
@@ -111,17 +123,12 @@ void write_image(const std::string& path, const ImageF& img, bool half_float,
   }
   out->close();
   out.reset();
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    fs::remove(tmp);
-    throw file_error(path, "cannot rename temporary file (" + ec.message() + ")");
-  }
+  publish_temp_file(tmp, path);
 }
 
 void write_file_atomic(const std::string& path, const std::vector<uint8_t>& bytes) {
   ensure_parent_dir(path);
-  const std::string tmp = temp_name_for(path);
+  const std::string tmp = temp_path_for(path);
   {
     std::ofstream f(tmp, std::ios::binary);
     if (!f) throw file_error(path, "cannot open for writing");
@@ -132,12 +139,7 @@ void write_file_atomic(const std::string& path, const std::vector<uint8_t>& byte
       throw file_error(path, "write failed");
     }
   }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    fs::remove(tmp);
-    throw file_error(path, "cannot rename temporary file (" + ec.message() + ")");
-  }
+  publish_temp_file(tmp, path);
 }
 
 void write_file_atomic(const std::string& path, const std::string& text) {

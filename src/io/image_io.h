@@ -35,6 +35,11 @@ void write_image(const std::string& path, const ImageF& img, bool half_float = f
 void write_file_atomic(const std::string& path, const std::vector<uint8_t>& bytes);
 void write_file_atomic(const std::string& path, const std::string& text);
 
+// The two halves of every atomic write: a temporary name next to `path` (same file system), and
+// the rename that publishes it — on failure the temporary file is removed and ahd::Error thrown.
+std::string temp_path_for(const std::string& path);
+void publish_temp_file(const std::string& tmp, const std::string& path);
+
 // Reads a whole file. Throws ahd::Error("<path>: cannot open") and refuses files over max_bytes.
 std::vector<uint8_t> read_file_bytes(const std::string& path, size_t max_bytes = size_t(1) << 34);
 
