@@ -8,6 +8,7 @@
 
 #include "codecs/bc4.h"
 #include "codecs/bc5.h"
+#include "codecs/bc6h_codec.h"
 #include "codecs/packed_float.h"
 #include "core/error.h"
 
@@ -36,6 +37,8 @@ bool plane_format_supported(PixelFormat f) {
     case PixelFormat::E5B9G9R9_UFLOAT:
     case PixelFormat::BC4_UNORM:
     case PixelFormat::BC5_UNORM:
+    case PixelFormat::BC6H_UFLOAT:
+    case PixelFormat::BC6H_SFLOAT:
       return true;
     default:
       return false;
@@ -101,6 +104,18 @@ TextureLevel encode_plane(PixelFormat f, const ImageF& img, const PlaneCodecOpti
     case PixelFormat::BC5_UNORM:
       lvl.data = bc5_encode_image(img, opt.threads);
       return lvl;
+    case PixelFormat::BC6H_UFLOAT:
+    case PixelFormat::BC6H_SFLOAT: {
+      Bc6hOptions o;
+      o.is_signed = f == PixelFormat::BC6H_SFLOAT;
+      o.quality = Bc6hQuality(std::clamp(opt.bc6h_quality, 0, 3));
+      o.threads = opt.threads;
+      Bc6hStats bs;
+      lvl.data = bc6h_encode_image(img, o, &bs);
+      st.clamped += bs.too_large + bs.negative;
+      st.non_finite += bs.nan + bs.inf;
+      return lvl;
+    }
     default:
       break;
   }
@@ -145,6 +160,9 @@ ImageF decode_plane(PixelFormat f, const TextureLevel& lvl) {
       return img;
     case PixelFormat::BC5_UNORM:
       return bc5_decode_image(lvl.data.data(), img.width, img.height);
+    case PixelFormat::BC6H_UFLOAT:
+    case PixelFormat::BC6H_SFLOAT:
+      return bc6h_decode_image(lvl.data.data(), img.width, img.height, f == PixelFormat::BC6H_SFLOAT);
     default:
       break;
   }

@@ -1,0 +1,93 @@
+// BC6H decoding of one block, exactly as the specification reads it.
+#include <Imath/half.h>
+
+#include "codecs/bc6h_codec.h"
+#include "codecs/bc6h_tables.h"
+#include "core/parallel.h"
+
+namespace ahd {
+
+using namespace bc6h;
+
+namespace {
+
+struct BitReader {
+  const uint8_t* b;
+  int pos = 0;
+  int get(int n) {
+    int v = 0;
+    for (int i = 0; i < n; ++i, ++pos) v |= ((b[pos >> 3] >> (pos & 7)) & 1) << i;
+    return v;
+  }
+};
+
+}  // namespace
+
+void bc6h_decode_block(const uint8_t block[16], bool is_signed, uint16_t out[48]) {
+  BitReader r{block};
+  int code = r.get(2);
+  if (code > 1) code |= r.get(3) << 2;
+  const int m = mode_from_code(uint32_t(code));
+  if (m < 0) {  // reserved: the spec decodes these to 0
+    for (int i = 0; i < 48; ++i) out[i] = 0;
+    return;
+  }
+  const ModeInfo& mi = mode(m);
+  int e[12] = {};  // RW GW BW RX GX BX RY GY BY RZ GZ BZ
+  int partition = 0;
+  for (int i = 0; i < mi.layout_count; ++i) {
+    const int bit = r.get(1);
+    if (mi.layout_field[i] == D) partition |= bit << mi.layout_bit[i];
+    else e[mi.layout_field[i]] |= bit << mi.layout_bit[i];
+  }
+  const int ends = mi.regions * 2;
+  // Sign extension and the delta transform.
+  for (int c = 0; c < 3; ++c) {
+    if (is_signed) e[c] = sign_extend(e[c], mi.epb);
+    for (int k = 1; k < ends; ++k) {
+      int& v = e[k * 3 + c];
+      if (mi.transformed) {
+        v = sign_extend(v, mi.delta[c]);
+        v = (e[c] + v) & ((1 << mi.epb) - 1);
+        if (is_signed) v = sign_extend(v, mi.epb);
+      } else if (is_signed) {
+        v = sign_extend(v, mi.epb);
+      }
+    }
+  }
+  int u[12];
+  for (int k = 0; k < ends * 3; ++k) u[k] = unquantize(e[k], mi.epb, is_signed);
+
+  const uint16_t mask = mi.regions == 2 ? kPartitions[partition] : 0;
+  const int anchor = mi.regions == 2 ? kAnchor2[partition] : -1;
+  const uint8_t* weights = mi.index_bits == 3 ? kWeights3 : kWeights4;
+  for (int t = 0; t < 16; ++t) {
+    const int nbits = (t == 0 || t == anchor) ? mi.index_bits - 1 : mi.index_bits;
+    const int idx = r.get(nbits);
+    const int region = (mask >> t) & 1;
+    const int* a = &u[region * 6];
+    for (int c = 0; c < 3; ++c) out[t * 3 + c] = finish_unquantize(interpolate(a[c], a[3 + c], weights[idx]), is_signed);
+  }
+}
+
+ImageF bc6h_decode_image(const uint8_t* blocks, int width, int height, bool is_signed) {
+  ImageF img(width, height, 3);
+  const int bw = (width + 3) / 4, bh = (height + 3) / 4;
+  parallel_for(size_t(bw) * bh, 0, 256, [&](size_t b) {
+    const int bx = int(b % bw), by = int(b / bw);
+    uint16_t h[48];
+    bc6h_decode_block(blocks + b * 16, is_signed, h);
+    for (int t = 0; t < 16; ++t) {
+      const int x = bx * 4 + t % 4, y = by * 4 + t / 4;
+      if (x >= width || y >= height) continue;
+      for (int c = 0; c < 3; ++c) {
+        Imath::half v;
+        v.setBits(h[t * 3 + c]);
+        img.at(x, y)[c] = float(v);
+      }
+    }
+  });
+  return img;
+}
+
+}  // namespace ahd

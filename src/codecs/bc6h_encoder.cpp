@@ -1,0 +1,628 @@
+// BC6H encoder.
+//
+// Working domain: BC6H interpolates endpoints linearly in a 16-bit domain c that the decoder maps
+// to half-float bits by a fixed scale (c·31/64 unsigned, c·31/32 signed). Half-float bits are
+// piecewise linear in log2(value), so the codec is linear in a log-like space. We fit endpoints
+// there (principal axis, then weighted least squares on the indices) and measure the error
+// exactly: the decoder's half bits against the input's half bits, weighted per texel and channel
+// by (x/(1+x))², the slope of log2(1+x) per half-float step — the metric HDR lightmaps are judged
+// by (PEERS.md), large values relative, values below 1 closer to absolute.
+//
+// Quality levels choose how many candidates are tried:
+//   fast    one region + the best two-region partition (ranked by two-line fit), the 2 most
+//           precise modes whose deltas fit, no refinement
+//   default one region + 2 best partitions, 2 refinement passes on the best candidate of each
+//   high    one region + 6 partitions, 3 modes each, 4 refinement passes on the 2 best
+//   max     one region + all 32 partitions, every mode, 6 passes, ±1 endpoint perturbation
+// No specks: a block whose best encoding would put a texel above its channel's brightest input
+// (or, signed, below the darkest) by more than one half-float step is searched again with that
+// range enforced on every candidate, plus one candidate that is always inside it.
+#include <Imath/half.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <vector>
+
+#include "codecs/bc6h_codec.h"
+#include "codecs/bc6h_tables.h"
+#include "core/parallel.h"
+
+namespace ahd {
+
+using namespace bc6h;
+
+namespace {
+
+struct Block {
+  int h[16][3];         // target half bits (signed: sign-magnitude as a signed int)
+  float L[16][3];       // target in the error metric: sign(x)·log2(1 + |x|)
+  double q[16][3];      // target in the c domain
+  double w[16][3];      // geometry weights for the axis and least squares
+  double tw[16];        // per-texel weight (for the principal axis)
+  float valid[16];      // 1 for real texels, 0 for the padding of partial blocks
+  int cap[3], floor_[3];  // range every decoded value must stay in (half bits, per channel)
+  bool capped;            // enforce that range on candidates (the second, careful search)
+  bool is_signed;
+};
+
+// sign(x)·log2(1 + |x|) for every half-float bit pattern: the error metric, looked up.
+const float* log_table() {
+  static const std::vector<float> table = [] {
+    std::vector<float> t(65536);
+    for (uint32_t bits = 0; bits < 65536; ++bits) {
+      Imath::half h;
+      h.setBits(uint16_t(bits));
+      float v = float(h);
+      if (!std::isfinite(v)) v = std::copysign(65504.0f, v);
+      t[bits] = std::copysign(std::log2(1.0f + std::fabs(v)), v);
+    }
+    return t;
+  }();
+  return table.data();
+}
+
+// The half bits a decoded signed-int h maps to (sign-magnitude for SF16).
+inline uint16_t half_bits_of(int h) { return h < 0 ? uint16_t(0x8000 | -h) : uint16_t(h); }
+
+// Decoded half bits of c as a signed integer comparable with Block::h.
+inline int decoded_h(int c, bool is_signed) {
+  if (!is_signed) return (c * 31) >> 6;
+  return c < 0 ? -((-c * 31) >> 5) : (c * 31) >> 5;
+}
+
+int half_signed_int(float v) {
+  const uint16_t b = Imath::half(v).bits();
+  return (b & 0x8000) ? -int(b & 0x7FFF) : int(b);
+}
+
+// Quantises a c-domain value to `bits`: the component whose unquantised value is closest to c.
+int quantize(double c, int bits, bool is_signed) {
+  const int minv = is_signed ? -((1 << (bits - 1)) - 1) : 0;
+  const int maxv = is_signed ? (1 << (bits - 1)) - 1 : (1 << bits) - 1;
+  const int f = std::clamp(int(std::lround(c / double(1 << (16 - bits)))), minv, maxv);
+  int best = f;
+  double bd = 1e30;
+  for (int k = std::max(minv, f - 1); k <= std::min(maxv, f + 1); ++k) {
+    const double d = std::fabs(unquantize(k, bits, is_signed) - c);
+    if (d < bd) bd = d, best = k;
+  }
+  return best;
+}
+
+// The largest component (or, with `floor`, the smallest) whose decoded half bits stay ≤ cap
+// (≥ cap): unquantisation is monotonic, so a binary search finds it.
+int quantize_capped(int cap, int bits, bool is_signed, bool floor) {
+  const int minv = is_signed ? -((1 << (bits - 1)) - 1) : 0;
+  const int maxv = is_signed ? (1 << (bits - 1)) - 1 : (1 << bits) - 1;
+  int lo = minv, hi = maxv;
+  auto h = [&](int k) { return decoded_h(unquantize(k, bits, is_signed), is_signed); };
+  if (!floor) {
+    if (h(lo) > cap) return lo;
+    while (lo < hi) {  // largest k with h(k) <= cap
+      const int mid = lo + (hi - lo + 1) / 2;
+      if (h(mid) <= cap) lo = mid; else hi = mid - 1;
+    }
+    return lo;
+  }
+  if (h(hi) < cap) return hi;
+  while (lo < hi) {  // smallest k with h(k) >= cap
+    const int mid = lo + (hi - lo) / 2;
+    if (h(mid) >= cap) hi = mid; else lo = mid + 1;
+  }
+  return lo;
+}
+
+// A candidate: mode, partition, quantised endpoints e[endpoint][channel] (absolute, epb bits).
+struct Candidate {
+  int mode = -1, partition = 0;
+  int e[4][3] = {};
+  uint8_t idx[16] = {};
+  double err = 1e300;
+};
+
+// Makes the endpoints representable: in transformed modes the others must lie within the signed
+// delta range of endpoint 0 (clamped when not). Returns true when nothing had to be clamped.
+bool fit_deltas(const ModeInfo& mi, int e[4][3], bool is_signed) {
+  if (!mi.transformed) return true;
+  bool exact = true;
+  const int ends = mi.regions * 2;
+  for (int c = 0; c < 3; ++c) {
+    const int lo = -(1 << (mi.delta[c] - 1)), hi = (1 << (mi.delta[c] - 1)) - 1;
+    for (int k = 1; k < ends; ++k) {
+      const int d = std::clamp(e[k][c] - e[0][c], lo, hi);
+      exact &= d == e[k][c] - e[0][c];
+      e[k][c] = e[0][c] + d;
+      if (is_signed) e[k][c] = std::clamp(e[k][c], -((1 << (mi.epb - 1)) - 1), (1 << (mi.epb - 1)) - 1);
+      else e[k][c] = std::clamp(e[k][c], 0, (1 << mi.epb) - 1);
+    }
+  }
+  return exact;
+}
+
+// Assigns indices and returns the weighted error of a candidate (region endpoints already fit).
+double evaluate(const Block& b, Candidate& cand) {
+  const ModeInfo& mi = mode(cand.mode);
+  const uint16_t mask = mi.regions == 2 ? kPartitions[cand.partition] : 0;
+  const int n = 1 << mi.index_bits;
+  const uint8_t* weights = mi.index_bits == 3 ? kWeights3 : kWeights4;
+  const float* L = log_table();
+  float pal[2][16][3];
+  int hpal[2][16][3];
+  for (int r = 0; r < mi.regions; ++r) {
+    int ua[3], ub[3];
+    for (int c = 0; c < 3; ++c) {
+      ua[c] = unquantize(cand.e[r * 2][c], mi.epb, b.is_signed);
+      ub[c] = unquantize(cand.e[r * 2 + 1][c], mi.epb, b.is_signed);
+    }
+    for (int k = 0; k < n; ++k)
+      for (int c = 0; c < 3; ++c) {
+        hpal[r][k][c] = decoded_h(interpolate(ua[c], ub[c], weights[k]), b.is_signed);
+        pal[r][k][c] = L[half_bits_of(hpal[r][k][c])];
+      }
+  }
+  double total = 0;
+  bool allowed[2][16];
+  for (int r = 0; r < mi.regions; ++r)
+    for (int k = 0; k < n; ++k)
+      allowed[r][k] = hpal[r][k][0] <= b.cap[0] && hpal[r][k][1] <= b.cap[1] && hpal[r][k][2] <= b.cap[2] &&
+                      hpal[r][k][0] >= b.floor_[0] && hpal[r][k][1] >= b.floor_[1] && hpal[r][k][2] >= b.floor_[2];
+  for (int t = 0; t < 16; ++t) {
+    const int r = (mask >> t) & 1;
+    float best = 1e30f;
+    int bi = -1;
+    for (int k = 0; k < n; ++k) {
+      if (b.capped && !allowed[r][k]) continue;  // would be a speck
+      const float d0 = pal[r][k][0] - b.L[t][0], d1 = pal[r][k][1] - b.L[t][1], d2 = pal[r][k][2] - b.L[t][2];
+      const float e = d0 * d0 + d1 * d1 + d2 * d2;
+      if (e < best) best = e, bi = k;
+    }
+    if (bi < 0) {  // no palette entry within the block's range: not a usable candidate
+      cand.err = 1e300;
+      return cand.err;
+    }
+    cand.idx[t] = uint8_t(bi);
+    total += b.valid[t] * best;
+  }
+  cand.err = total;
+  return total;
+}
+
+// The anchors (texel 0, and region 1's anchor) must have an index with a zero top bit: where one
+// does not, swap that region's endpoints and mirror its indices (the palette is symmetric, so the
+// decode is unchanged), then restore the delta constraints and re-evaluate if they moved.
+void fix_anchors(const Block& b, Candidate& cand) {
+  const ModeInfo& mi = mode(cand.mode);
+  const int n = 1 << mi.index_bits;
+  const uint16_t mask = mi.regions == 2 ? kPartitions[cand.partition] : 0;
+  const int anchors[2] = {0, mi.regions == 2 ? kAnchor2[cand.partition] : 0};
+  bool swapped = false;
+  for (int r = 0; r < mi.regions; ++r) {
+    if (cand.idx[anchors[r]] < n / 2) continue;
+    for (int c = 0; c < 3; ++c) std::swap(cand.e[r * 2][c], cand.e[r * 2 + 1][c]);
+    for (int t = 0; t < 16; ++t)
+      if (int((mask >> t) & 1) == r) cand.idx[t] = uint8_t(n - 1 - cand.idx[t]);
+    swapped = true;
+  }
+  if (!swapped) return;
+  int before[4][3];
+  std::memcpy(before, cand.e, sizeof before);
+  fit_deltas(mi, cand.e, b.is_signed);
+  if (std::memcmp(before, cand.e, sizeof before) != 0) {
+    // The swap broke a delta: re-evaluate, and if an anchor flips again keep the safe ordering by
+    // forcing its index into the lower half (a valid, slightly worse block).
+    evaluate(b, cand);
+    for (int r = 0; r < mi.regions; ++r)
+      if (cand.idx[anchors[r]] >= n / 2) cand.idx[anchors[r]] = uint8_t(n / 2 - 1);
+    // Recompute the error for the indices we will actually write.
+    const uint8_t* weights = mi.index_bits == 3 ? kWeights3 : kWeights4;
+    const float* L = log_table();
+    double total = 0;
+    for (int t = 0; t < 16; ++t) {
+      const int r = (mask >> t) & 1;
+      for (int c = 0; c < 3; ++c) {
+        const int ua = unquantize(cand.e[r * 2][c], mi.epb, b.is_signed), ub = unquantize(cand.e[r * 2 + 1][c], mi.epb, b.is_signed);
+        const double d = L[half_bits_of(decoded_h(interpolate(ua, ub, weights[cand.idx[t]]), b.is_signed))] - b.L[t][c];
+        total += b.valid[t] * d * d;
+      }
+    }
+    cand.err = total;
+  }
+}
+
+// Principal axis endpoints of the texels of region r (c domain).
+void axis_endpoints(const Block& b, uint16_t mask, int r, double lo[3], double hi[3]) {
+  double sw = 0, mean[3] = {0, 0, 0};
+  for (int t = 0; t < 16; ++t) {
+    if (int((mask >> t) & 1) != r) continue;
+    sw += b.tw[t];
+    for (int c = 0; c < 3; ++c) mean[c] += b.tw[t] * b.q[t][c];
+  }
+  if (sw <= 0) sw = 1;
+  for (double& m : mean) m /= sw;
+  double cov[3][3] = {};
+  for (int t = 0; t < 16; ++t) {
+    if (int((mask >> t) & 1) != r) continue;
+    double d[3];
+    for (int c = 0; c < 3; ++c) d[c] = b.q[t][c] - mean[c];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) cov[i][j] += b.tw[t] * d[i] * d[j];
+  }
+  double axis[3] = {1, 1, 1};
+  for (int it = 0; it < 6; ++it) {
+    double v[3];
+    for (int i = 0; i < 3; ++i) v[i] = cov[i][0] * axis[0] + cov[i][1] * axis[1] + cov[i][2] * axis[2];
+    const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    if (len < 1e-12) break;
+    for (int i = 0; i < 3; ++i) axis[i] = v[i] / len;
+  }
+  const double len = std::sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
+  for (double& a : axis) a /= len;
+  double tmin = 1e30, tmax = -1e30;
+  for (int t = 0; t < 16; ++t) {
+    if (int((mask >> t) & 1) != r) continue;
+    double p = 0;
+    for (int c = 0; c < 3; ++c) p += (b.q[t][c] - mean[c]) * axis[c];
+    tmin = std::min(tmin, p), tmax = std::max(tmax, p);
+  }
+  if (tmin > tmax) tmin = tmax = 0;
+  for (int c = 0; c < 3; ++c) lo[c] = mean[c] + tmin * axis[c], hi[c] = mean[c] + tmax * axis[c];
+}
+
+// Weighted first and second moments of texels, summed per region by partition masks.
+struct Moments {
+  double w, s[3], ss[6];  // ss: xx yy zz xy xz yz
+  void add(const Moments& o, double sign) {
+    w += sign * o.w;
+    for (int i = 0; i < 3; ++i) s[i] += sign * o.s[i];
+    for (int i = 0; i < 6; ++i) ss[i] += sign * o.ss[i];
+  }
+};
+
+Moments texel_moments(const Block& b, int t) {
+  const double w = b.tw[t];
+  const double* q = b.q[t];
+  return {w, {w * q[0], w * q[1], w * q[2]}, {w * q[0] * q[0], w * q[1] * q[1], w * q[2] * q[2], w * q[0] * q[1], w * q[0] * q[2], w * q[1] * q[2]}};
+}
+
+// Residual of fitting a region's texels by a line: trace of the covariance minus its principal
+// eigenvalue (power iteration).
+double line_residual(const Moments& m) {
+  if (m.w <= 0) return 0;
+  const double inv = 1.0 / m.w;
+  const double cov[3][3] = {{m.ss[0] - m.s[0] * m.s[0] * inv, m.ss[3] - m.s[0] * m.s[1] * inv, m.ss[4] - m.s[0] * m.s[2] * inv},
+                            {m.ss[3] - m.s[0] * m.s[1] * inv, m.ss[1] - m.s[1] * m.s[1] * inv, m.ss[5] - m.s[1] * m.s[2] * inv},
+                            {m.ss[4] - m.s[0] * m.s[2] * inv, m.ss[5] - m.s[1] * m.s[2] * inv, m.ss[2] - m.s[2] * m.s[2] * inv}};
+  double axis[3] = {1, 1, 1}, lambda = 0;
+  for (int it = 0; it < 4; ++it) {
+    double v[3];
+    for (int i = 0; i < 3; ++i) v[i] = cov[i][0] * axis[0] + cov[i][1] * axis[1] + cov[i][2] * axis[2];
+    lambda = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    if (lambda < 1e-12) return 0;
+    for (int i = 0; i < 3; ++i) axis[i] = v[i] / lambda;
+  }
+  return std::max(0.0, cov[0][0] + cov[1][1] + cov[2][2] - lambda);
+}
+
+// Least squares for one region's unquantised endpoints given the indices; writes c-domain targets.
+bool refit_region(const Block& b, const Candidate& cand, int r, double lo[3], double hi[3]) {
+  const ModeInfo& mi = mode(cand.mode);
+  const uint16_t mask = mi.regions == 2 ? kPartitions[cand.partition] : 0;
+  const uint8_t* weights = mi.index_bits == 3 ? kWeights3 : kWeights4;
+  for (int c = 0; c < 3; ++c) {
+    double s00 = 0, s01 = 0, s11 = 0, t0 = 0, t1 = 0;
+    for (int t = 0; t < 16; ++t) {
+      if (int((mask >> t) & 1) != r) continue;
+      const double f = weights[cand.idx[t]] / 64.0, w = b.w[t][c] + 1e-12;
+      s00 += w * (1 - f) * (1 - f), s01 += w * (1 - f) * f, s11 += w * f * f;
+      t0 += w * (1 - f) * b.q[t][c], t1 += w * f * b.q[t][c];
+    }
+    const double det = s00 * s11 - s01 * s01;
+    if (std::fabs(det) < 1e-12 * (s00 * s11 + 1e-30)) return false;
+    lo[c] = (t0 * s11 - s01 * t1) / det;
+    hi[c] = (s00 * t1 - s01 * t0) / det;
+  }
+  return true;
+}
+
+// Builds, quantises and evaluates a candidate from c-domain endpoint targets per region. With
+// `only_if_exact`, a mode whose deltas would need clamping is not evaluated (returns false).
+bool make_candidate(const Block& b, int m, int partition, const double targets[2][2][3], Candidate& out,
+                    bool only_if_exact = false) {
+  const ModeInfo& mi = mode(m);
+  out.mode = m;
+  out.partition = partition;
+  const double lim = b.is_signed ? 0x7FFF : 0xFFFF, low = b.is_signed ? -0x7FFF : 0;
+  for (int r = 0; r < mi.regions; ++r)
+    for (int k = 0; k < 2; ++k)
+      for (int c = 0; c < 3; ++c) out.e[r * 2 + k][c] = quantize(std::clamp(targets[r][k][c], low, lim), mi.epb, b.is_signed);
+  if (!fit_deltas(mi, out.e, b.is_signed) && only_if_exact) {
+    out.err = 1e300;
+    return false;
+  }
+  evaluate(b, out);
+  fix_anchors(b, out);
+  return true;
+}
+
+// Refinement passes: least squares on the indices, re-quantise, keep improvements.
+void refine(const Block& b, Candidate& best, int passes, bool perturb) {
+  const ModeInfo& mi = mode(best.mode);
+  for (int p = 0; p < passes; ++p) {
+    double t[2][2][3];
+    bool ok = true;
+    for (int r = 0; r < mi.regions && ok; ++r) ok = refit_region(b, best, r, t[r][0], t[r][1]);
+    if (!ok) break;
+    Candidate c;
+    make_candidate(b, best.mode, best.partition, t, c);
+    if (c.err < best.err) best = c;
+    else break;
+  }
+  if (!perturb) return;
+  // ±1 on each quantised endpoint component, greedily.
+  for (int k = 0; k < mi.regions * 2; ++k)
+    for (int ch = 0; ch < 3; ++ch)
+      for (int d : {-1, 1}) {
+        Candidate c = best;
+        c.e[k][ch] += d;
+        if (!fit_deltas(mi, c.e, b.is_signed)) continue;
+        const int maxv = b.is_signed ? (1 << (mi.epb - 1)) - 1 : (1 << mi.epb) - 1;
+        if (c.e[k][ch] > maxv || c.e[k][ch] < (b.is_signed ? -maxv : 0)) continue;
+        evaluate(b, c);
+        fix_anchors(b, c);
+        if (c.err < best.err) best = c;
+      }
+}
+
+struct BitWriter {
+  uint8_t* out;
+  int pos = 0;
+  void put(int v, int n) {
+    for (int i = 0; i < n; ++i, ++pos)
+      if ((v >> i) & 1) out[pos >> 3] |= uint8_t(1 << (pos & 7));
+  }
+};
+
+void pack(const Candidate& c, bool is_signed, uint8_t out[16]) {
+  const ModeInfo& mi = mode(c.mode);
+  std::memset(out, 0, 16);
+  BitWriter w{out};
+  w.put(mi.code, mi.code < 2 ? 2 : 5);
+  int f[12];
+  for (int k = 0; k < 4; ++k)
+    for (int ch = 0; ch < 3; ++ch) f[k * 3 + ch] = c.e[k][ch];
+  const int ends = mi.regions * 2;
+  for (int ch = 0; ch < 3; ++ch)
+    for (int k = 1; k < ends; ++k) {
+      int& v = f[k * 3 + ch];
+      if (mi.transformed) v = (v - f[ch]) & ((1 << mi.delta[ch]) - 1);
+      else v &= (1 << mi.epb) - 1;
+    }
+  for (int ch = 0; ch < 3; ++ch) f[ch] &= (1 << mi.epb) - 1;
+  (void)is_signed;
+  for (int i = 0; i < mi.layout_count; ++i) {
+    const int field = mi.layout_field[i], bit = mi.layout_bit[i];
+    const int v = field == D ? c.partition : f[field];
+    w.put((v >> bit) & 1, 1);
+  }
+  const int anchor = mi.regions == 2 ? kAnchor2[c.partition] : -1;
+  for (int t = 0; t < 16; ++t) w.put(c.idx[t], (t == 0 || t == anchor) ? mi.index_bits - 1 : mi.index_bits);
+}
+
+// Modes by endpoint precision, most precise first.
+const int kOneRegionOrder[4] = {13, 12, 11, 10};
+const int kTwoRegionOrder[10] = {2, 3, 4, 0, 5, 6, 7, 8, 1, 9};
+
+// Evaluates modes in precision order, keeping the two best in `top`. Modes whose deltas need
+// clamping are skipped, and after `max_exact` modes that fit exactly the rest are not tried (a
+// less precise mode rarely wins; 0 = try all). The last mode of each order never needs deltas.
+void try_modes(const Block& b, const int* order, int count, int partition, const double t[2][2][3], int max_exact,
+               Candidate top[2]) {
+  int exact = 0;
+  for (int i = 0; i < count; ++i) {
+    Candidate c;
+    const bool last = i == count - 1;
+    if (!make_candidate(b, order[i], partition, t, c, /*only_if_exact=*/max_exact > 0 && !last)) continue;
+    if (c.err < top[0].err) top[1] = top[0], top[0] = c;
+    else if (c.err < top[1].err) top[1] = c;
+    if (max_exact > 0 && ++exact >= max_exact) break;
+  }
+}
+
+
+Candidate search(const Block& b, Bc6hQuality q);
+
+// True when a decoded texel of the candidate leaves the block's range (a speck).
+bool overshoots(const Block& b, const Candidate& c) {
+  const ModeInfo& mi = mode(c.mode);
+  const uint16_t mask = mi.regions == 2 ? kPartitions[c.partition] : 0;
+  const uint8_t* weights = mi.index_bits == 3 ? kWeights3 : kWeights4;
+  for (int t = 0; t < 16; ++t) {
+    const int r = (mask >> t) & 1;
+    for (int ch = 0; ch < 3; ++ch) {
+      const int h = decoded_h(interpolate(unquantize(c.e[r * 2][ch], mi.epb, b.is_signed),
+                                          unquantize(c.e[r * 2 + 1][ch], mi.epb, b.is_signed), weights[c.idx[t]]),
+                              b.is_signed);
+      if (h > b.cap[ch] || h < b.floor_[ch]) return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
+bool bc6h_quality_from_name(const std::string& name, Bc6hQuality* out) {
+  static const char* names[] = {"fast", "default", "high", "max"};
+  for (int i = 0; i < 4; ++i)
+    if (name == names[i]) return *out = Bc6hQuality(i), true;
+  return false;
+}
+
+const char* bc6h_quality_name(Bc6hQuality q) {
+  static const char* names[] = {"fast", "default", "high", "max"};
+  return names[int(q)];
+}
+
+void bc6h_encode_block(const float rgb[48], const uint8_t valid[16], bool is_signed, Bc6hQuality q, uint8_t out[16]) {
+  Block b;
+  b.is_signed = is_signed;
+  const float* L = log_table();
+  for (int t = 0; t < 16; ++t) {
+    double tw = 0;
+    b.valid[t] = valid[t] ? 1.0f : 0.0f;
+    for (int c = 0; c < 3; ++c) {
+      const float v = rgb[t * 3 + c];
+      b.h[t][c] = half_signed_int(v);
+      b.L[t][c] = L[half_bits_of(b.h[t][c])];
+      b.q[t][c] = is_signed ? b.h[t][c] * 32.0 / 31.0 : b.h[t][c] * 64.0 / 31.0;
+      // Geometry weight: the slope of log2(1+x) per half step, floored at x = 0.25 so that dark
+      // texels still pull the endpoints (their errors are large ones, where the slope lies).
+      const double x = std::max(double(std::fabs(v)), 0.25);
+      b.w[t][c] = valid[t] ? (x / (1 + x)) * (x / (1 + x)) : 0.0;
+      tw += b.w[t][c];
+    }
+    b.tw[t] = valid[t] ? tw / 3 + 1e-12 : 0.0;
+  }
+
+  // No decoded value may exceed its channel's brightest input in the block by more than one
+  // half-float step (nor, signed, go below its darkest by more than one step): no specks.
+  for (int c = 0; c < 3; ++c) {
+    b.cap[c] = -(1 << 30), b.floor_[c] = 1 << 30;
+    for (int t = 0; t < 16; ++t)
+      if (valid[t]) b.cap[c] = std::max(b.cap[c], b.h[t][c]), b.floor_[c] = std::min(b.floor_[c], b.h[t][c]);
+    b.cap[c] += 1;
+    b.floor_[c] = is_signed ? b.floor_[c] - 1 : -(1 << 30);
+  }
+  // The search runs unconstrained first (most blocks never overshoot); only a block whose best
+  // encoding would overshoot is searched again with the range enforced on every candidate.
+  b.capped = false;
+  Candidate best = search(b, q);
+  if (overshoots(b, best)) {
+    b.capped = true;
+    best = search(b, q);
+  }
+  pack(best, is_signed, out);
+}
+
+namespace {
+
+Candidate search(const Block& b, Bc6hQuality q) {
+  const bool is_signed = b.is_signed;
+  // A candidate that is always valid: one region, 10-bit endpoints on the per-channel range,
+  // rounded inwards, so every palette entry lies inside the block's range.
+  Candidate best;
+  if (b.capped) {
+    Candidate c;
+    c.mode = 10;
+    for (int ch = 0; ch < 3; ++ch) {
+      int lo = 1 << 30;
+      for (int t = 0; t < 16; ++t)
+        if (b.valid[t] > 0) lo = std::min(lo, b.h[t][ch]);
+      c.e[0][ch] = quantize_capped(lo, 10, is_signed, /*floor=*/true);
+      c.e[1][ch] = quantize_capped(b.cap[ch] - 1, 10, is_signed, /*floor=*/false);
+      if (decoded_h(unquantize(c.e[0][ch], 10, is_signed), is_signed) > b.cap[ch]) c.e[0][ch] = c.e[1][ch];
+    }
+    evaluate(b, c);
+    fix_anchors(b, c);
+    if (c.err < best.err) best = c;
+  }
+
+  const int passes = q == Bc6hQuality::Fast ? 0 : q == Bc6hQuality::Default ? 2 : q == Bc6hQuality::High ? 4 : 6;
+  const int refine_top = q == Bc6hQuality::Fast ? 0 : q == Bc6hQuality::Default ? 1 : 2;  // candidates refined per group
+  const int max_exact = q == Bc6hQuality::Max ? 0 : q == Bc6hQuality::High ? 3 : 2;     // modes tried per group
+  const bool perturb = q == Bc6hQuality::Max;
+
+  // One region: modes 11–14 (indices 10..13).
+  {
+    double t[2][2][3];
+    axis_endpoints(b, 0, 0, t[0][0], t[0][1]);
+    Candidate top[2];
+    try_modes(b, kOneRegionOrder, 4, 0, t, max_exact, top);
+    for (int k = 0; k < 2; ++k) {
+      Candidate& c = top[k];
+      if (c.mode < 0) continue;
+      if (k < refine_top) refine(b, c, passes, perturb);
+      if (c.err < best.err) best = c;
+    }
+  }
+  if (best.err <= 0) return best;
+
+  // Two regions: rank partitions by how well two lines fit them.
+  const int n_parts = q == Bc6hQuality::Fast ? 1 : q == Bc6hQuality::Default ? 2 : q == Bc6hQuality::High ? 6 : 32;
+  std::pair<double, int> ranked[32];
+  Moments per_texel[16], all{};
+  for (int t = 0; t < 16; ++t) {
+    per_texel[t] = texel_moments(b, t);
+    all.add(per_texel[t], 1.0);
+  }
+  for (int p = 0; p < 32; ++p) {
+    Moments r1{};
+    for (int t = 0; t < 16; ++t)
+      if ((kPartitions[p] >> t) & 1) r1.add(per_texel[t], 1.0);
+    Moments r0 = all;
+    r0.add(r1, -1.0);
+    ranked[p] = {line_residual(r0) + line_residual(r1), p};
+  }
+  std::partial_sort(ranked, ranked + n_parts, ranked + 32);
+  for (int i = 0; i < n_parts; ++i) {
+    const int p = ranked[i].second;
+    double t[2][2][3];
+    axis_endpoints(b, kPartitions[p], 0, t[0][0], t[0][1]);
+    axis_endpoints(b, kPartitions[p], 1, t[1][0], t[1][1]);
+    Candidate top[2];
+    try_modes(b, kTwoRegionOrder, 10, p, t, max_exact, top);
+    for (int k = 0; k < 2; ++k) {
+      Candidate& c = top[k];
+      if (c.mode < 0) continue;
+      if (k < refine_top) refine(b, c, passes, perturb);
+      if (c.err < best.err) best = c;
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
+std::vector<uint8_t> bc6h_encode_image(const ImageF& img, const Bc6hOptions& opt, Bc6hStats* stats) {
+  const int bw = (img.width + 3) / 4, bh = (img.height + 3) / 4;
+  std::vector<uint8_t> out(size_t(bw) * bh * 16);
+  const float max = 65504.0f;
+  // The input rule, applied once (and counted) before blocks are formed.
+  ImageF src(img.width, img.height, 3);
+  Bc6hStats st;
+  for (size_t i = 0; i < img.texels(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      float v = c < img.channels ? img.data[i * img.channels + c] : 0.0f;
+      if (std::isnan(v)) {
+        st.nan++;
+        v = 0.0f;
+      } else if (std::isinf(v)) {
+        st.inf++;
+        v = v > 0 ? max : -max;
+      } else if (std::fabs(v) > max) {
+        st.too_large++;
+        v = std::copysign(max, v);
+      }
+      if (!opt.is_signed && v < 0.0f) {
+        st.negative++;
+        v = 0.0f;
+      }
+      src.data[i * 3 + c] = v;
+    }
+  if (stats) *stats = st;
+  parallel_for(size_t(bw) * bh, opt.threads, 16, [&](size_t blk) {
+    const int bx = int(blk % bw), by = int(blk / bw);
+    float rgb[48];
+    uint8_t valid[16];
+    for (int t = 0; t < 16; ++t) {
+      const int x = bx * 4 + t % 4, y = by * 4 + t / 4;
+      valid[t] = x < img.width && y < img.height;
+      const float* p = src.at(std::min(x, img.width - 1), std::min(y, img.height - 1));
+      for (int c = 0; c < 3; ++c) rgb[t * 3 + c] = p[c];
+    }
+    bc6h_encode_block(rgb, valid, opt.is_signed, opt.quality, &out[blk * 16]);
+  });
+  return out;
+}
+
+}  // namespace ahd

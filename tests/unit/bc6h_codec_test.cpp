@@ -1,0 +1,219 @@
+// BC6H: header layouts, hard inputs (negatives, NaN, ±Inf, > 65504, 1e-7, one bright texel, pure
+// gradients, odd sizes), determinism, independence of a block from its neighbours, and accuracy on
+// the shared test images against the public encoders' figures (PEERS.md).
+#include <gtest/gtest.h>
+
+#include <Imath/half.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "codecs/bc6h_codec.h"
+#include "codecs/bc6h_tables.h"
+#include "io/image_io.h"
+
+using namespace ahd;
+
+namespace {
+
+double log_rmse(const ImageF& a, const ImageF& b) {
+  double s = 0;
+  for (size_t i = 0; i < a.texels(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      const double d = std::log2(1 + a.data[i * a.channels + c]) - std::log2(1 + b.data[i * b.channels + c]);
+      s += d * d;
+    }
+  return std::sqrt(s / (3.0 * a.texels()));
+}
+
+ImageF clamp_rgb(const ImageF& img) {
+  ImageF out(img.width, img.height, 3);
+  for (size_t i = 0; i < img.texels(); ++i)
+    for (int c = 0; c < 3; ++c) out.data[i * 3 + c] = std::clamp(img.data[i * img.channels + c], 0.0f, 65504.0f);
+  return out;
+}
+
+// The largest half-float step at or below v (the format's resolution there).
+float half_step(float v) {
+  Imath::half h(std::max(v, 0.0f));
+  Imath::half up;
+  up.setBits(uint16_t(h.bits() + 1));
+  return float(up) - float(h);
+}
+
+void expect_sane(const ImageF& in, bool is_signed, Bc6hQuality q, const char* what) {
+  Bc6hOptions o;
+  o.is_signed = is_signed;
+  o.quality = q;
+  o.threads = 1;
+  const std::vector<uint8_t> blocks = bc6h_encode_image(in, o);
+  ASSERT_EQ(blocks.size(), size_t((in.width + 3) / 4) * ((in.height + 3) / 4) * 16) << what;
+  const ImageF out = bc6h_decode_image(blocks.data(), in.width, in.height, is_signed);
+  const int bw = (in.width + 3) / 4;
+  for (int y = 0; y < in.height; ++y)
+    for (int x = 0; x < in.width; ++x) {
+      // The brightest (clamped) input of the texel's block.
+      float bmax = 0;
+      for (int yy = y / 4 * 4; yy < std::min(in.height, y / 4 * 4 + 4); ++yy)
+        for (int xx = x / 4 * 4; xx < std::min(in.width, x / 4 * 4 + 4); ++xx)
+          for (int c = 0; c < 3; ++c) {
+            float v = in.at(xx, yy)[c];
+            if (!std::isfinite(v)) v = std::isnan(v) ? 0.0f : 65504.0f;
+            bmax = std::max(bmax, std::min(std::fabs(v), 65504.0f));
+          }
+      // The encoder sees its input as half floats: the brightest input is bmax rounded to half.
+      const float hmax = float(Imath::half(bmax));
+      for (int c = 0; c < 3; ++c) {
+        const float v = out.at(x, y)[c];
+        ASSERT_TRUE(std::isfinite(v)) << what << " at " << x << "," << y;
+        ASSERT_LE(std::fabs(v), hmax + half_step(hmax)) << what << " at " << x << "," << y << " (no specks)";
+        if (!is_signed) ASSERT_GE(v, 0.0f) << what;
+      }
+    }
+  (void)bw;
+}
+
+}  // namespace
+
+TEST(Bc6h, HeaderLayoutsHaveTheSpecLengths) {
+  for (int m = 0; m < bc6h::kModeCount; ++m) {
+    const bc6h::ModeInfo& mi = bc6h::mode(m);
+    const int mode_bits = mi.code < 2 ? 2 : 5;
+    EXPECT_EQ(mode_bits + mi.layout_count, mi.regions == 2 ? 82 : 65) << "mode " << m;
+    // Index bits fill the block exactly: 128 = header + 16·bits − anchors.
+    EXPECT_EQ(mode_bits + mi.layout_count + 16 * mi.index_bits - mi.regions, 128) << "mode " << m;
+  }
+}
+
+TEST(Bc6h, ReservedModesDecodeToZero) {
+  for (uint8_t code : {0x13, 0x17, 0x1b, 0x1f}) {
+    uint8_t blk[16];
+    std::fill(blk, blk + 16, 0xFF);
+    blk[0] = uint8_t(0xE0 | code);
+    uint16_t out[48];
+    bc6h_decode_block(blk, false, out);
+    for (uint16_t h : out) EXPECT_EQ(h, 0);
+  }
+}
+
+TEST(Bc6h, HardInputsNeverSpeckle) {
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  ImageF img(8, 8, 3);
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<float> u(0, 1);
+  for (size_t i = 0; i < img.data.size(); ++i) img.data[i] = u(rng);
+  img.at(0, 0)[0] = -5.0f;     // negative
+  img.at(1, 0)[1] = nan;       // NaN
+  img.at(2, 0)[2] = inf;       // +Inf
+  img.at(3, 0)[0] = -inf;      // −Inf
+  img.at(0, 1)[0] = 1e6f;      // beyond half max
+  img.at(1, 1)[1] = 1e-7f;     // below half's normal range
+  for (int c = 0; c < 3; ++c) img.at(6, 6)[c] = 3e4f;  // a single bright texel…
+  for (int y = 4; y < 8; ++y)
+    for (int x = 4; x < 8; ++x)
+      if (x != 6 || y != 6)
+        for (int c = 0; c < 3; ++c) img.at(x, y)[c] = 1e-3f;  // …in a dark block
+  for (bool s : {false, true})
+    for (Bc6hQuality q : {Bc6hQuality::Fast, Bc6hQuality::Default, Bc6hQuality::Max}) expect_sane(img, s, q, "hard 8x8");
+  Bc6hStats st;
+  Bc6hOptions o;
+  bc6h_encode_image(img, o, &st);
+  EXPECT_EQ(st.nan, 1u);
+  EXPECT_EQ(st.inf, 2u);
+  EXPECT_EQ(st.too_large, 1u);
+  EXPECT_EQ(st.negative, 2u);  // −5 and −Inf→−65504→0
+}
+
+TEST(Bc6h, GradientsAndOddSizes) {
+  // Pure gradients: every channel a function of one parameter (linear, and exponential over
+  // 20 stops), horizontal on some sizes and vertical on others.
+  for (auto [w, h] : {std::pair{1, 1}, {3, 5}, {4097, 3}, {16, 16}, {5, 37}}) {
+    ImageF img(w, h, 3);
+    const bool vertical = h > w;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const float s = float(vertical ? y : x) / float(std::max(1, (vertical ? h : w) - 1));
+        img.at(x, y)[0] = s * 100.0f;
+        img.at(x, y)[1] = 0.5f * s + 0.01f;
+        img.at(x, y)[2] = std::exp2(20.0f * s - 10.0f);
+      }
+    expect_sane(img, false, Bc6hQuality::Default, "gradient");
+    Bc6hOptions o;
+    o.threads = 1;
+    const std::vector<uint8_t> b = bc6h_encode_image(img, o);
+    const ImageF d = bc6h_decode_image(b.data(), w, h, false);
+    const double e = log_rmse(img, d);
+    std::printf("gradient %dx%d: log-RMSE %.4f\n", w, h, e);
+    // 20 stops across 3 texels is beyond what one block's endpoints can hold precisely; the
+    // longer ramps span at most 5 stops per block.
+    if (std::max(w, h) >= 16) EXPECT_LT(e, 0.05) << w << "x" << h;
+  }
+}
+
+TEST(Bc6h, DeterministicAndIndependentOfNeighbours) {
+  ImageF img(64, 32, 3);
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<float> u(0, 1);
+  for (float& v : img.data) v = std::exp2(16 * u(rng) - 8);
+  for (Bc6hQuality q : {Bc6hQuality::Fast, Bc6hQuality::Default, Bc6hQuality::High}) {
+    Bc6hOptions a;
+    a.quality = q;
+    a.threads = 1;
+    Bc6hOptions b = a;
+    b.threads = 2;
+    const std::vector<uint8_t> one = bc6h_encode_image(img, a), two = bc6h_encode_image(img, b);
+    EXPECT_EQ(one, two) << bc6h_quality_name(q);
+    // Block (5, 3) encoded alone gives the same bytes as among its neighbours.
+    ImageF alone(4, 4, 3);
+    for (int y = 0; y < 4; ++y)
+      for (int x = 0; x < 4; ++x)
+        for (int c = 0; c < 3; ++c) alone.at(x, y)[c] = img.at(20 + x, 12 + y)[c];
+    const std::vector<uint8_t> single = bc6h_encode_image(alone, a);
+    const size_t at = (3 * 16 + 5) * 16;
+    EXPECT_TRUE(std::equal(single.begin(), single.end(), one.begin() + std::ptrdiff_t(at))) << bc6h_quality_name(q);
+  }
+}
+
+TEST(Bc6h, SignedKeepsNegativeValues) {
+  ImageF img(4, 4, 3);
+  for (int i = 0; i < 16; ++i)
+    for (int c = 0; c < 3; ++c) img.data[i * 3 + c] = i % 2 ? -2.5f : 1.25f + 0.25f * c;
+  Bc6hOptions o;
+  o.is_signed = true;
+  const std::vector<uint8_t> b = bc6h_encode_image(img, o);
+  const ImageF d = bc6h_decode_image(b.data(), 4, 4, true);
+  // Signs survive; magnitudes within the precision of 10-bit endpoints in the half-bit domain.
+  for (size_t i = 0; i < img.data.size(); ++i) EXPECT_NEAR(d.data[i], img.data[i], 0.05f * std::fabs(img.data[i])) << i;
+  // The unsigned format cannot: negatives become 0 and are counted.
+  Bc6hStats st;
+  bc6h_encode_image(img, Bc6hOptions{}, &st);
+  EXPECT_EQ(st.negative, 24u);
+}
+
+TEST(Bc6h, SharedImagesBeatTheFastestPublicEncoder) {
+  // PEERS.md: CVTT fastest setting reaches log-RMSE 0.00965 / 0.01501 / 0.1030.
+  const struct {
+    const char* file;
+    double cvtt_fastest;
+  } images[] = {{"lightmap_smooth.exr", 0.00965}, {"hdr_hard.exr", 0.01501}, {"lightmap_noisy.exr", 0.1030}};
+  for (const auto& im : images) {
+    const ImageF src = clamp_rgb(read_image(std::string(AHD_SHARED_DIR) + "/data/bc6h/" + im.file));
+    Bc6hOptions o;
+    const std::vector<uint8_t> b = bc6h_encode_image(src, o);
+    const double e = log_rmse(src, bc6h_decode_image(b.data(), src.width, src.height, false));
+    std::printf("%s: default log-RMSE %.5f (CVTT fastest %.5f)\n", im.file, e, im.cvtt_fastest);
+    EXPECT_LT(e, im.cvtt_fastest) << im.file;
+    // max on a crop: never worse than default there.
+    ImageF crop(64, 64, 3);
+    for (int y = 0; y < 64; ++y)
+      for (int x = 0; x < 64; ++x)
+        for (int c = 0; c < 3; ++c) crop.at(x, y)[c] = src.at(x + 96, y + 96)[c];
+    Bc6hOptions mx;
+    mx.quality = Bc6hQuality::Max;
+    const std::vector<uint8_t> bm = bc6h_encode_image(crop, mx), bd = bc6h_encode_image(crop, o);
+    EXPECT_LE(log_rmse(crop, bc6h_decode_image(bm.data(), 64, 64, false)),
+              log_rmse(crop, bc6h_decode_image(bd.data(), 64, 64, false)) * 1.0001)
+        << im.file;
+  }
+}
