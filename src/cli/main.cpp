@@ -11,8 +11,8 @@ int main(int argc, char** argv) {
   ahd::cli::add_convert_command(app);
   ahd::cli::add_decode_command(app);
   ahd::cli::add_inspect_command(app);
-  // PENDING(bc6h) ahd::cli::add_compress_commands(app);
-  // PENDING(bc6h) ahd::cli::add_bench_command(app);
+  ahd::cli::add_compress_commands(app);
+  ahd::cli::add_bench_command(app);
   ahd::cli::add_sample_command(app);
   ahd::cli::add_report_command(app);
   ahd::cli::add_transcode_command(app);
