@@ -184,3 +184,28 @@ TEST(Cli, CorruptContainerIsRefused) {
   EXPECT_EQ(files_in(d / "out"), 0u);
   fs::remove_all(d);
 }
+
+TEST(Cli, CompressDecompressBc6h) {
+  const fs::path d = ahd_test::temp_dir("cli_bc6h");
+  ahd::ImageF img(13, 6, 3);
+  for (int y = 0; y < 6; ++y)
+    for (int x = 0; x < 13; ++x)
+      for (int ch = 0; ch < 3; ++ch) img.at(x, y)[ch] = 0.5f + 0.3f * x + 0.1f * y + 0.2f * ch;  // smooth
+  ahd::write_image((d / "in.exr").string(), img);
+  const auto c = run_cli({"compress", (d / "in.exr").string(), "-o", (d / "o.ktx2").string(), "--quality", "fast"});
+  ASSERT_EQ(c.exit_code, 0) << c.output;
+  EXPECT_NE(c.output.find("log-RMSE"), std::string::npos);
+  const auto x = run_cli({"decompress", (d / "o.ktx2").string(), "-o", (d / "back.exr").string()});
+  ASSERT_EQ(x.exit_code, 0) << x.output;
+  const ahd::ImageF back = ahd::read_image((d / "back.exr").string());
+  ASSERT_EQ(back.width, 13);
+  for (size_t i = 0; i < img.texels(); ++i)
+    for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(back.data[i * back.channels + ch], img.data[i * 3 + ch], 0.05f * (1 + img.data[i * 3 + ch]));
+  // Bad input: one line each, nothing written.
+  expect_clean_failure({"compress", (d / "in.exr").string(), "-o", (d / "out" / "o.ktx2").string(), "--quality", "ultra"},
+                       "--quality", d / "out");
+  ASSERT_EQ(run_cli({"convert", "-o", (d / "s.ktx2").string(), "--sample-size", "8", "-q"}).exit_code, 0);
+  expect_clean_failure({"decompress", (d / "s.dir.ktx2").string(), "-o", (d / "out" / "x.exr").string()}, "not BC6H",
+                       d / "out");
+  fs::remove_all(d);
+}
