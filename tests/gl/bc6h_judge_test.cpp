@@ -8,7 +8,7 @@
 #include <random>
 
 #include "codecs/bc6h_codec.h"
-#include "gl_context.h"
+#include "gl_fixture.h"
 #include "io/image_io.h"
 
 using namespace ahd;
@@ -56,11 +56,11 @@ size_t compare(const std::vector<uint8_t>& blocks, int W, int H, bool is_signed,
   return differ;
 }
 
-class Bc6hJudge : public ::testing::Test {
+class Bc6hJudge : public ahd_test::GlTest {
  protected:
   void SetUp() override {
-    std::string why;
-    if (!ahd_test::ensure_gl_context(&why)) GTEST_SKIP() << why;
+    GlTest::SetUp();
+    if (IsSkipped()) return;
     if (!ahd_test::has_gl_extension("GL_ARB_texture_compression_bptc")) GTEST_SKIP() << "no BPTC in this GL";
   }
 };

@@ -6,7 +6,7 @@
 #include <random>
 
 #include "codecs/packed_float.h"
-#include "gl_context.h"
+#include "gl_fixture.h"
 
 using namespace ahd;
 
@@ -38,13 +38,7 @@ std::vector<float> test_values(size_t n) {
   return v;
 }
 
-class PackedFloatMesa : public ::testing::Test {
- protected:
-  void SetUp() override {
-    std::string why;
-    if (!ahd_test::ensure_gl_context(&why)) GTEST_SKIP() << why;
-  }
-};
+using PackedFloatMesa = ahd_test::GlTest;
 
 }  // namespace
 

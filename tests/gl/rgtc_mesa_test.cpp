@@ -7,7 +7,7 @@
 
 #include "codecs/bc4.h"
 #include "codecs/bc5.h"
-#include "gl_context.h"
+#include "gl_fixture.h"
 
 using namespace ahd;
 
@@ -41,13 +41,7 @@ std::vector<uint8_t> our_decode(const std::vector<uint8_t>& blocks, int W, int H
   return out;
 }
 
-class RgtcMesa : public ::testing::Test {
- protected:
-  void SetUp() override {
-    std::string why;
-    if (!ahd_test::ensure_gl_context(&why)) GTEST_SKIP() << why;
-  }
-};
+using RgtcMesa = ahd_test::GlTest;
 
 }  // namespace
 
