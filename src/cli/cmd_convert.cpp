@@ -8,6 +8,7 @@
 #include "io/ahd_intermediate.h"
 #include "core/error.h"
 #include "io/image_io.h"
+#include "io/baker_layout.h"
 #include "io/sh_exr.h"
 #include "pipeline/convert.h"
 #include "pipeline/manifest.h"
@@ -21,6 +22,8 @@ namespace {
 struct ConvertArgs {
   std::string input;
   std::string output;
+  std::string layout;   // baker layout preset (name or .json); input is then the base path
+  std::string normals;  // lightmap-space normals for world-space layouts
   std::string profile = "uncompressed";
   std::string ratio;  // empty: the profile's ratio form
   double dz_min = 0.05;
@@ -72,6 +75,11 @@ void run_convert(const ConvertArgs& a) {
     sh = bake_analytic_scene(bo);
     source = "built-in sample (analytic scene, " + std::to_string(a.sample_size) + "x" + std::to_string(a.sample_size) +
              (bo.coeffs == 9 ? " L2" : " L1") + ", seed " + std::to_string(a.seed) + ")";
+  } else if (!a.layout.empty()) {
+    const LayoutPreset layout = load_layout(a.layout);
+    sh = read_layout(layout, a.input, a.normals, &rs);
+    source = a.input + " (layout " + layout.name + ", " + std::to_string(sh.width) + "x" + std::to_string(sh.height) +
+             (sh.coeffs == 9 ? " L2" : " L1") + (sh.normals.empty() ? ", tangent space)" : ", world space + normals)");
   } else {
     sh = read_canonical_sh(a.input, &rs);
     source = a.input + " (" + std::to_string(sh.width) + "x" + std::to_string(sh.height) + (sh.coeffs == 9 ? " L2" : " L1") +
@@ -101,11 +109,23 @@ void run_convert(const ConvertArgs& a) {
 
 }  // namespace
 
+void add_layouts_command(CLI::App& app) {
+  CLI::App* c = app.add_subcommand("layouts", "List the baker layout presets (formats/bakers)");
+  c->callback([]() {
+    for (const std::string& n : list_layouts()) {
+      const LayoutPreset p = load_layout(n);
+      std::printf("%-18s %s\n", n.c_str(), p.description.c_str());
+    }
+  });
+}
+
 void add_convert_command(CLI::App& app) {
   auto a = std::make_shared<ConvertArgs>();
   CLI::App* c = app.add_subcommand("convert", "Convert an SH lightmap (or, with no input, the built-in sample) to AHD planes");
   c->add_option("input", a->input, "Canonical SH EXR (sh0.R … sh8.B); omit for the built-in sample");
   c->add_option("-o,--output", a->output, "OUT.ktx2 or OUT.dds: writes OUT.<plane>.<ext>, OUT.json, OUT.report.json");
+  c->add_option("--layout", a->layout, "Baker layout preset (ahdpack layouts) or FILE.json; the input is then the base path");
+  c->add_option("--normals", a->normals, "Lightmap-space normal EXR, for world-space layouts");
   c->add_option("--profile", a->profile, "Output profile name or .json file (formats/profiles)");
   c->add_option("--ratio", a->ratio, "Ratio form: luminance (one channel) or rgb (default: the profile's)");
   c->add_option("--eps", a->dz_min, "Smallest stored d_z (the horizon rule)");

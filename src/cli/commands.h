@@ -6,6 +6,7 @@
 namespace ahd::cli {
 
 void add_convert_command(CLI::App& app);     // cmd_convert.cpp
+void add_layouts_command(CLI::App& app);     // cmd_convert.cpp: the baker layout presets
 void add_decode_command(CLI::App& app);      // cmd_decode.cpp
 void add_inspect_command(CLI::App& app);     // cmd_inspect.cpp
 void add_compress_commands(CLI::App& app);   // cmd_compress.cpp: compress + decompress

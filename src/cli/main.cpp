@@ -9,6 +9,7 @@ int main(int argc, char** argv) {
   CLI::App app{"ahdpack: turn spherical-harmonics lightmaps into filter-safe AHD directional lightmaps"};
   app.require_subcommand(1);
   ahd::cli::add_convert_command(app);
+  ahd::cli::add_layouts_command(app);
   ahd::cli::add_decode_command(app);
   ahd::cli::add_inspect_command(app);
   ahd::cli::add_compress_commands(app);

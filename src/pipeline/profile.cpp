@@ -11,11 +11,6 @@
 namespace ahd {
 namespace fs = std::filesystem;
 
-std::string formats_dir() {
-  if (const char* env = std::getenv("AHD_FORMATS_DIR"); env && *env) return env;
-  return AHD_FORMATS_DIR;
-}
-
 Profile load_profile(const std::string& name_or_path) {
   std::string path = name_or_path;
   if (fs::path(path).extension() != ".json") path = formats_dir() + "/profiles/" + name_or_path + ".json";

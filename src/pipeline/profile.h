@@ -3,6 +3,7 @@
 #include <string>
 #include <vector>
 
+#include "core/paths.h"
 #include "core/pixel_format.h"
 
 namespace ahd {
@@ -18,9 +19,6 @@ struct Profile {
   PixelFormat dirratio = PixelFormat::RGBA8_UNORM;
   bool ratio_rgb = false;  // "ratio_form": "rgb" — C_a/I_z per channel instead of L(C_a)/L(I_z)
 };
-
-// The folder holding profiles/ and shaders/: $AHD_FORMATS_DIR, else the source tree's formats/.
-std::string formats_dir();
 
 // Loads a profile by name (formats/profiles/NAME.json) or from a .json path. Throws ahd::Error
 // naming the file and the problem.

@@ -1,0 +1,56 @@
+// Reading SH lightmaps from any baker through declarative layout presets (formats/bakers/*.json,
+// schema in formats/bakers/SCHEMA.md): which files, which layer and channel hold which
+// coefficient, how stored values decode, and how they are normalised. Everything is converted on
+// read into the tool's one canonical form (sh/sh.h).
+#pragma once
+#include <string>
+#include <vector>
+
+#include "io/sh_exr.h"
+#include "sh/sh_image.h"
+
+namespace ahd {
+
+struct LayoutFile {
+  std::string pattern;  // "{base}" is replaced by the base path
+  int slices = 1;       // layers stacked vertically in the image
+  bool needs_float = false;
+};
+
+struct LayoutCoefficient {
+  int file = 0, slice = 0;
+  std::string channels[3] = {"R", "G", "B"};
+  bool ratio = false;  // stored t, decoded (t − 0.5)·k·L0 (L0 = coefficient 0 as stored)
+  double k = 1;
+};
+
+enum class LayoutForm {
+  Radiance,       // stored = the canonical radiance-SH projection
+  LinearOverPi,   // stored (L0, L1) with E(n)/π = L0 + L1·n  (L1 in the stored coefficient order)
+};
+
+struct LayoutPreset {
+  std::string name, description;
+  bool canonical = false;  // the tool's own EXR (read_canonical_sh)
+  int coeffs = 4;
+  bool world_space = false;
+  LayoutForm form = LayoutForm::Radiance;
+  std::vector<LayoutFile> files;
+  std::vector<LayoutCoefficient> coefficients;  // canonical order 0..n−1 (missing ones are 0)
+};
+
+// Loads a preset by name (formats/bakers/NAME.json) or from a .json path. Throws ahd::Error naming
+// the file and the problem.
+LayoutPreset load_layout(const std::string& name_or_path);
+
+// Names of the presets in formats/bakers/, sorted.
+std::vector<std::string> list_layouts();
+
+// Reads a baker's files for `base` (e.g. "/bakes/room" → "/bakes/room_L0.hdr" …). World-space
+// layouts need `normals_path`: a normal EXR in lightmap space (XYZ, unit, world axes of the baker).
+// Throws ahd::Error("<file>: <cause>") for missing files of the set, sizes that differ, a layer
+// count that does not divide, 8-bit data where float is needed, a missing channel, zero normals.
+ShImage read_layout(const LayoutPreset& layout, const std::string& base, const std::string& normals_path,
+                    ReadStats* stats = nullptr);
+
+}  // namespace ahd

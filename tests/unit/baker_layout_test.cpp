@@ -1,0 +1,265 @@
+// Baker layouts: the analytic scene written in each preset's exact layout and encoding, read back
+// to the canonical SH within that storage's precision; the bakers' own runtime formulas agree with
+// our read-back and with `ahdpack decode` along the normal; every bad input gives one clear error.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <random>
+
+#include "cli_runner.h"
+#include "core/error.h"
+#include "io/baker_layout.h"
+#include "io/image_io.h"
+#include "sample/analytic_baker.h"
+
+namespace fs = std::filesystem;
+using namespace ahd;
+
+namespace {
+
+constexpr int N = 16;
+
+// The analytic scene (L1, tangent space) with, per texel, its chart's world frame (rows t, b, n).
+struct WorldScene {
+  ShImage tangent;
+  std::vector<std::array<double, 9>> frame;
+  ImageF normals;
+};
+
+WorldScene world_scene() {
+  BakerOptions bo;
+  bo.width = bo.height = N;
+  bo.coeffs = 4;
+  bo.area_samples = 3;
+  WorldScene w{bake_analytic_scene(bo), {}, ImageF(N, N, 3)};
+  for (int y = 0; y < N; ++y)
+    for (int x = 0; x < N; ++x) {
+      // The baker's charts: floor (left half, n = +y, t = +x, b = −z), wall (right half, n = +z).
+      const bool wall = x >= N / 2;
+      const std::array<double, 9> f = wall ? std::array<double, 9>{1, 0, 0, 0, 1, 0, 0, 0, 1}
+                                           : std::array<double, 9>{1, 0, 0, 0, 0, -1, 0, 1, 0};
+      w.frame.push_back(f);
+      for (int a = 0; a < 3; ++a) w.normals.at(x, y)[a] = float(f[6 + a]);
+    }
+  return w;
+}
+
+// World-space linear form (E/π = L0 + L1·n, L1 in x,y,z) of texel i, channel c.
+void world_linear(const WorldScene& w, size_t i, int c, double* l0, double l1[3]) {
+  const float* t = w.tangent.texel(i);
+  *l0 = kY00 * t[c];
+  const double local[3] = {t[3 * 3 + c], t[1 * 3 + c], t[2 * 3 + c]};  // (x, y, z) = coeffs 3, 1, 2
+  const auto& f = w.frame[i];
+  for (int a = 0; a < 3; ++a) l1[a] = (f[0 + a] * local[0] + f[3 + a] * local[1] + f[6 + a] * local[2]) * kY1 / 1.5;
+}
+
+// E/π at world direction n of the source scene, texel i, channel c.
+double source_e_over_pi(const WorldScene& w, size_t i, int c, const double n[3]) {
+  double l0, l1[3];
+  world_linear(w, i, c, &l0, l1);
+  return l0 + l1[0] * n[0] + l1[1] * n[1] + l1[2] * n[2];
+}
+
+// E/π of the read-back SH for a world direction n (rotated into the texel's own frame).
+double readback_e_over_pi(const ShImage& sh, size_t i, int c, const double n[3]) {
+  IrradiancePoly p[3];
+  local_polys(sh, i, p);
+  double R[3][3];
+  const double nn[3] = {sh.normals[i * 3], sh.normals[i * 3 + 1], sh.normals[i * 3 + 2]};
+  frame_from_normal(nn, R);
+  double l[3];
+  for (int a = 0; a < 3; ++a) l[a] = R[a][0] * n[0] + R[a][1] * n[1] + R[a][2] * n[2];
+  return eval_irradiance(p[c], l) / kPi;
+}
+
+// Random directions in the texel's upper hemisphere.
+std::vector<std::array<double, 3>> directions(const WorldScene& w, size_t i, int count, std::mt19937& rng) {
+  std::normal_distribution<double> g;
+  std::vector<std::array<double, 3>> out;
+  const double* nz = &w.frame[i][6];
+  while (int(out.size()) < count) {
+    double d[3] = {g(rng), g(rng), g(rng)};
+    const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    for (double& v : d) v /= len;
+    if (d[0] * nz[0] + d[1] * nz[1] + d[2] * nz[2] < 0) continue;
+    out.push_back({d[0], d[1], d[2]});
+  }
+  return out;
+}
+
+void write_godot_packed(const WorldScene& w, const std::string& path) {
+  ImageF img(N, 4 * N, 3);
+  for (size_t i = 0; i < w.tangent.texels(); ++i) {
+    const int x = int(i % N), y = int(i / N);
+    for (int c = 0; c < 3; ++c) {
+      double l0, l1[3];
+      world_linear(w, i, c, &l0, l1);
+      img.at(x, y)[c] = float(l0);
+      const double yzx[3] = {l1[1], l1[2], l1[0]};  // layers 1..3: L1y, L1z, L1x
+      for (int k = 0; k < 3; ++k)
+        img.at(x, y + (k + 1) * N)[c] = l0 > 0 ? float(std::clamp(yzx[k] / (8 * l0) + 0.5, 0.0, 1.0)) : 0.5f;
+    }
+  }
+  write_image(path, img, /*half=*/true, {"R", "G", "B"});  // OpenEXR stores them sorted: B, G, R
+}
+
+}  // namespace
+
+TEST(Layout, GodotPackedMatchesSourceAndGodotsRuntime) {
+  const fs::path d = ahd_test::temp_dir("layout_godot");
+  const WorldScene w = world_scene();
+  write_godot_packed(w, (d / "lm.exr").string());
+  write_image((d / "normals.exr").string(), w.normals);
+  const ShImage sh = read_layout(load_layout("godot4-packed"), (d / "lm").string(), (d / "normals.exr").string());
+  const ImageF stored = read_image((d / "lm.exr").string());  // as the runtime samples it
+  std::mt19937 rng(1);
+  double worst = 0, worst_rt = 0;
+  for (size_t i = 0; i < sh.texels(); ++i) {
+    if (!w.tangent.coverage[i]) continue;
+    for (const auto& n : directions(w, i, 8, rng))
+      for (int c = 0; c < 3; ++c) {
+        const double src = source_e_over_pi(w, i, c, n.data()), got = readback_e_over_pi(sh, i, c, n.data());
+        double l0s;
+        double l1s[3];
+        world_linear(w, i, c, &l0s, l1s);
+        worst = std::max(worst, std::fabs(got - src) / (std::fabs(l0s) + 1e-6));
+        // Godot's runtime (forward_clustered): sh = L0 + L0*((t-0.5)*2)*n.y*4 + … (layers y, z, x).
+        const int x = int(i % N), y = int(i / N);
+        const double L0 = stored.at(x, y)[c];
+        const double t[3] = {stored.at(x, y + N)[c], stored.at(x, y + 2 * N)[c], stored.at(x, y + 3 * N)[c]};
+        const double runtime = L0 + L0 * (t[0] - 0.5) * 2 * n[1] * 4 + L0 * (t[1] - 0.5) * 2 * n[2] * 4 +
+                               L0 * (t[2] - 0.5) * 2 * n[0] * 4;
+        worst_rt = std::max(worst_rt, std::fabs(got - runtime) / (std::fabs(L0) + 1e-6));
+      }
+  }
+  std::printf("godot4-packed: read-back vs source %.2e, vs Godot's runtime formula %.2e (relative to L0)\n", worst, worst_rt);
+  EXPECT_LT(worst, 4e-3);     // half-float storage of L0 and t (2^-11 relative, ×8 for L1)
+  EXPECT_LT(worst_rt, 1e-5);  // the same numbers through two formulas
+
+  // `ahdpack decode` of the conversion along the surface normal equals the runtime along it
+  // (×π: ahdpack's irradiance has no 1/π), within the fit's exactness and half precision.
+  const auto r = ahd_test::run_cli({"convert", (d / "lm").string(), "--layout", "godot4-packed", "--normals",
+                                    (d / "normals.exr").string(), "-o", (d / "out" / "a.ktx2").string(), "-q"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  ASSERT_EQ(ahd_test::run_cli({"decode", (d / "out" / "a.json").string(), "-o", (d / "e.exr").string()}).exit_code, 0);
+  const ImageF e = read_image((d / "e.exr").string());
+  double worst_decode = 0;
+  for (size_t i = 0; i < sh.texels(); ++i) {
+    if (!w.tangent.coverage[i]) continue;
+    const int x = int(i % N), y = int(i / N);
+    const double* n = &w.frame[i][6];
+    for (int c = 0; c < 3; ++c) {
+      const double L0 = stored.at(x, y)[c];
+      const double t[3] = {stored.at(x, y + N)[c], stored.at(x, y + 2 * N)[c], stored.at(x, y + 3 * N)[c]};
+      const double runtime = L0 + 8 * L0 * ((t[0] - 0.5) * n[1] + (t[1] - 0.5) * n[2] + (t[2] - 0.5) * n[0]);
+      worst_decode = std::max(worst_decode, std::fabs(e.at(x, y)[c] / kPi - runtime) / (std::fabs(runtime) + 1e-6));
+    }
+  }
+  std::printf("godot4-packed: ahdpack decode along the normal vs Godot's runtime %.2e\n", worst_decode);
+  EXPECT_LT(worst_decode, 2e-3);
+  fs::remove_all(d);
+}
+
+TEST(Layout, BakerySh8BitAndRgbeWithinStoragePrecision) {
+  const fs::path d = ahd_test::temp_dir("layout_bakery");
+  const WorldScene w = world_scene();
+  ImageF l0(N, N, 3), l1[3] = {ImageF(N, N, 3), ImageF(N, N, 3), ImageF(N, N, 3)};
+  for (size_t i = 0; i < w.tangent.texels(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      double a, b[3];
+      world_linear(w, i, c, &a, b);
+      l0.data[i * 3 + c] = float(a);
+      for (int k = 0; k < 3; ++k) l1[k].data[i * 3 + c] = a > 0 ? float(std::clamp(b[k] / (4 * a) + 0.5, 0.0, 1.0)) : 0.5f;
+    }
+  write_image((d / "lm_L0.hdr").string(), l0);
+  write_image((d / "lm_L1x.tga").string(), l1[0]);
+  write_image((d / "lm_L1y.tga").string(), l1[1]);
+  write_image((d / "lm_L1z.tga").string(), l1[2]);
+  write_image((d / "n.exr").string(), w.normals);
+  const ShImage sh = read_layout(load_layout("bakery-sh"), (d / "lm").string(), (d / "n.exr").string());
+  std::mt19937 rng(2);
+  double worst = 0;
+  for (size_t i = 0; i < sh.texels(); ++i) {
+    if (!w.tangent.coverage[i]) continue;
+    double a, b[3];
+    world_linear(w, i, 1, &a, b);
+    for (const auto& n : directions(w, i, 8, rng))
+      worst = std::max(worst, std::fabs(readback_e_over_pi(sh, i, 1, n.data()) - source_e_over_pi(w, i, 1, n.data())) / a);
+  }
+  std::printf("bakery-sh: read-back vs source %.2e of L0\n", worst);
+  // RGBE keeps ~1/128 relative; 8-bit t steps are 1/255 of ±2·L0 per axis: ≤ 1/128 + 3·4/510.
+  EXPECT_LT(worst, 0.035);
+  fs::remove_all(d);
+}
+
+TEST(Layout, PerCoefficientAndPlainAreExact) {
+  const fs::path d = ahd_test::temp_dir("layout_percoef");
+  BakerOptions bo;
+  bo.width = bo.height = N;
+  const ShImage src = bake_analytic_scene(bo);
+  for (int k = 0; k < 9; ++k) {
+    ImageF img(N, N, 3);
+    for (size_t i = 0; i < src.texels(); ++i)
+      for (int c = 0; c < 3; ++c) img.data[i * 3 + c] = src.texel(i)[k * 3 + c];
+    write_image((d / ("lm_sh" + std::to_string(k) + ".exr")).string(), img);
+  }
+  const ShImage sh = read_layout(load_layout("per-coefficient"), (d / "lm").string(), "");
+  EXPECT_EQ(sh.data, src.data);
+  EXPECT_EQ(sh.coverage, src.coverage);  // the derived rule: all-zero SH = empty
+  // Plain: E/π along the normal → pure ambient with I_z = π·value.
+  ImageF plain(4, 4, 3);
+  for (size_t i = 0; i < plain.data.size(); ++i) plain.data[i] = 0.25f + 0.01f * float(i);
+  write_image((d / "flat.exr").string(), plain);
+  const ShImage p = read_layout(load_layout("plain"), (d / "flat").string(), "");
+  IrradiancePoly poly[3];
+  local_polys(p, 5, poly);
+  const double z[3] = {0, 0, 1}, side[3] = {1, 0, 0};
+  EXPECT_NEAR(eval_irradiance(poly[1], z), kPi * plain.data[5 * 3 + 1], 1e-5);
+  EXPECT_NEAR(eval_irradiance(poly[1], side), eval_irradiance(poly[1], z), 1e-6);
+  fs::remove_all(d);
+}
+
+TEST(Layout, BadInputsGiveOneClearError) {
+  const fs::path d = ahd_test::temp_dir("layout_bad");
+  const WorldScene w = world_scene();
+  write_godot_packed(w, (d / "lm.exr").string());
+  write_image((d / "n.exr").string(), w.normals);
+  auto expect_error = [](auto fn, const std::string& needle) {
+    try {
+      fn();
+      ADD_FAILURE() << "accepted; expected: " << needle;
+    } catch (const Error& e) {
+      const std::string m = e.what();
+      EXPECT_NE(m.find(needle), std::string::npos) << m;
+      EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+    }
+  };
+  const LayoutPreset godot = load_layout("godot4-packed"), bakery = load_layout("bakery-sh");
+  expect_error([&] { read_layout(bakery, (d / "lm").string(), (d / "n.exr").string()); }, "lm_L0.hdr: file not found");
+  expect_error([&] { read_layout(godot, (d / "lm").string(), ""); }, "--normals");
+  ImageF zero(N, N, 3);
+  write_image((d / "zero.exr").string(), zero);
+  expect_error([&] { read_layout(godot, (d / "lm").string(), (d / "zero.exr").string()); }, "zero-length");
+  ImageF odd(N, 4 * N + 1, 3);
+  write_image((d / "odd.exr").string(), odd);
+  expect_error([&] { read_layout(godot, (d / "odd").string(), (d / "n.exr").string()); }, "does not divide");
+  ImageF small(N / 2, N / 2, 3);
+  write_image((d / "small.exr").string(), small);
+  expect_error([&] { read_layout(godot, (d / "lm").string(), (d / "small.exr").string()); }, "normal map is 8x8");
+  ImageF ldr(N, 4 * N, 3);
+  write_image((d / "ldr.png").string(), ldr);
+  LayoutPreset png = godot;
+  png.files[0].pattern = "{base}.png";
+  expect_error([&] { read_layout(png, (d / "ldr").string(), (d / "n.exr").string()); }, "8-bit data");
+  LayoutPreset alpha = godot;
+  alpha.coefficients[0].channels[0] = "A";
+  expect_error([&] { read_layout(alpha, (d / "lm").string(), (d / "n.exr").string()); }, "no channel A");
+  // Bakery: L1 files of another size.
+  write_image((d / "b_L0.hdr").string(), ImageF(N, N, 3));
+  for (const char* a : {"x", "y"}) write_image((d / (std::string("b_L1") + a + ".tga")).string(), ImageF(N, N, 3));
+  write_image((d / "b_L1z.tga").string(), ImageF(N, N / 2, 3));
+  expect_error([&] { read_layout(bakery, (d / "b").string(), (d / "n.exr").string()); }, "differs from the set");
+  expect_error([&] { load_layout("no-such-baker"); }, "unknown layout 'no-such-baker'");
+  fs::remove_all(d);
+}
