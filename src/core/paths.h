@@ -1,10 +1,18 @@
 // Where the data files of the tool live (profiles, baker layouts, shaders).
 #pragma once
 #include <string>
+#include <vector>
 
 namespace ahd {
 
 // $AHD_FORMATS_DIR when set, else the source tree's formats/ folder.
 std::string formats_dir();
+
+// A named data file of formats/<folder>/ ("NAME" → formats/<folder>/NAME.json), or the path itself
+// when it already names a .json file.
+std::string data_file_path(const std::string& folder, const std::string& name_or_path);
+
+// The names (without .json) of the data files in formats/<folder>/, sorted.
+std::vector<std::string> list_data_files(const std::string& folder);
 
 }  // namespace ahd

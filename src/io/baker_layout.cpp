@@ -15,8 +15,7 @@ namespace ahd {
 namespace fs = std::filesystem;
 
 LayoutPreset load_layout(const std::string& name_or_path) {
-  std::string path = name_or_path;
-  if (fs::path(path).extension() != ".json") path = formats_dir() + "/bakers/" + name_or_path + ".json";
+  const std::string path = data_file_path("bakers", name_or_path);
   std::ifstream f(path);
   if (!f) {
     std::string known;
@@ -72,14 +71,7 @@ LayoutPreset load_layout(const std::string& name_or_path) {
   return p;
 }
 
-std::vector<std::string> list_layouts() {
-  std::vector<std::string> names;
-  std::error_code ec;
-  for (const auto& e : fs::directory_iterator(formats_dir() + "/bakers", ec))
-    if (e.path().extension() == ".json") names.push_back(e.path().stem().string());
-  std::sort(names.begin(), names.end());
-  return names;
-}
+std::vector<std::string> list_layouts() { return list_data_files("bakers"); }
 
 ShImage read_layout(const LayoutPreset& layout, const std::string& base, const std::string& normals_path,
                     ReadStats* stats) {

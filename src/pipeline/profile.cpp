@@ -12,8 +12,7 @@ namespace ahd {
 namespace fs = std::filesystem;
 
 Profile load_profile(const std::string& name_or_path) {
-  std::string path = name_or_path;
-  if (fs::path(path).extension() != ".json") path = formats_dir() + "/profiles/" + name_or_path + ".json";
+  const std::string path = data_file_path("profiles", name_or_path);
   std::ifstream f(path);
   if (!f) {
     std::string known;
@@ -57,13 +56,6 @@ Profile load_profile(const std::string& name_or_path) {
   return p;
 }
 
-std::vector<std::string> list_profiles() {
-  std::vector<std::string> names;
-  std::error_code ec;
-  for (const auto& e : fs::directory_iterator(formats_dir() + "/profiles", ec))
-    if (e.path().extension() == ".json") names.push_back(e.path().stem().string());
-  std::sort(names.begin(), names.end());
-  return names;
-}
+std::vector<std::string> list_profiles() { return list_data_files("profiles"); }
 
 }  // namespace ahd
