@@ -187,7 +187,24 @@ TEST(Layout, BakerySh8BitAndRgbeWithinStoragePrecision) {
     for (const auto& n : directions(w, i, 8, rng))
       worst = std::max(worst, std::fabs(readback_e_over_pi(sh, i, 1, n.data()) - source_e_over_pi(w, i, 1, n.data())) / a);
   }
-  std::printf("bakery-sh: read-back vs source %.2e of L0\n", worst);
+  // Bakery's own runtime (BakerySH): L1 = (t*2-1)*L0*2 per axis, sh = L0 + n.x*L1x + n.y*L1y + n.z*L1z,
+  // on the values as stored (RGBE-decoded L0, 8-bit t): our read-back must say the same.
+  const ImageF sl0 = read_image((d / "lm_L0.hdr").string()), sx = read_image((d / "lm_L1x.tga").string()),
+               sy = read_image((d / "lm_L1y.tga").string()), sz = read_image((d / "lm_L1z.tga").string());
+  double worst_rt = 0;
+  for (size_t i = 0; i < sh.texels(); ++i) {
+    if (!w.tangent.coverage[i]) continue;
+    for (const auto& n : directions(w, i, 4, rng))
+      for (int c = 0; c < 3; ++c) {
+        const double L0 = sl0.data[i * sl0.channels + c];
+        const double L1x = (sx.data[i * sx.channels + c] * 2 - 1) * L0 * 2, L1y = (sy.data[i * sy.channels + c] * 2 - 1) * L0 * 2,
+                     L1z = (sz.data[i * sz.channels + c] * 2 - 1) * L0 * 2;
+        const double runtime = L0 + n[0] * L1x + n[1] * L1y + n[2] * L1z;
+        worst_rt = std::max(worst_rt, std::fabs(readback_e_over_pi(sh, i, c, n.data()) - runtime) / (L0 + 1e-6));
+      }
+  }
+  std::printf("bakery-sh: read-back vs source %.2e of L0, vs Bakery's runtime formula %.2e\n", worst, worst_rt);
+  EXPECT_LT(worst_rt, 1e-5);
   // RGBE keeps ~1/128 relative; 8-bit t steps are 1/255 of ±2·L0 per axis: ≤ 1/128 + 3·4/510.
   EXPECT_LT(worst, 0.035);
   fs::remove_all(d);
