@@ -75,6 +75,18 @@ std::vector<std::string> list_layouts() { return list_data_files("bakers"); }
 
 ShImage read_layout(const LayoutPreset& layout, const std::string& base, const std::string& normals_path,
                     ReadStats* stats) {
+  if (layout.canonical || normals_path.empty()) return read_layout(layout, base, nullptr, stats);
+  // Checked before the SH files are decoded, so a bad normal map fails fast.
+  const ImageF n = read_image(normals_path);
+  if (n.channels < 3) throw file_error(normals_path, "normal map needs 3 channels (X Y Z)");
+  LayoutNormals ln{normals_path, n.width, n.height, std::vector<float>(n.texels() * 3), {}};
+  for (size_t i = 0; i < n.texels(); ++i)
+    for (int a = 0; a < 3; ++a) ln.normals[i * 3 + a] = n.data[i * n.channels + a];
+  return read_layout(layout, base, &ln, stats);
+}
+
+ShImage read_layout(const LayoutPreset& layout, const std::string& base, const LayoutNormals* normals,
+                    ReadStats* stats) {
   if (layout.canonical) return read_canonical_sh(base, stats);
   // Every file of the set, checked before any is decoded.
   struct Loaded {
@@ -132,25 +144,32 @@ ShImage read_layout(const LayoutPreset& layout, const std::string& base, const s
       }
     }
   if (layout.world_space) {
-    if (normals_path.empty())
+    if (!normals)
       throw file_error(base, "layout " + layout.name + " stores world-space SH: give the lightmap's normals (--normals N.exr)");
-    const ImageF n = read_image(normals_path);
-    if (n.width != width || n.height != height)
-      throw file_error(normals_path, "normal map is " + std::to_string(n.width) + "x" + std::to_string(n.height) +
-                                         ", the lightmap " + std::to_string(width) + "x" + std::to_string(height));
-    if (n.channels < 3) throw file_error(normals_path, "normal map needs 3 channels (X Y Z)");
+    if (normals->width != width || normals->height != height)
+      throw file_error(normals->source, "normal map is " + std::to_string(normals->width) + "x" + std::to_string(normals->height) +
+                                            ", the lightmap " + std::to_string(width) + "x" + std::to_string(height));
+    const bool has_cov = !normals->coverage.empty();
     sh.normals.resize(sh.texels() * 3);
     for (size_t i = 0; i < sh.texels(); ++i) {
-      double v[3] = {n.data[i * n.channels], n.data[i * n.channels + 1], n.data[i * n.channels + 2]};
+      const float* src = &normals->normals[i * 3];
+      double v[3] = {src[0], src[1], src[2]};
       const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+      if (has_cov && !normals->coverage[i]) {  // outside every chart: any unit normal will do
+        sh.normals[i * 3 + 0] = 0, sh.normals[i * 3 + 1] = 0, sh.normals[i * 3 + 2] = 1;
+        continue;
+      }
       if (!(len > 1e-6) || !std::isfinite(len))
-        throw file_error(normals_path, "zero-length or non-finite normal at texel (" + std::to_string(i % width) + ", " +
-                                           std::to_string(i / width) + ")");
+        throw file_error(normals->source, "zero-length or non-finite normal at texel (" + std::to_string(i % width) + ", " +
+                                              std::to_string(i / width) + ")");
       for (int a = 0; a < 3; ++a) sh.normals[i * 3 + a] = float(v[a] / len);
     }
   }
   ReadStats local;
-  sanitise_sh(sh, /*derive_coverage=*/true, stats ? stats : &local);
+  const bool given_cov = normals && !normals->coverage.empty() && normals->coverage.size() == sh.texels();
+  sanitise_sh(sh, /*derive_coverage=*/!given_cov, stats ? stats : &local);
+  if (given_cov)
+    for (size_t i = 0; i < sh.texels(); ++i) sh.coverage[i] = sh.coverage[i] && normals->coverage[i];
   return sh;
 }
 

@@ -53,4 +53,16 @@ std::vector<std::string> list_layouts();
 ShImage read_layout(const LayoutPreset& layout, const std::string& base, const std::string& normals_path,
                     ReadStats* stats = nullptr);
 
+// Lightmap-space normals given in memory (e.g. rasterised from a mesh): `normals` is width×height×3
+// (any length; normalised here, zero ones refused), `coverage` empty or width×height (1 = covered;
+// replaces the coverage derived from zero SH). `source` names them in errors.
+struct LayoutNormals {
+  std::string source;
+  int width = 0, height = 0;
+  std::vector<float> normals;
+  std::vector<uint8_t> coverage;
+};
+ShImage read_layout(const LayoutPreset& layout, const std::string& base, const LayoutNormals* normals,
+                    ReadStats* stats = nullptr);
+
 }  // namespace ahd
