@@ -8,6 +8,8 @@
 //   n         — the unit shading normal in the texel's tangent frame (z = surface normal)
 //   dz_min    — the manifest's decode.dz_min
 // Returns irradiance E(n) (no 1/π; multiply by albedo/π for Lambertian outgoing radiance).
+// A conversion whose manifest says "directional": false has no dir/ratio planes: pass
+// dir_uv01 = vec2(0.5) and ratio = vec3(1.0) (d = z, pure ambient), or simply use iz.
 
 vec3 ahd_hemi_oct_decode(vec2 uv01) {
   vec2 uv = uv01 * 2.0 - 1.0;

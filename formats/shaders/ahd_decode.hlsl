@@ -1,5 +1,6 @@
 // ahdpack AHD decode (manifest version 1) — HLSL. The same math as src/fit/ahd_decode.cpp and
-// formats/shaders/ahd_decode.glsl (see there for the inputs).
+// formats/shaders/ahd_decode.glsl (see there for the inputs; without dir/ratio planes, i.e.
+// "directional": false in the manifest, the irradiance is iz for every normal).
 
 float3 ahd_hemi_oct_decode(float2 uv01) {
   float2 uv = uv01 * 2.0 - 1.0;

@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "cli/commands.h"
+#include "cli/direction_options.h"
 #include "cli/output.h"
 #include "io/ahd_intermediate.h"
 #include "core/error.h"
@@ -37,6 +38,7 @@ struct ConvertArgs {
   bool keep_intermediate = false;
   bool coverage_plane = false;
   bool quiet = false;
+  DirectionArgs direction;
 };
 
 void run_convert(const ConvertArgs& a) {
@@ -54,6 +56,7 @@ void run_convert(const ConvertArgs& a) {
   opt.closed_loop = !a.open_loop;
   opt.max_levels = a.levels;
   opt.coverage_plane = a.coverage_plane;
+  apply_direction_options(a.direction, &opt);
   if (!(a.dz_min > 0 && a.dz_min < 1)) throw Error("--eps must be in (0, 1)");
   const Profile profile = load_profile(a.profile);
   if (profile.ratio_rgb) opt.fit.ratio_form = RatioForm::Rgb;
@@ -133,6 +136,7 @@ void add_convert_command(CLI::App& app) {
   c->add_flag("--zstd", a->zstd, "Zstandard supercompression (KTX2)");
   c->add_option("--levels", a->levels, "Mip levels to write (0 = full chain)")->check(CLI::NonNegativeNumber);
   c->add_flag("--coverage-plane", a->coverage_plane, "Also write OUT.coverage.<ext>: R8, 255 where a chart covers the texel");
+  add_direction_options(c, &a->direction);
   c->add_flag("--keep-intermediate", a->keep_intermediate, "Also write OUT.ahd.exr, the lossless fitted planes for transcode");
   c->add_option("--threads", a->threads, "Worker threads (0 = all)");
   c->add_option("--sample-size", a->sample_size, "Built-in sample: width and height")->check(CLI::Range(1, 8192));

@@ -2,6 +2,7 @@
 //   hard-cases  the fit and the quantised planes on the hard-case set
 //   eps         the horizon rule's eps against error (how the default was chosen)
 //   profiles    every profile end to end: bytes per texel, error vs the source SH, open vs closed loop
+//   direction   I_z alone vs the full encoding as the directional part shrinks (--direction auto)
 #include <cstdio>
 
 #include "cli/commands.h"
@@ -66,6 +67,41 @@ void report_profiles(int size) {
                     e.log2.p99, e.log2.max, e.normal_rel.p99, e.normal_rel.max);
       }
     }
+  }
+}
+
+// The analytic scene with its directional part (every coefficient but L0) scaled by `s`.
+ShImage scaled_directional_part(const ShImage& sh, double s) {
+  ShImage out = sh;
+  for (size_t i = 0; i < out.texels(); ++i)
+    for (int k = 3; k < out.coeffs * 3; ++k) out.texel(i)[k] *= float(s);
+  return out;
+}
+
+// How the --direction auto threshold was chosen: as the directional part shrinks, the error of
+// I_z alone against the error of the full encoding (8-bit direction and ratio planes).
+void report_direction(int size, const std::string& profile_name) {
+  BakerOptions bo;
+  bo.width = bo.height = size;
+  const ShImage scene = bake_analytic_scene(bo);
+  const Profile p = load_profile(profile_name);
+  std::printf("Analytic scene %dx%d, directional part (L1, L2) scaled by s; profile %s. Relative hemisphere RMSE vs "
+              "the scaled SH, covered texels (mean / p99).\n\n", size, size, p.name.c_str());
+  std::printf("| s | I_z alone mean | I_z alone p99 | with direction planes mean | with direction planes p99 | auto (threshold %.2g) |\n",
+              kDefaultAmbientThreshold);
+  std::printf("|---|---|---|---|---|---|\n");
+  for (double s : {0.0, 0.001, 0.003, 0.01, 0.03, 0.1, 0.3, 1.0}) {
+    ConvertOptions opt;
+    opt.measure_unconstrained = false;
+    opt.measure_open_loop = false;
+    opt.direction = DirectionPlanes::Keep;
+    const ShImage sh = scaled_directional_part(scene, s);
+    ConvertResult r;
+    const std::vector<FittedLevel> levels = fit_levels(sh, opt, &r);
+    quantise_levels(levels, p, opt, &r);
+    const ErrorReport a = ambient_only_error(levels[0], 0);
+    std::printf("| %g | %.2e | %.2e | %.2e | %.2e | %s |\n", s, a.relative.mean, a.relative.p99, r.final_error.relative.mean,
+                r.final_error.relative.p99, a.relative.p99 > kDefaultAmbientThreshold ? "keep" : "drop");
   }
 }
 
@@ -136,6 +172,13 @@ void add_report_command(CLI::App& app) {
   auto psize = std::make_shared<int>(256);
   pr->add_option("--size", *psize, "Analytic scene size");
   pr->callback([psize]() { report_profiles(*psize); });
+
+  CLI::App* dr = r->add_subcommand("direction", "How --direction auto decides: I_z alone vs the full encoding as L1/L2 shrink");
+  auto dsize = std::make_shared<int>(128);
+  auto dprofile = std::make_shared<std::string>("pc-bc");
+  dr->add_option("--size", *dsize, "Analytic scene size");
+  dr->add_option("--profile", *dprofile, "Output profile");
+  dr->callback([dsize, dprofile]() { report_direction(*dsize, *dprofile); });
 }
 
 }  // namespace ahd::cli

@@ -5,6 +5,7 @@
 #include <chrono>
 
 #include "cli/commands.h"
+#include "cli/direction_options.h"
 #include "cli/output.h"
 #include "core/error.h"
 #include "io/ahd_intermediate.h"
@@ -16,6 +17,7 @@ void add_transcode_command(CLI::App& app) {
     std::string input, output, profile = "uncompressed";
     bool zstd = false, open_loop = false, quiet = false;
     int threads = 0;
+    DirectionArgs direction;
   };
   auto a = std::make_shared<Args>();
   CLI::App* c = app.add_subcommand("transcode", "Re-emit a conversion for another profile/container from NAME.ahd.exr");
@@ -25,6 +27,7 @@ void add_transcode_command(CLI::App& app) {
   c->add_flag("--zstd", a->zstd, "Zstandard supercompression (KTX2)");
   c->add_flag("--open-loop", a->open_loop, "Quantise the ratio from the stored fit");
   c->add_option("--threads", a->threads, "Worker threads (0 = all)");
+  add_direction_options(c, &a->direction);
   c->add_flag("-q,--quiet", a->quiet, "Print nothing on success");
   c->callback([a]() {
     const auto t_start = std::chrono::steady_clock::now();
@@ -33,6 +36,7 @@ void add_transcode_command(CLI::App& app) {
     opt.threads = opt.codec.threads = a->threads;
     opt.closed_loop = !a->open_loop;
     opt.measure_unconstrained = false;
+    apply_direction_options(a->direction, &opt);
     const std::vector<FittedLevel> levels = read_intermediate(a->input, &opt.fit);
     const Profile profile = load_profile(a->profile);
     if (profile.ratio_rgb != (opt.fit.ratio_form == RatioForm::Rgb))

@@ -29,6 +29,7 @@ Manifest write_conversion(const OutputPaths& out, ConvertResult& r, const Profil
   m.dz_min = fit.dz_min;
   for (int i = 0; i < 3; ++i) m.luma[i] = fit.luma[i];
   m.direction_frame = world_frame ? "normal-frame" : "tangent";
+  m.directional = r.directional;
   std::vector<std::pair<std::string, std::vector<uint8_t>>> files;
   for (Plane& p : r.planes) {
     const std::string file = out.name + "." + p.name + "." + out.ext;
@@ -73,6 +74,7 @@ void print_conversion(const std::string& source, const OutputPaths& out, const M
     std::printf("  %-9s %-12s %ux%u  %8llu bytes  %s\n", p.name.c_str(), format_info(p.format).name, p.width, p.height,
                 (unsigned long long)p.bytes, (out.dir / p.file).string().c_str());
   std::printf("  report    %s\n", out.sibling(".report.json").c_str());
+  std::printf("direction and ratio planes %s\n", r.direction_reason.c_str());
   const FitStats& s = r.fit_stats;
   if (s.texels) {
     std::printf("fit: %zu covered of %zu texels; rules fired: no direction %zu, horizon-tilted %zu, negative I_z %zu, black %zu",

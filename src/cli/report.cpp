@@ -30,6 +30,8 @@ nlohmann::json convert_report_json(const ConvertResult& r, double total_seconds)
                 {"quantised_open_loop", error_json(r.open_loop_error)},
                 {"quantised_closed_loop", error_json(r.final_error)}};
   j["codec"] = {{"clamped", r.codec_stats.clamped}, {"non_finite", r.codec_stats.non_finite}};
+  j["direction"] = {{"planes", r.directional ? "kept" : "dropped"}, {"reason", r.direction_reason}};
+  if (r.ambient_error.texels) j["direction"]["iz_only_error"] = error_json(r.ambient_error);
   nlohmann::json levels = nlohmann::json::array();
   for (size_t l = 0; l < r.level_error.size(); ++l) {
     nlohmann::json e = error_json(r.level_error[l]);

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 
 #include "codecs/octahedral.h"
 #include "core/error.h"
@@ -129,7 +130,7 @@ struct LevelPlanes {
   TextureLevel ratio_open, dirratio_open;          // open loop, for the report
 };
 
-LevelPlanes quantise_level(const FittedLevel& lv, const Profile& profile, const ConvertOptions& opt,
+LevelPlanes quantise_level(const FittedLevel& lv, const Profile& profile, const ConvertOptions& opt, bool directional,
                            PlaneCodecStats* stats) {
   const ShImage& sh = lv.sh;
   const AhdImage& fit = lv.ahd;
@@ -143,6 +144,7 @@ LevelPlanes quantise_level(const FittedLevel& lv, const Profile& profile, const 
   }
   LevelPlanes out;
   out.iz = encode_plane(profile.iz, izi, opt.codec, stats);
+  if (!directional) return out;
   const ImageF iz_dec = decode_plane(profile.iz, out.iz);
   ImageF dir_dec;
   if (!profile.packed_dir_ratio) {
@@ -190,7 +192,8 @@ LevelPlanes quantise_level(const FittedLevel& lv, const Profile& profile, const 
   return out;
 }
 
-std::vector<Plane> planes_of(const Profile& profile, const std::vector<LevelPlanes>& lv, bool open_loop) {
+std::vector<Plane> planes_of(const Profile& profile, const std::vector<LevelPlanes>& lv, bool directional,
+                             bool open_loop) {
   auto texture = [&](PixelFormat f, TextureLevel LevelPlanes::*member) {
     Texture t;
     t.format = f;
@@ -199,6 +202,7 @@ std::vector<Plane> planes_of(const Profile& profile, const std::vector<LevelPlan
   };
   std::vector<Plane> planes;
   planes.push_back({"iz", texture(profile.iz, &LevelPlanes::iz)});
+  if (!directional) return planes;
   if (profile.packed_dir_ratio) {
     planes.push_back({"dirratio", texture(profile.dirratio, open_loop ? &LevelPlanes::dirratio_open : &LevelPlanes::dirratio)});
   } else {
@@ -208,7 +212,41 @@ std::vector<Plane> planes_of(const Profile& profile, const std::vector<LevelPlan
   return planes;
 }
 
+// Keep, drop, or (Auto) measure whether I_z alone is close enough to the SH.
+void decide_direction(const FittedLevel& level0, const ConvertOptions& opt, ConvertResult* r) {
+  char why[160];
+  switch (opt.direction) {
+    case DirectionPlanes::Keep:
+      r->directional = true;
+      r->direction_reason = "kept (--direction keep)";
+      return;
+    case DirectionPlanes::Drop:
+      r->directional = false;
+      r->direction_reason = "dropped (--direction drop)";
+      return;
+    case DirectionPlanes::Auto:
+      r->ambient_error = ambient_only_error(level0, opt.threads);
+      r->directional = r->ambient_error.relative.p99 > opt.ambient_threshold;
+      std::snprintf(why, sizeof why, "%s: I_z alone differs from the SH by %.3g (relative RMSE p99) %s threshold %.3g",
+                    r->directional ? "kept" : "dropped", r->ambient_error.relative.p99, r->directional ? ">" : "<=",
+                    opt.ambient_threshold);
+      r->direction_reason = why;
+      return;
+  }
+}
+
 }  // namespace
+
+ErrorReport ambient_only_error(const FittedLevel& level, int threads) {
+  std::vector<AhdLobe> lobes(level.ahd.texels.size());
+  for (size_t i = 0; i < lobes.size(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      lobes[i].ca[c] = std::max(0.0f, level.ahd.texels[i].iz[c]);
+      lobes[i].cd[c] = 0;
+      lobes[i].d[c] = c == 2 ? 1 : 0;
+    }
+  return measure_error(level.sh, lobes, threads);
+}
 
 std::vector<FittedLevel> fit_levels(const ShImage& sh, const ConvertOptions& opt, ConvertResult* r) {
   auto t0 = Clock::now();
@@ -245,9 +283,12 @@ void quantise_levels(const std::vector<FittedLevel>& levels, const Profile& prof
   check_profile(profile, opt);
   const bool ratio_rgb = opt.fit.ratio_form == RatioForm::Rgb;
   auto t0 = Clock::now();
+  decide_direction(levels[0], opt, r);
+  r->timings.push_back({"direction decision", seconds_since(t0)});
+  t0 = Clock::now();
   std::vector<LevelPlanes> lv;
-  for (const FittedLevel& l : levels) lv.push_back(quantise_level(l, profile, opt, &r->codec_stats));
-  r->planes = planes_of(profile, lv, false);
+  for (const FittedLevel& l : levels) lv.push_back(quantise_level(l, profile, opt, r->directional, &r->codec_stats));
+  r->planes = planes_of(profile, lv, r->directional, false);
   if (opt.coverage_plane) {
     Texture cov;
     cov.format = PixelFormat::R8_UNORM;
@@ -266,9 +307,9 @@ void quantise_levels(const std::vector<FittedLevel>& levels, const Profile& prof
     r->level_error.push_back(measure_error(
         levels[l].sh, lobes_from_planes(decode_planes(r->planes, ratio_rgb, int(l)), opt.fit.dz_min), opt.threads));
   r->final_error = r->level_error[0];
-  if (opt.measure_open_loop)
+  if (opt.measure_open_loop && r->directional)
     r->open_loop_error = measure_error(
-        levels[0].sh, lobes_from_planes(decode_planes(planes_of(profile, lv, true), ratio_rgb, 0), opt.fit.dz_min),
+        levels[0].sh, lobes_from_planes(decode_planes(planes_of(profile, lv, r->directional, true), ratio_rgb, 0), opt.fit.dz_min),
         opt.threads);
   r->timings.push_back({"measure quantised", seconds_since(t0)});
 }

@@ -14,6 +14,15 @@
 
 namespace ahd {
 
+// Whether the direction and ratio planes are written. A lightmap whose lighting barely depends on
+// the normal (a plain lightmap, or SH with a negligible L1/L2 part) needs only I_z: Auto drops the
+// other planes when decoding I_z alone (d = z, ratio = 1: I(n) = I_z) stays within
+// `ambient_threshold` of the SH — relative hemisphere RMSE p99 over covered texels of level 0.
+// The default 1 % is where dropping them costs less than the 8-bit direction/ratio planes' own
+// quantisation error (measured by `ahdpack report direction`, README).
+enum class DirectionPlanes { Auto, Keep, Drop };
+constexpr double kDefaultAmbientThreshold = 0.01;
+
 struct ConvertOptions {
   FitOptions fit;
   bool closed_loop = true;
@@ -24,6 +33,8 @@ struct ConvertOptions {
   int threads = 0;
   int max_levels = 0;  // mip levels to write: 0 = the full chain down to 1×1
   bool coverage_plane = false;  // also write an R8 "coverage" plane (255 = covered) per level
+  DirectionPlanes direction = DirectionPlanes::Auto;
+  double ambient_threshold = kDefaultAmbientThreshold;
 };
 
 struct Plane {
@@ -47,6 +58,9 @@ struct ConvertResult {
   std::vector<ErrorReport> level_error;  // the same for every mip level, vs that level's SH
   PlaneCodecStats codec_stats;
   std::vector<StageCost> timings;
+  bool directional = true;    // the direction and ratio planes were written
+  ErrorReport ambient_error;  // I_z alone (d = z, ratio = 1) vs the SH, level 0 (measured in Auto)
+  std::string direction_reason;  // why the planes were kept or dropped (for the report)
 };
 
 // The whole conversion: fit_levels then quantise_levels.
@@ -60,6 +74,9 @@ std::vector<FittedLevel> fit_levels(const ShImage& sh, const ConvertOptions& opt
 // each level's SH. Also what `transcode` runs on a stored intermediate.
 void quantise_levels(const std::vector<FittedLevel>& levels, const Profile& profile, const ConvertOptions& opt,
                      ConvertResult* r);
+
+// The error of decoding I_z alone (d = z, ratio = 1) against the level's SH.
+ErrorReport ambient_only_error(const FittedLevel& level, int threads);
 
 // The decoded value of every texel of level-0 planes (as the reference decoder reads them):
 // iz (3 floats), d (unit, 3 floats), ratio (3 floats).

@@ -33,6 +33,7 @@ std::string manifest_to_json(const Manifest& m) {
                       {"width", p.width}, {"height", p.height}, {"levels", p.levels}, {"bytes", p.bytes}});
   }
   j["planes"] = planes;
+  j["directional"] = m.directional;
   j["decode"] = {
       {"model", "I(n) = Ca + max(0, n.d) Cd;  Ca = ratio * Iz;  Cd = (Iz - Ca) / d.z"},
       {"irradiance", "E(n) = integral of L(w) max(0, n.w) dw (no 1/pi)"},
@@ -44,6 +45,7 @@ std::string manifest_to_json(const Manifest& m) {
       {"direction_frame", m.direction_frame},
       {"iz_scale", 1.0},
   };
+  if (!m.directional) j["decode"]["without_direction"] = "no dir/ratio planes: d = (0,0,1), ratio = 1, so I(n) = Iz";
   return j.dump(2) + "\n";
 }
 
@@ -80,6 +82,15 @@ Manifest manifest_from_json(const std::string& text, const std::string& path) {
       mp.bytes = p.at("bytes").get<uint64_t>();
       m.planes.push_back(mp);
     }
+    m.directional = j.value("directional", true);
+    auto has = [&](const char* name) {
+      for (const auto& p : m.planes)
+        if (p.name == name) return true;
+      return false;
+    };
+    if (!has("iz")) throw file_error(path, "manifest has no iz plane");
+    if (m.directional && !has("dirratio") && !(has("dir") && has("ratio")))
+      throw file_error(path, "directional manifest lacks its direction/ratio planes");
     const auto& d = j.at("decode");
     m.ratio_form = d.at("ratio_form").get<std::string>() == "rgb" ? RatioForm::Rgb : RatioForm::Luminance;
     m.dz_min = d.at("dz_min").get<double>();
@@ -103,6 +114,7 @@ std::vector<std::pair<std::string, std::string>> plane_metadata(const Manifest& 
       {"ahd.luma", luma_text(m.luma)},
       {"ahd.direction", m.direction_encoding + " " + m.direction_frame},
       {"ahd.iz_scale", "1"},
+      {"ahd.directional", m.directional ? "1" : "0"},
   };
 }
 

@@ -30,6 +30,8 @@ struct Manifest {
   double luma[3] = {0.2126, 0.7152, 0.0722};
   std::string direction_encoding = "hemi-octahedral";  // uv = (px+py, px−py), p = d.xy/|d|₁
   std::string direction_frame = "tangent";             // or "normal-frame" (world SH + normals)
+  // false: only the iz plane exists; decoders use d = (0, 0, 1), ratio = 1, so I(n) = I_z.
+  bool directional = true;
 };
 
 std::string manifest_to_json(const Manifest& m);
