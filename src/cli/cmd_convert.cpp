@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "io/image_io.h"
 #include "io/baker_layout.h"
+#include "io/mesh_io.h"
 #include "io/sh_exr.h"
 #include "pipeline/convert.h"
 #include "pipeline/manifest.h"
@@ -25,6 +26,8 @@ struct ConvertArgs {
   std::string output;
   std::string layout;   // baker layout preset (name or .json); input is then the base path
   std::string normals;  // lightmap-space normals for world-space layouts
+  std::string mesh;     // or: the mesh, rasterised in its lightmap UVs (normals and coverage)
+  int uv_set = -1;      // the mesh's lightmap UV set (−1 = the default rule of io/mesh_io.h)
   std::string profile = "uncompressed";
   std::string ratio;  // empty: the profile's ratio form
   double dz_min = 0.05;
@@ -64,6 +67,11 @@ void run_convert(const ConvertArgs& a) {
   else if (a.ratio == "luminance") opt.fit.ratio_form = RatioForm::Luminance;
   else if (!a.ratio.empty()) throw Error("--ratio must be 'luminance' or 'rgb'");
 
+  // Checked before anything is read or written: one clear line, no output.
+  if (!a.mesh.empty() && !a.normals.empty()) throw Error("--mesh and --normals both give the normals: use one");
+  if (!a.mesh.empty() && a.layout.empty()) throw Error("--mesh needs --layout (a baker's files to pair it with)");
+  if (a.uv_set >= 0 && a.mesh.empty()) throw Error("--uv-set needs --mesh");
+
   // Input.
   auto t0 = Clock::now();
   ShImage sh;
@@ -80,9 +88,33 @@ void run_convert(const ConvertArgs& a) {
              (bo.coeffs == 9 ? " L2" : " L1") + ", seed " + std::to_string(a.seed) + ")";
   } else if (!a.layout.empty()) {
     const LayoutPreset layout = load_layout(a.layout);
-    sh = read_layout(layout, a.input, a.normals, &rs);
+    std::string from_mesh;
+    if (!a.mesh.empty()) {
+      if (layout.canonical)
+        throw Error("layout " + layout.name + " is the tool's own EXR (coverage and normals inside): --mesh does not apply");
+      // The mesh is rasterised at the lightmap's size, known from the first file's header.
+      int w = 0, h = 0;
+      layout_size(layout, a.input, &w, &h);
+      MeshReadInfo mi;
+      const MeshTriangles mesh = read_mesh_lightmap(a.mesh, a.uv_set, &mi);
+      RasterisedNormals rn = rasterise_lightmap_normals(mesh, w, h);
+      size_t covered = 0;
+      for (uint8_t c : rn.coverage) covered += c;
+      if (covered == 0)
+        throw file_error(a.mesh, "no triangle covers any texel of the " + std::to_string(w) + "x" + std::to_string(h) +
+                                     " lightmap in UV set " + std::to_string(mi.uv_set) + " (wrong --uv-set?)");
+      // Tangent-space layouts take the coverage only (read_layout uses normals for world space).
+      const LayoutNormals ln{a.mesh, w, h, std::move(rn.normals), std::move(rn.coverage)};
+      sh = read_layout(layout, a.input, &ln, &rs);
+      from_mesh = ", " + std::string(layout.world_space ? "normals and coverage" : "coverage") + " from " + a.mesh +
+                  " (" + std::to_string(mi.triangles) + " triangles, UV set " + std::to_string(mi.uv_set) + ", " +
+                  std::to_string(covered) + " texels covered)";
+    } else {
+      sh = read_layout(layout, a.input, a.normals, &rs);
+    }
     source = a.input + " (layout " + layout.name + ", " + std::to_string(sh.width) + "x" + std::to_string(sh.height) +
-             (sh.coeffs == 9 ? " L2" : " L1") + (sh.normals.empty() ? ", tangent space)" : ", world space + normals)");
+             (sh.coeffs == 9 ? " L2" : " L1") + (sh.normals.empty() ? ", tangent space" : ", world space + normals") +
+             from_mesh + ")";
   } else {
     sh = read_canonical_sh(a.input, &rs);
     source = a.input + " (" + std::to_string(sh.width) + "x" + std::to_string(sh.height) + (sh.coeffs == 9 ? " L2" : " L1") +
@@ -129,6 +161,13 @@ void add_convert_command(CLI::App& app) {
   c->add_option("-o,--output", a->output, "OUT.ktx2 or OUT.dds: writes OUT.<plane>.<ext>, OUT.json, OUT.report.json");
   c->add_option("--layout", a->layout, "Baker layout preset (ahdpack layouts) or FILE.json; the input is then the base path");
   c->add_option("--normals", a->normals, "Lightmap-space normal EXR, for world-space layouts");
+  c->add_option("--mesh", a->mesh,
+                "Mesh (.gltf, .glb, .obj) rasterised in its lightmap UVs: the normals (world-space layouts) and the "
+                "coverage (any layout); instead of --normals. Lightmap row 0 = glTF v=0 = OBJ v=1");
+  c->add_option("--uv-set", a->uv_set,
+                "The mesh's lightmap UV set (glTF TEXCOORD_n); default: the second set when the meshes have 2 or "
+                "more, else the first")
+      ->check(CLI::NonNegativeNumber);
   c->add_option("--profile", a->profile, "Output profile name or .json file (formats/profiles)");
   c->add_option("--ratio", a->ratio, "Ratio form: luminance (one channel) or rgb (default: the profile's)");
   c->add_option("--eps", a->dz_min, "Smallest stored d_z (the horizon rule)");

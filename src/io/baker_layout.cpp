@@ -173,4 +173,13 @@ ShImage read_layout(const LayoutPreset& layout, const std::string& base, const L
   return sh;
 }
 
+void layout_size(const LayoutPreset& layout, const std::string& base, int* width, int* height) {
+  std::string path = layout.canonical ? base : layout.files.at(0).pattern;
+  if (const size_t at = path.find("{base}"); !layout.canonical && at != std::string::npos) path.replace(at, 6, base);
+  if (!fs::exists(path)) throw file_error(path, "file not found (layout " + layout.name + " needs it)");
+  const ImageFileInfo info = read_image_info(path);
+  *width = info.width;
+  *height = info.height / (layout.canonical ? 1 : std::max(1, layout.files[0].slices));
+}
+
 }  // namespace ahd

@@ -65,4 +65,9 @@ struct LayoutNormals {
 ShImage read_layout(const LayoutPreset& layout, const std::string& base, const LayoutNormals* normals,
                     ReadStats* stats = nullptr);
 
+// The lightmap's width and height (one layer), from the header of the set's first file — what
+// in-memory normals must match before the set is read. Throws ahd::Error as read_layout does for
+// a missing or unreadable file.
+void layout_size(const LayoutPreset& layout, const std::string& base, int* width, int* height);
+
 }  // namespace ahd
