@@ -44,6 +44,59 @@ struct ConvertArgs {
   DirectionArgs direction;
 };
 
+// The baker's files through a layout preset, with normals/coverage from --normals or --mesh.
+ShImage read_layout_input(const ConvertArgs& a, ReadStats* rs, std::string* source) {
+  const LayoutPreset layout = load_layout(a.layout);
+  std::string from_mesh;
+  ShImage sh;
+  if (!a.mesh.empty()) {
+    if (layout.canonical)
+      throw Error("layout " + layout.name + " is the tool's own EXR (coverage and normals inside): --mesh does not apply");
+    // The mesh is rasterised at the lightmap's size, known from the first file's header.
+    int w = 0, h = 0;
+    layout_size(layout, a.input, &w, &h);
+    MeshReadInfo mi;
+    const MeshTriangles mesh = read_mesh_lightmap(a.mesh, a.uv_set, &mi);
+    RasterisedNormals rn = rasterise_lightmap_normals(mesh, w, h);
+    size_t covered = 0;
+    for (uint8_t c : rn.coverage) covered += c;
+    if (covered == 0)
+      throw file_error(a.mesh, "no triangle covers any texel of the " + std::to_string(w) + "x" + std::to_string(h) +
+                                   " lightmap in UV set " + std::to_string(mi.uv_set) + " (wrong --uv-set?)");
+    // Tangent-space layouts take the coverage only (read_layout uses normals for world space).
+    const LayoutNormals ln{a.mesh, w, h, std::move(rn.normals), std::move(rn.coverage)};
+    sh = read_layout(layout, a.input, &ln, rs);
+    from_mesh = ", " + std::string(layout.world_space ? "normals and coverage" : "coverage") + " from " + a.mesh + " (" +
+                std::to_string(mi.triangles) + " triangles, UV set " + std::to_string(mi.uv_set) + ", " +
+                std::to_string(covered) + " texels covered)";
+  } else {
+    sh = read_layout(layout, a.input, a.normals, rs);
+  }
+  *source = a.input + " (layout " + layout.name + ", " + std::to_string(sh.width) + "x" + std::to_string(sh.height) +
+            (sh.coeffs == 9 ? " L2" : " L1") + (sh.normals.empty() ? ", tangent space" : ", world space + normals") +
+            from_mesh + ")";
+  return sh;
+}
+
+// The SH to convert: the built-in sample, a baker's files (--layout) or the canonical EXR.
+ShImage read_input(const ConvertArgs& a, ReadStats* rs, std::string* source) {
+  if (a.input.empty()) {
+    BakerOptions bo;
+    bo.width = bo.height = a.sample_size;
+    bo.coeffs = a.sample_order == 1 ? 4 : 9;
+    bo.seed = a.seed;
+    bo.threads = a.threads;
+    *source = "built-in sample (analytic scene, " + std::to_string(a.sample_size) + "x" + std::to_string(a.sample_size) +
+              (bo.coeffs == 9 ? " L2" : " L1") + ", seed " + std::to_string(a.seed) + ")";
+    return bake_analytic_scene(bo);
+  }
+  if (!a.layout.empty()) return read_layout_input(a, rs, source);
+  ShImage sh = read_canonical_sh(a.input, rs);
+  *source = a.input + " (" + std::to_string(sh.width) + "x" + std::to_string(sh.height) + (sh.coeffs == 9 ? " L2" : " L1") +
+            (sh.normals.empty() ? ", tangent space)" : ", world space + normals)");
+  return sh;
+}
+
 void run_convert(const ConvertArgs& a) {
   using Clock = std::chrono::steady_clock;
   const auto t_start = Clock::now();
@@ -74,52 +127,9 @@ void run_convert(const ConvertArgs& a) {
 
   // Input.
   auto t0 = Clock::now();
-  ShImage sh;
   ReadStats rs;
   std::string source;
-  if (a.input.empty()) {
-    BakerOptions bo;
-    bo.width = bo.height = a.sample_size;
-    bo.coeffs = a.sample_order == 1 ? 4 : 9;
-    bo.seed = a.seed;
-    bo.threads = a.threads;
-    sh = bake_analytic_scene(bo);
-    source = "built-in sample (analytic scene, " + std::to_string(a.sample_size) + "x" + std::to_string(a.sample_size) +
-             (bo.coeffs == 9 ? " L2" : " L1") + ", seed " + std::to_string(a.seed) + ")";
-  } else if (!a.layout.empty()) {
-    const LayoutPreset layout = load_layout(a.layout);
-    std::string from_mesh;
-    if (!a.mesh.empty()) {
-      if (layout.canonical)
-        throw Error("layout " + layout.name + " is the tool's own EXR (coverage and normals inside): --mesh does not apply");
-      // The mesh is rasterised at the lightmap's size, known from the first file's header.
-      int w = 0, h = 0;
-      layout_size(layout, a.input, &w, &h);
-      MeshReadInfo mi;
-      const MeshTriangles mesh = read_mesh_lightmap(a.mesh, a.uv_set, &mi);
-      RasterisedNormals rn = rasterise_lightmap_normals(mesh, w, h);
-      size_t covered = 0;
-      for (uint8_t c : rn.coverage) covered += c;
-      if (covered == 0)
-        throw file_error(a.mesh, "no triangle covers any texel of the " + std::to_string(w) + "x" + std::to_string(h) +
-                                     " lightmap in UV set " + std::to_string(mi.uv_set) + " (wrong --uv-set?)");
-      // Tangent-space layouts take the coverage only (read_layout uses normals for world space).
-      const LayoutNormals ln{a.mesh, w, h, std::move(rn.normals), std::move(rn.coverage)};
-      sh = read_layout(layout, a.input, &ln, &rs);
-      from_mesh = ", " + std::string(layout.world_space ? "normals and coverage" : "coverage") + " from " + a.mesh +
-                  " (" + std::to_string(mi.triangles) + " triangles, UV set " + std::to_string(mi.uv_set) + ", " +
-                  std::to_string(covered) + " texels covered)";
-    } else {
-      sh = read_layout(layout, a.input, a.normals, &rs);
-    }
-    source = a.input + " (layout " + layout.name + ", " + std::to_string(sh.width) + "x" + std::to_string(sh.height) +
-             (sh.coeffs == 9 ? " L2" : " L1") + (sh.normals.empty() ? ", tangent space" : ", world space + normals") +
-             from_mesh + ")";
-  } else {
-    sh = read_canonical_sh(a.input, &rs);
-    source = a.input + " (" + std::to_string(sh.width) + "x" + std::to_string(sh.height) + (sh.coeffs == 9 ? " L2" : " L1") +
-             (sh.normals.empty() ? ", tangent space)" : ", world space + normals)");
-  }
+  const ShImage sh = read_input(a, &rs, &source);
   const double read_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
 
   ConvertResult r;
