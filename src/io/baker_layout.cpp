@@ -8,11 +8,104 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
-#include "io/image_io.h"
 #include "core/paths.h"
+#include "io/image_io.h"
 
 namespace ahd {
 namespace fs = std::filesystem;
+using nlohmann::json;
+
+// ---------------------------------------------------------------------------------------------
+// Loading a preset
+
+namespace {
+
+// The preset's own file and what it has parsed so far, to check references against.
+struct PresetParse {
+  const std::string& path;
+  const LayoutPreset& preset;
+};
+
+void check_source(const PresetParse& pp, const LayoutSource& s) {
+  if (s.file < 0 || size_t(s.file) >= pp.preset.files.size())
+    throw file_error(pp.path, "coefficient names a file that does not exist");
+  if (s.slice < 0 || s.slice >= pp.preset.files[size_t(s.file)].slices)
+    throw file_error(pp.path, "coefficient names a slice that does not exist");
+}
+
+LayoutSource parse_source(const PresetParse& pp, const json& j) {
+  LayoutSource s{j.at("file").get<int>(), j.value("slice", 0), j.at("channel").get<std::string>()};
+  check_source(pp, s);
+  return s;
+}
+
+LayoutFile parse_file(const std::string& path, const json& jf) {
+  LayoutFile lf;
+  lf.pattern = jf.at("pattern").get<std::string>();
+  lf.slices = jf.value("slices", 1);
+  lf.needs_float = jf.value("float", false);
+  lf.part = jf.value("part", 0);
+  lf.part_name = jf.value("part_name", "");
+  if (lf.slices < 1) throw file_error(path, "slices must be ≥ 1");
+  if (lf.part < 0) throw file_error(path, "part must be ≥ 0");
+  return lf;
+}
+
+// The three per-colour sources: either `sources` (one {file, slice, channel} per colour) or the
+// shorthand `file` + `slice` + `channels` (one image, three channel names).
+void parse_sources(const PresetParse& pp, const json& jc, LayoutCoefficient& c) {
+  if (jc.contains("sources")) {
+    if (jc.contains("file") || jc.contains("channels"))
+      throw file_error(pp.path, "a coefficient gives either sources or file + channels, not both");
+    const json& js = jc.at("sources");
+    if (!js.is_array() || js.size() != 3) throw file_error(pp.path, "sources must list 3 sources (R, G, B order)");
+    for (size_t i = 0; i < 3; ++i) c.source[i] = parse_source(pp, js[i]);
+    return;
+  }
+  const int file = jc.at("file").get<int>(), slice = jc.value("slice", 0);
+  const auto ch = jc.value("channels", std::vector<std::string>{"R", "G", "B"});
+  if (ch.size() != 3) throw file_error(pp.path, "channels must name 3 channels (R, G, B order)");
+  for (size_t i = 0; i < 3; ++i) c.source[i] = {file, slice, ch[i]};
+  check_source(pp, c.source[0]);
+}
+
+LayoutCoefficient parse_coefficient(const PresetParse& pp, const json& jc) {
+  LayoutCoefficient c;
+  parse_sources(pp, jc, c);
+  const std::string dec = jc.value("decode", "raw");
+  if (dec == "ratio") c.ratio = true, c.k = jc.at("k").get<double>();
+  else if (dec != "raw") throw file_error(pp.path, "unknown decode '" + dec + "' (raw, ratio)");
+  c.scale = jc.value("scale", 1.0);
+  if (jc.contains("divide_by")) {
+    c.divided = true;
+    c.divisor = parse_source(pp, jc.at("divide_by"));
+    c.divisor_min = jc.at("divide_by").value("min", 0.0);
+  }
+  return c;
+}
+
+LayoutForm parse_form(const std::string& path, const std::string& form) {
+  if (form == "radiance") return LayoutForm::Radiance;
+  if (form == "linear_over_pi") return LayoutForm::LinearOverPi;
+  throw file_error(path, "unknown form '" + form + "' (radiance, linear_over_pi)");
+}
+
+void parse_preset(const std::string& path, const json& j, LayoutPreset& p) {
+  p.coeffs = j.at("coeffs").get<int>();
+  if (p.coeffs != 4 && p.coeffs != 9) throw file_error(path, "coeffs must be 4 or 9");
+  const std::string space = j.value("space", "tangent");
+  if (space != "tangent" && space != "world") throw file_error(path, "space must be tangent or world");
+  p.world_space = space == "world";
+  p.form = parse_form(path, j.value("form", "radiance"));
+  if (p.form == LayoutForm::LinearOverPi && p.coeffs != 4) throw file_error(path, "linear_over_pi holds L0 and L1 only");
+  for (const auto& jf : j.at("files")) p.files.push_back(parse_file(path, jf));
+  const PresetParse pp{path, p};
+  for (const auto& jc : j.at("coefficients")) p.coefficients.push_back(parse_coefficient(pp, jc));
+  if (p.coefficients.empty() || int(p.coefficients.size()) > p.coeffs) throw file_error(path, "1..coeffs coefficients expected");
+  if (p.coefficients[0].ratio) throw file_error(path, "coefficient 0 (L0) cannot be ratio-encoded");
+}
+
+}  // namespace
 
 LayoutPreset load_layout(const std::string& name_or_path) {
   const std::string path = data_file_path("bakers", name_or_path);
@@ -24,54 +117,166 @@ LayoutPreset load_layout(const std::string& name_or_path) {
   }
   LayoutPreset p;
   try {
-    const nlohmann::json j = nlohmann::json::parse(f);
+    const json j = json::parse(f);
     p.name = j.at("name").get<std::string>();
     p.description = j.value("description", "");
-    if (j.value("reader", "") == "canonical") {
-      p.canonical = true;
-      return p;
-    }
-    p.coeffs = j.at("coeffs").get<int>();
-    if (p.coeffs != 4 && p.coeffs != 9) throw file_error(path, "coeffs must be 4 or 9");
-    const std::string space = j.value("space", "tangent");
-    if (space != "tangent" && space != "world") throw file_error(path, "space must be tangent or world");
-    p.world_space = space == "world";
-    const std::string form = j.value("form", "radiance");
-    if (form == "radiance") p.form = LayoutForm::Radiance;
-    else if (form == "linear_over_pi") p.form = LayoutForm::LinearOverPi;
-    else throw file_error(path, "unknown form '" + form + "' (radiance, linear_over_pi)");
-    if (p.form == LayoutForm::LinearOverPi && p.coeffs != 4) throw file_error(path, "linear_over_pi holds L0 and L1 only");
-    for (const auto& jf : j.at("files")) {
-      LayoutFile lf;
-      lf.pattern = jf.at("pattern").get<std::string>();
-      lf.slices = jf.value("slices", 1);
-      lf.needs_float = jf.value("float", false);
-      if (lf.slices < 1) throw file_error(path, "slices must be ≥ 1");
-      p.files.push_back(lf);
-    }
-    for (const auto& jc : j.at("coefficients")) {
-      LayoutCoefficient c;
-      c.file = jc.at("file").get<int>();
-      c.slice = jc.value("slice", 0);
-      const auto ch = jc.value("channels", std::vector<std::string>{"R", "G", "B"});
-      if (ch.size() != 3) throw file_error(path, "channels must name 3 channels (R, G, B order)");
-      for (int i = 0; i < 3; ++i) c.channels[i] = ch[size_t(i)];
-      const std::string dec = jc.value("decode", "raw");
-      if (dec == "ratio") c.ratio = true, c.k = jc.at("k").get<double>();
-      else if (dec != "raw") throw file_error(path, "unknown decode '" + dec + "' (raw, ratio)");
-      if (c.file < 0 || size_t(c.file) >= p.files.size()) throw file_error(path, "coefficient names a file that does not exist");
-      if (c.slice < 0 || c.slice >= p.files[size_t(c.file)].slices) throw file_error(path, "coefficient names a slice that does not exist");
-      p.coefficients.push_back(c);
-    }
-    if (p.coefficients.empty() || int(p.coefficients.size()) > p.coeffs) throw file_error(path, "1..coeffs coefficients expected");
-    if (p.coefficients[0].ratio) throw file_error(path, "coefficient 0 (L0) cannot be ratio-encoded");
-  } catch (const nlohmann::json::exception& e) {
+    p.canonical = j.value("reader", "") == "canonical";
+    if (!p.canonical) parse_preset(path, j, p);
+  } catch (const json::exception& e) {
     throw file_error(path, std::string("malformed layout (") + e.what() + ")");
   }
   return p;
 }
 
 std::vector<std::string> list_layouts() { return list_data_files("bakers"); }
+
+// ---------------------------------------------------------------------------------------------
+// Reading a baker's files
+
+namespace {
+
+// One image of the set: checked from its header first, decoded once every image has passed.
+struct SetImage {
+  std::string path;
+  int part = 0;
+  std::map<std::string, int> channel;
+  int width = 0, slice_height = 0;
+  ImageF img;
+};
+
+std::string expand_pattern(const std::string& pattern, const std::string& base) {
+  std::string path = pattern;
+  const size_t at = path.find("{base}");
+  if (at != std::string::npos) path.replace(at, 6, base);
+  return path;
+}
+
+// The part index a file entry names (by index, or by name among the file's parts).
+int resolve_part(const LayoutFile& lf, const std::string& path, const ImageFileInfo& first) {
+  if (lf.part_name.empty()) return lf.part;
+  const auto it = std::find(first.parts.begin(), first.parts.end(), lf.part_name);
+  if (it != first.parts.end()) return int(it - first.parts.begin());
+  std::string known;
+  for (const auto& n : first.parts) known += (known.empty() ? "" : ", ") + (n.empty() ? "(unnamed)" : n);
+  throw file_error(path, "no part named '" + lf.part_name + "' (parts: " + known + ")");
+}
+
+// Header checks of one image: it exists, has the part, holds float data if needed, divides into
+// its layers.
+SetImage open_image(const LayoutFile& lf, const std::string& base, const std::string& layout) {
+  SetImage s;
+  s.path = expand_pattern(lf.pattern, base);
+  if (!fs::exists(s.path)) throw file_error(s.path, "file not found (layout " + layout + " needs it)");
+  ImageFileInfo info = read_image_info(s.path);
+  s.part = resolve_part(lf, s.path, info);
+  if (s.part != 0) info = read_image_info(s.path, s.part);
+  if (lf.needs_float && !info.is_float)
+    throw file_error(s.path, "8-bit data where layout " + layout + " needs float (HDR) values");
+  if (info.height % lf.slices != 0)
+    throw file_error(s.path, "height " + std::to_string(info.height) + " does not divide into " +
+                                 std::to_string(lf.slices) + " stacked layers");
+  s.width = info.width;
+  s.slice_height = info.height / lf.slices;
+  for (size_t c = 0; c < info.channel_names.size(); ++c) s.channel[info.channel_names[c]] = int(c);
+  return s;
+}
+
+void check_sizes(const std::vector<SetImage>& set) {
+  const int w = set[0].width, h = set[0].slice_height;
+  for (const SetImage& s : set)
+    if (s.width != w || s.slice_height != h)
+      throw file_error(s.path, "layer size " + std::to_string(s.width) + "x" + std::to_string(s.slice_height) +
+                                   " differs from the set's " + std::to_string(w) + "x" + std::to_string(h));
+}
+
+void check_channel(const std::vector<SetImage>& set, const LayoutSource& src, const std::string& layout) {
+  const SetImage& s = set[size_t(src.file)];
+  if (!s.channel.count(src.channel))
+    throw file_error(s.path, "no channel " + src.channel + " (layout " + layout + " reads it)");
+}
+
+// Every image of the set, checked from its header; no pixel is decoded yet.
+std::vector<SetImage> open_set(const LayoutPreset& layout, const std::string& base) {
+  std::vector<SetImage> set;
+  for (const LayoutFile& lf : layout.files) set.push_back(open_image(lf, base, layout.name));
+  check_sizes(set);
+  for (const LayoutCoefficient& c : layout.coefficients) {
+    for (const LayoutSource& src : c.source) check_channel(set, src, layout.name);
+    if (c.divided) check_channel(set, c.divisor, layout.name);
+  }
+  return set;
+}
+
+// The stored number `src` names at texel (x, y).
+double stored(const std::vector<SetImage>& set, const LayoutSource& src, int x, int y) {
+  const SetImage& s = set[size_t(src.file)];
+  return double(s.img.at(x, y + src.slice * s.slice_height)[s.channel.at(src.channel)]);
+}
+
+double decode(const std::vector<SetImage>& set, const LayoutCoefficient& c, int colour, double l0, int x, int y) {
+  double v = stored(set, c.source[colour], x, y);
+  if (c.ratio) v = (v - 0.5) * c.k * l0;
+  v *= c.scale;
+  if (c.divided) v /= std::max(c.divisor_min, stored(set, c.divisor, x, y));
+  return v;
+}
+
+// Decoded stored values → the canonical radiance projection (sh/sh.h): the linear form
+// E(n)/π = L0 + L1·n equals (π·Y00·c0 + (2π/3)·Y1·c1·n)/π.
+double to_radiance(LayoutForm form, size_t k, double v) {
+  if (form == LayoutForm::Radiance) return v;
+  return k == 0 ? v / kY00 : 1.5 * v / kY1;
+}
+
+ShImage to_canonical(const LayoutPreset& layout, const std::vector<SetImage>& set) {
+  const int width = set[0].width, height = set[0].slice_height;
+  ShImage sh = make_sh_image(width, height, layout.coeffs);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      float* t = sh.texel(size_t(y) * width + x);
+      for (int ch = 0; ch < 3; ++ch) {
+        const double l0 = decode(set, layout.coefficients[0], ch, 0, x, y);
+        for (size_t k = 0; k < layout.coefficients.size(); ++k)
+          t[k * 3 + ch] = float(to_radiance(layout.form, k, decode(set, layout.coefficients[k], ch, l0, x, y)));
+      }
+    }
+  return sh;
+}
+
+// Texels outside every chart (given coverage says so) may hold any normal.
+bool normal_unused(const LayoutNormals& n, size_t i) { return !n.coverage.empty() && !n.coverage[i]; }
+
+double normal_length(const LayoutNormals& n, size_t i) {
+  const float* v = &n.normals[i * 3];
+  return std::sqrt(double(v[0]) * v[0] + double(v[1]) * v[1] + double(v[2]) * v[2]);
+}
+
+// World-space layouts need usable normals of the lightmap's size; checked before the SH is decoded.
+void check_normals(const LayoutPreset& layout, const std::string& base, const LayoutNormals* normals, const SetImage& first) {
+  if (!normals)
+    throw file_error(base, "layout " + layout.name + " stores world-space SH: give the lightmap's normals (--normals N.exr)");
+  const int w = first.width, h = first.slice_height;
+  if (normals->width != w || normals->height != h)
+    throw file_error(normals->source, "normal map is " + std::to_string(normals->width) + "x" + std::to_string(normals->height) +
+                                          ", the lightmap " + std::to_string(w) + "x" + std::to_string(h));
+  for (size_t i = 0; i < size_t(w) * h; ++i) {
+    const double len = normal_length(*normals, i);
+    if (!normal_unused(*normals, i) && !(len > 1e-6 && std::isfinite(len)))
+      throw file_error(normals->source, "zero-length or non-finite normal at texel (" + std::to_string(i % size_t(w)) + ", " +
+                                            std::to_string(i / size_t(w)) + ")");
+  }
+}
+
+void attach_world_normals(ShImage& sh, const LayoutNormals& normals) {
+  sh.normals.resize(sh.texels() * 3);
+  for (size_t i = 0; i < sh.texels(); ++i) {
+    const double len = normal_length(normals, i);
+    for (int a = 0; a < 3; ++a)
+      sh.normals[i * 3 + a] = normal_unused(normals, i) ? float(a == 2) : float(normals.normals[i * 3 + a] / len);
+  }
+}
+
+}  // namespace
 
 ShImage read_layout(const LayoutPreset& layout, const std::string& base, const std::string& normals_path,
                     ReadStats* stats) {
@@ -88,83 +293,11 @@ ShImage read_layout(const LayoutPreset& layout, const std::string& base, const s
 ShImage read_layout(const LayoutPreset& layout, const std::string& base, const LayoutNormals* normals,
                     ReadStats* stats) {
   if (layout.canonical) return read_canonical_sh(base, stats);
-  // Every file of the set, checked before any is decoded.
-  struct Loaded {
-    std::string path;
-    ImageF img;
-    std::map<std::string, int> channel;
-    int slice_height = 0;
-  };
-  std::vector<Loaded> files;
-  int width = -1, height = -1;
-  for (const LayoutFile& lf : layout.files) {
-    Loaded l;
-    l.path = lf.pattern;
-    const size_t at = l.path.find("{base}");
-    if (at != std::string::npos) l.path.replace(at, 6, base);
-    if (!fs::exists(l.path)) throw file_error(l.path, "file not found (layout " + layout.name + " needs it)");
-    ImageFileInfo info;
-    l.img = read_image(l.path, &info);
-    if (lf.needs_float && !info.is_float)
-      throw file_error(l.path, "8-bit data where layout " + layout.name + " needs float (HDR) values");
-    if (l.img.height % lf.slices != 0)
-      throw file_error(l.path, "height " + std::to_string(l.img.height) + " does not divide into " +
-                                   std::to_string(lf.slices) + " stacked layers");
-    l.slice_height = l.img.height / lf.slices;
-    for (size_t c = 0; c < info.channel_names.size(); ++c) l.channel[info.channel_names[c]] = int(c);
-    if (width < 0) width = l.img.width, height = l.slice_height;
-    if (l.img.width != width || l.slice_height != height)
-      throw file_error(l.path, "layer size " + std::to_string(l.img.width) + "x" + std::to_string(l.slice_height) +
-                                   " differs from the set's " + std::to_string(width) + "x" + std::to_string(height));
-    files.push_back(std::move(l));
-  }
-  for (const LayoutCoefficient& c : layout.coefficients)
-    for (const std::string& ch : c.channels)
-      if (!files[size_t(c.file)].channel.count(ch))
-        throw file_error(files[size_t(c.file)].path, "no channel " + ch + " (layout " + layout.name + " reads it)");
-
-  ShImage sh = make_sh_image(width, height, layout.coeffs);
-  auto stored = [&](const LayoutCoefficient& c, int x, int y, int ch) {
-    const Loaded& l = files[size_t(c.file)];
-    return double(l.img.at(x, y + c.slice * l.slice_height)[l.channel.at(c.channels[ch])]);
-  };
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x) {
-      float* t = sh.texel(size_t(y) * width + x);
-      for (int ch = 0; ch < 3; ++ch) {
-        const double l0 = stored(layout.coefficients[0], x, y, ch);
-        for (size_t k = 0; k < layout.coefficients.size(); ++k) {
-          const LayoutCoefficient& c = layout.coefficients[k];
-          double v = stored(c, x, y, ch);
-          if (c.ratio) v = (v - 0.5) * c.k * l0;
-          // To the canonical radiance projection (sh/sh.h): E(n) = π·Y00·c0 + (2π/3)·Y1·c1·n.
-          if (layout.form == LayoutForm::LinearOverPi) v = k == 0 ? v / kY00 : 1.5 * v / kY1;
-          t[k * 3 + ch] = float(v);
-        }
-      }
-    }
-  if (layout.world_space) {
-    if (!normals)
-      throw file_error(base, "layout " + layout.name + " stores world-space SH: give the lightmap's normals (--normals N.exr)");
-    if (normals->width != width || normals->height != height)
-      throw file_error(normals->source, "normal map is " + std::to_string(normals->width) + "x" + std::to_string(normals->height) +
-                                            ", the lightmap " + std::to_string(width) + "x" + std::to_string(height));
-    const bool has_cov = !normals->coverage.empty();
-    sh.normals.resize(sh.texels() * 3);
-    for (size_t i = 0; i < sh.texels(); ++i) {
-      const float* src = &normals->normals[i * 3];
-      double v[3] = {src[0], src[1], src[2]};
-      const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-      if (has_cov && !normals->coverage[i]) {  // outside every chart: any unit normal will do
-        sh.normals[i * 3 + 0] = 0, sh.normals[i * 3 + 1] = 0, sh.normals[i * 3 + 2] = 1;
-        continue;
-      }
-      if (!(len > 1e-6) || !std::isfinite(len))
-        throw file_error(normals->source, "zero-length or non-finite normal at texel (" + std::to_string(i % width) + ", " +
-                                              std::to_string(i / width) + ")");
-      for (int a = 0; a < 3; ++a) sh.normals[i * 3 + a] = float(v[a] / len);
-    }
-  }
+  std::vector<SetImage> set = open_set(layout, base);
+  if (layout.world_space) check_normals(layout, base, normals, set[0]);
+  for (SetImage& s : set) s.img = read_image(s.path, nullptr, s.part);
+  ShImage sh = to_canonical(layout, set);
+  if (layout.world_space) attach_world_normals(sh, *normals);
   ReadStats local;
   const bool given_cov = normals && !normals->coverage.empty() && normals->coverage.size() == sh.texels();
   sanitise_sh(sh, /*derive_coverage=*/!given_cov, stats ? stats : &local);

@@ -11,17 +11,34 @@
 
 namespace ahd {
 
+// One image of the set: a file, or one part of a multi-part EXR (OIIO subimage).
 struct LayoutFile {
-  std::string pattern;  // "{base}" is replaced by the base path
-  int slices = 1;       // layers stacked vertically in the image
+  std::string pattern;    // "{base}" is replaced by the base path
+  int slices = 1;         // layers stacked vertically in the image
   bool needs_float = false;
+  int part = 0;           // part index, used when part_name is empty
+  std::string part_name;  // the part's name (EXR "name" attribute)
 };
 
-struct LayoutCoefficient {
+// Where one stored number comes from: an image of the set, its vertical layer, a channel name
+// (with the EXR layer prefix if any, e.g. "L1m1.R").
+struct LayoutSource {
   int file = 0, slice = 0;
-  std::string channels[3] = {"R", "G", "B"};
-  bool ratio = false;  // stored t, decoded (t − 0.5)·k·L0 (L0 = coefficient 0 as stored)
+  std::string channel;
+};
+
+// One canonical coefficient, decoded per colour c from source[c] as
+//   v = t (raw) or (t − 0.5)·k·L0 (ratio; L0 = coefficient 0 decoded), then v·scale / max(min, divisor)
+// so that colours may share a stored number (Bakery MonoSH, Unity directional) or come from
+// different files (one file per colour).
+struct LayoutCoefficient {
+  LayoutSource source[3] = {{0, 0, "R"}, {0, 0, "G"}, {0, 0, "B"}};
+  bool ratio = false;
   double k = 1;
+  double scale = 1;
+  bool divided = false;  // divide by a stored number (Unity's rebalancing alpha)
+  LayoutSource divisor;
+  double divisor_min = 0;
 };
 
 enum class LayoutForm {
@@ -48,8 +65,9 @@ std::vector<std::string> list_layouts();
 
 // Reads a baker's files for `base` (e.g. "/bakes/room" → "/bakes/room_L0.hdr" …). World-space
 // layouts need `normals_path`: a normal EXR in lightmap space (XYZ, unit, world axes of the baker).
-// Throws ahd::Error("<file>: <cause>") for missing files of the set, sizes that differ, a layer
-// count that does not divide, 8-bit data where float is needed, a missing channel, zero normals.
+// Every image of the set is checked from its header before any pixel is decoded: throws
+// ahd::Error("<file>: <cause>") for a missing file, a part the file lacks, sizes that differ, a layer
+// count that does not divide, 8-bit data where float is needed, a missing channel; also zero normals.
 ShImage read_layout(const LayoutPreset& layout, const std::string& base, const std::string& normals_path,
                     ReadStats* stats = nullptr);
 

@@ -17,7 +17,11 @@ namespace {
 
 std::unique_ptr<OIIO::ImageInput> open_input(const std::string& path) {
   if (!fs::exists(path)) throw file_error(path, "file not found");
-  auto in = OIIO::ImageInput::open(path);
+  // Alpha in lightmap data is a number of its own (Unity's rebalancing factor), not opacity: keep
+  // the stored colours instead of OIIO's default of multiplying them by alpha.
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);
+  auto in = OIIO::ImageInput::open(path, &config);
   if (!in) {
     std::string why = OIIO::geterror();
     if (why.empty()) why = "not a readable image";
@@ -60,10 +64,29 @@ void ensure_parent_dir(const std::string& path) {
 
 }  // namespace
 
-ImageFileInfo read_image_info(const std::string& path) {
+namespace {
+
+// Every part's name; OpenEXR multi-part files name their parts, other files have one unnamed part.
+std::vector<std::string> part_names(OIIO::ImageInput& in) {
+  std::vector<std::string> names;
+  for (int p = 0; in.seek_subimage(p, 0); ++p) names.push_back(in.spec().get_string_attribute("oiio:subimagename"));
+  return names;
+}
+
+// Positions `in` on `part`, or throws naming how many parts the file has.
+void seek_part(OIIO::ImageInput& in, const std::string& path, int part, size_t part_count) {
+  if (part < 0 || size_t(part) >= part_count || !in.seek_subimage(part, 0))
+    throw file_error(path, "no part " + std::to_string(part) + " (the file has " + std::to_string(part_count) + ")");
+}
+
+}  // namespace
+
+ImageFileInfo read_image_info(const std::string& path, int part) {
   auto in = open_input(path);
-  const OIIO::ImageSpec& spec = in->spec();
   ImageFileInfo info;
+  info.parts = part_names(*in);
+  seek_part(*in, path, part, info.parts.size());
+  const OIIO::ImageSpec& spec = in->spec();
   info.width = spec.width;
   info.height = spec.height;
   info.channel_names = spec.channelnames;
@@ -79,8 +102,10 @@ ImageFileInfo read_image_info(const std::string& path) {
   return info;
 }
 
-ImageF read_image(const std::string& path, ImageFileInfo* info_out) {
+ImageF read_image(const std::string& path, ImageFileInfo* info_out, int part) {
+  if (info_out) *info_out = read_image_info(path, part);
   auto in = open_input(path);
+  if (part != 0) seek_part(*in, path, part, part_names(*in).size());
   const OIIO::ImageSpec& spec = in->spec();
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
     throw file_error(path, "image has no pixels");
@@ -88,11 +113,10 @@ ImageF read_image(const std::string& path, ImageFileInfo* info_out) {
   if (size_t(spec.width) * spec.height * spec.nchannels > (size_t(1) << 32))
     throw file_error(path, "image too large");
   ImageF img(spec.width, spec.height, spec.nchannels);
-  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, img.data.data())) {
+  if (!in->read_image(part, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, img.data.data())) {
     std::string why = in->geterror();
     throw file_error(path, "cannot read pixels (" + why.substr(0, why.find('\n')) + ")");
   }
-  if (info_out) *info_out = read_image_info(path);
   return img;
 }
 
@@ -112,6 +136,7 @@ void write_image(const std::string& path, const ImageF& img, bool half_float,
     spec.channelnames = {"Y"};
   }
   if (ext == ".exr") spec.attribute("compression", "zip");
+  spec.attribute("oiio:UnassociatedAlpha", 1);  // store the numbers as given (see open_input)
   const std::string tmp = temp_path_for(path);
   auto out = OIIO::ImageOutput::create(tmp);
   if (!out) throw file_error(path, "no image writer for this extension");

@@ -15,15 +15,17 @@ struct ImageFileInfo {
   std::vector<std::string> channel_names;
   bool is_float = false;   // every channel is half or float
   std::string color_space; // OIIO's "oiio:ColorSpace" (may be empty)
+  std::vector<std::string> parts;  // every part (OIIO subimage) of the file by name, "" if unnamed
 };
 
-// Reads the header of an image file. Throws ahd::Error("<path>: <cause>") when the file is
-// missing or unreadable. Safe on untrusted files (OpenImageIO validates the header).
-ImageFileInfo read_image_info(const std::string& path);
+// Reads the header of one part (subimage; multi-part EXR) of an image file. Throws
+// ahd::Error("<path>: <cause>") when the file is missing or unreadable or has no such part. Safe on
+// untrusted files (OpenImageIO validates the header).
+ImageFileInfo read_image_info(const std::string& path, int part = 0);
 
-// Reads every channel of subimage 0 / mip 0 as floats (8-bit data is scaled to [0,1]; no colour
-// conversion). Throws ahd::Error on failure.
-ImageF read_image(const std::string& path, ImageFileInfo* info = nullptr);
+// Reads every channel of one part (subimage) / mip 0 as floats (8-bit data is scaled to [0,1]; no
+// colour conversion). Throws ahd::Error on failure.
+ImageF read_image(const std::string& path, ImageFileInfo* info = nullptr, int part = 0);
 
 // Writes a float image as EXR (half when `half_float`, else float), or PNG/TGA/HDR by extension
 // (8-bit formats clamp to [0,1] and round). Channel names default to R,G,B,A / Y. The file is

@@ -8,85 +8,15 @@
 #include <random>
 
 #include "cli_runner.h"
-#include "core/error.h"
 #include "io/baker_layout.h"
 #include "io/image_io.h"
-#include "sample/analytic_baker.h"
+#include "layout_test_scene.h"
 
 namespace fs = std::filesystem;
 using namespace ahd;
+using namespace layout_test;
 
 namespace {
-
-constexpr int N = 16;
-
-// The analytic scene (L1, tangent space) with, per texel, its chart's world frame (rows t, b, n).
-struct WorldScene {
-  ShImage tangent;
-  std::vector<std::array<double, 9>> frame;
-  ImageF normals;
-};
-
-WorldScene world_scene() {
-  BakerOptions bo;
-  bo.width = bo.height = N;
-  bo.coeffs = 4;
-  bo.area_samples = 3;
-  WorldScene w{bake_analytic_scene(bo), {}, ImageF(N, N, 3)};
-  for (int y = 0; y < N; ++y)
-    for (int x = 0; x < N; ++x) {
-      // The baker's charts: floor (left half, n = +y, t = +x, b = −z), wall (right half, n = +z).
-      const bool wall = x >= N / 2;
-      const std::array<double, 9> f = wall ? std::array<double, 9>{1, 0, 0, 0, 1, 0, 0, 0, 1}
-                                           : std::array<double, 9>{1, 0, 0, 0, 0, -1, 0, 1, 0};
-      w.frame.push_back(f);
-      for (int a = 0; a < 3; ++a) w.normals.at(x, y)[a] = float(f[6 + a]);
-    }
-  return w;
-}
-
-// World-space linear form (E/π = L0 + L1·n, L1 in x,y,z) of texel i, channel c.
-void world_linear(const WorldScene& w, size_t i, int c, double* l0, double l1[3]) {
-  const float* t = w.tangent.texel(i);
-  *l0 = kY00 * t[c];
-  const double local[3] = {t[3 * 3 + c], t[1 * 3 + c], t[2 * 3 + c]};  // (x, y, z) = coeffs 3, 1, 2
-  const auto& f = w.frame[i];
-  for (int a = 0; a < 3; ++a) l1[a] = (f[0 + a] * local[0] + f[3 + a] * local[1] + f[6 + a] * local[2]) * kY1 / 1.5;
-}
-
-// E/π at world direction n of the source scene, texel i, channel c.
-double source_e_over_pi(const WorldScene& w, size_t i, int c, const double n[3]) {
-  double l0, l1[3];
-  world_linear(w, i, c, &l0, l1);
-  return l0 + l1[0] * n[0] + l1[1] * n[1] + l1[2] * n[2];
-}
-
-// E/π of the read-back SH for a world direction n (rotated into the texel's own frame).
-double readback_e_over_pi(const ShImage& sh, size_t i, int c, const double n[3]) {
-  IrradiancePoly p[3];
-  local_polys(sh, i, p);
-  double R[3][3];
-  const double nn[3] = {sh.normals[i * 3], sh.normals[i * 3 + 1], sh.normals[i * 3 + 2]};
-  frame_from_normal(nn, R);
-  double l[3];
-  for (int a = 0; a < 3; ++a) l[a] = R[a][0] * n[0] + R[a][1] * n[1] + R[a][2] * n[2];
-  return eval_irradiance(p[c], l) / kPi;
-}
-
-// Random directions in the texel's upper hemisphere.
-std::vector<std::array<double, 3>> directions(const WorldScene& w, size_t i, int count, std::mt19937& rng) {
-  std::normal_distribution<double> g;
-  std::vector<std::array<double, 3>> out;
-  const double* nz = &w.frame[i][6];
-  while (int(out.size()) < count) {
-    double d[3] = {g(rng), g(rng), g(rng)};
-    const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    for (double& v : d) v /= len;
-    if (d[0] * nz[0] + d[1] * nz[1] + d[2] * nz[2] < 0) continue;
-    out.push_back({d[0], d[1], d[2]});
-  }
-  return out;
-}
 
 void write_godot_packed(const WorldScene& w, const std::string& path) {
   ImageF img(N, 4 * N, 3);
@@ -107,11 +37,11 @@ void write_godot_packed(const WorldScene& w, const std::string& path) {
 }  // namespace
 
 TEST(Layout, GodotPackedMatchesSourceAndGodotsRuntime) {
-  const fs::path d = ahd_test::temp_dir("layout_godot");
-  const WorldScene w = world_scene();
-  write_godot_packed(w, (d / "lm.exr").string());
-  write_image((d / "normals.exr").string(), w.normals);
-  const ShImage sh = read_layout(load_layout("godot4-packed"), (d / "lm").string(), (d / "normals.exr").string());
+  const WorldBake b("layout_godot");
+  const fs::path& d = b.dir;
+  const WorldScene& w = b.w;
+  write_godot_packed(w, b.file(".exr"));
+  const ShImage sh = b.read("godot4-packed");
   const ImageF stored = read_image((d / "lm.exr").string());  // as the runtime samples it
   std::mt19937 rng(1);
   double worst = 0, worst_rt = 0;
@@ -140,7 +70,7 @@ TEST(Layout, GodotPackedMatchesSourceAndGodotsRuntime) {
   // `ahdpack decode` of the conversion along the surface normal equals the runtime along it
   // (×π: ahdpack's irradiance has no 1/π), within the fit's exactness and half precision.
   const auto r = ahd_test::run_cli({"convert", (d / "lm").string(), "--layout", "godot4-packed", "--normals",
-                                    (d / "normals.exr").string(), "-o", (d / "out" / "a.ktx2").string(), "-q"});
+                                    b.normals, "-o", (d / "out" / "a.ktx2").string(), "-q"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   ASSERT_EQ(ahd_test::run_cli({"decode", (d / "out" / "a.json").string(), "-o", (d / "e.exr").string()}).exit_code, 0);
   const ImageF e = read_image((d / "e.exr").string());
@@ -158,12 +88,12 @@ TEST(Layout, GodotPackedMatchesSourceAndGodotsRuntime) {
   }
   std::printf("godot4-packed: ahdpack decode along the normal vs Godot's runtime %.2e\n", worst_decode);
   EXPECT_LT(worst_decode, 2e-3);
-  fs::remove_all(d);
 }
 
 TEST(Layout, BakerySh8BitAndRgbeWithinStoragePrecision) {
-  const fs::path d = ahd_test::temp_dir("layout_bakery");
-  const WorldScene w = world_scene();
+  const WorldBake b("layout_bakery");
+  const fs::path& d = b.dir;
+  const WorldScene& w = b.w;
   ImageF l0(N, N, 3), l1[3] = {ImageF(N, N, 3), ImageF(N, N, 3), ImageF(N, N, 3)};
   for (size_t i = 0; i < w.tangent.texels(); ++i)
     for (int c = 0; c < 3; ++c) {
@@ -176,8 +106,7 @@ TEST(Layout, BakerySh8BitAndRgbeWithinStoragePrecision) {
   write_image((d / "lm_L1x.tga").string(), l1[0]);
   write_image((d / "lm_L1y.tga").string(), l1[1]);
   write_image((d / "lm_L1z.tga").string(), l1[2]);
-  write_image((d / "n.exr").string(), w.normals);
-  const ShImage sh = read_layout(load_layout("bakery-sh"), (d / "lm").string(), (d / "n.exr").string());
+  const ShImage sh = b.read("bakery-sh");
   std::mt19937 rng(2);
   double worst = 0;
   for (size_t i = 0; i < sh.texels(); ++i) {
@@ -207,7 +136,6 @@ TEST(Layout, BakerySh8BitAndRgbeWithinStoragePrecision) {
   EXPECT_LT(worst_rt, 1e-5);
   // RGBE keeps ~1/128 relative; 8-bit t steps are 1/255 of ±2·L0 per axis: ≤ 1/128 + 3·4/510.
   EXPECT_LT(worst, 0.035);
-  fs::remove_all(d);
 }
 
 TEST(Layout, PerCoefficientAndPlainAreExact) {
@@ -238,20 +166,9 @@ TEST(Layout, PerCoefficientAndPlainAreExact) {
 }
 
 TEST(Layout, BadInputsGiveOneClearError) {
-  const fs::path d = ahd_test::temp_dir("layout_bad");
-  const WorldScene w = world_scene();
-  write_godot_packed(w, (d / "lm.exr").string());
-  write_image((d / "n.exr").string(), w.normals);
-  auto expect_error = [](auto fn, const std::string& needle) {
-    try {
-      fn();
-      ADD_FAILURE() << "accepted; expected: " << needle;
-    } catch (const Error& e) {
-      const std::string m = e.what();
-      EXPECT_NE(m.find(needle), std::string::npos) << m;
-      EXPECT_EQ(m.find('\n'), std::string::npos) << m;
-    }
-  };
+  const WorldBake b("layout_bad");
+  const fs::path& d = b.dir;
+  write_godot_packed(b.w, b.file(".exr"));
   const LayoutPreset godot = load_layout("godot4-packed"), bakery = load_layout("bakery-sh");
   expect_error([&] { read_layout(bakery, (d / "lm").string(), (d / "n.exr").string()); }, "lm_L0.hdr: file not found");
   expect_error([&] { read_layout(godot, (d / "lm").string(), ""); }, "--normals");
@@ -270,7 +187,7 @@ TEST(Layout, BadInputsGiveOneClearError) {
   png.files[0].pattern = "{base}.png";
   expect_error([&] { read_layout(png, (d / "ldr").string(), (d / "n.exr").string()); }, "8-bit data");
   LayoutPreset alpha = godot;
-  alpha.coefficients[0].channels[0] = "A";
+  alpha.coefficients[0].source[0].channel = "A";
   expect_error([&] { read_layout(alpha, (d / "lm").string(), (d / "n.exr").string()); }, "no channel A");
   // Bakery: L1 files of another size.
   write_image((d / "b_L0.hdr").string(), ImageF(N, N, 3));
@@ -278,5 +195,4 @@ TEST(Layout, BadInputsGiveOneClearError) {
   write_image((d / "b_L1z.tga").string(), ImageF(N, N / 2, 3));
   expect_error([&] { read_layout(bakery, (d / "b").string(), (d / "n.exr").string()); }, "differs from the set");
   expect_error([&] { load_layout("no-such-baker"); }, "unknown layout 'no-such-baker'");
-  fs::remove_all(d);
 }

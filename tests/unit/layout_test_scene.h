@@ -1,0 +1,137 @@
+// Shared by the baker-layout tests: the analytic scene in world space (what a baker would store),
+// its exact irradiance, the irradiance of a read-back ShImage, random directions, and the
+// one-clear-error check.
+#pragma once
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "cli_runner.h"
+#include "core/error.h"
+#include "core/image.h"
+#include "io/baker_layout.h"
+#include "io/image_io.h"
+#include "sample/analytic_baker.h"
+#include "sh/sh.h"
+#include "sh/sh_image.h"
+
+namespace layout_test {
+
+using namespace ahd;
+
+constexpr int N = 16;
+
+// The analytic scene (L1, tangent space) with, per texel, its chart's world frame (rows t, b, n).
+struct WorldScene {
+  ShImage tangent;
+  std::vector<std::array<double, 9>> frame;
+  ImageF normals;
+};
+
+inline WorldScene world_scene() {
+  BakerOptions bo;
+  bo.width = bo.height = N;
+  bo.coeffs = 4;
+  bo.area_samples = 3;
+  WorldScene w{bake_analytic_scene(bo), {}, ImageF(N, N, 3)};
+  for (int y = 0; y < N; ++y)
+    for (int x = 0; x < N; ++x) {
+      // The baker's charts: floor (left half, n = +y, t = +x, b = −z), wall (right half, n = +z).
+      const bool wall = x >= N / 2;
+      const std::array<double, 9> f = wall ? std::array<double, 9>{1, 0, 0, 0, 1, 0, 0, 0, 1}
+                                           : std::array<double, 9>{1, 0, 0, 0, 0, -1, 0, 1, 0};
+      w.frame.push_back(f);
+      for (int a = 0; a < 3; ++a) w.normals.at(x, y)[a] = float(f[6 + a]);
+    }
+  return w;
+}
+
+// World-space linear form (E/π = L0 + L1·n, L1 in x,y,z) of texel i, channel c.
+inline void world_linear(const WorldScene& w, size_t i, int c, double* l0, double l1[3]) {
+  const float* t = w.tangent.texel(i);
+  *l0 = kY00 * t[c];
+  const double local[3] = {t[3 * 3 + c], t[1 * 3 + c], t[2 * 3 + c]};  // (x, y, z) = coeffs 3, 1, 2
+  const auto& f = w.frame[i];
+  for (int a = 0; a < 3; ++a) l1[a] = (f[0 + a] * local[0] + f[3 + a] * local[1] + f[6 + a] * local[2]) * kY1 / 1.5;
+}
+
+// The same summed over the colours (the luminance Bakery's and our MonoSH-style tests use: dot(., 1)).
+inline void world_linear_luma(const WorldScene& w, size_t i, double* l0, double l1[3]) {
+  *l0 = 0, l1[0] = l1[1] = l1[2] = 0;
+  for (int c = 0; c < 3; ++c) {
+    double a, b[3];
+    world_linear(w, i, c, &a, b);
+    *l0 += a;
+    for (int k = 0; k < 3; ++k) l1[k] += b[k];
+  }
+}
+
+// E/π at world direction n of the source scene, texel i, channel c.
+inline double source_e_over_pi(const WorldScene& w, size_t i, int c, const double n[3]) {
+  double l0, l1[3];
+  world_linear(w, i, c, &l0, l1);
+  return l0 + l1[0] * n[0] + l1[1] * n[1] + l1[2] * n[2];
+}
+
+// E/π of the read-back SH for a world direction n (rotated into the texel's own frame).
+inline double readback_e_over_pi(const ShImage& sh, size_t i, int c, const double n[3]) {
+  IrradiancePoly p[3];
+  local_polys(sh, i, p);
+  double R[3][3];
+  const double nn[3] = {sh.normals[i * 3], sh.normals[i * 3 + 1], sh.normals[i * 3 + 2]};
+  frame_from_normal(nn, R);
+  double l[3];
+  for (int a = 0; a < 3; ++a) l[a] = R[a][0] * n[0] + R[a][1] * n[1] + R[a][2] * n[2];
+  return eval_irradiance(p[c], l) / kPi;
+}
+
+// Random directions in the texel's upper hemisphere.
+inline std::vector<std::array<double, 3>> directions(const WorldScene& w, size_t i, int count, std::mt19937& rng) {
+  std::normal_distribution<double> g;
+  std::vector<std::array<double, 3>> out;
+  const double* nz = &w.frame[i][6];
+  while (int(out.size()) < count) {
+    double d[3] = {g(rng), g(rng), g(rng)};
+    const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    for (double& v : d) v /= len;
+    if (d[0] * nz[0] + d[1] * nz[1] + d[2] * nz[2] < 0) continue;
+    out.push_back({d[0], d[1], d[2]});
+  }
+  return out;
+}
+
+// A fresh temp folder holding the world scene and its normal map, removed at the end; the test
+// writes a baker's files for base() and read()s them back through a preset.
+struct WorldBake {
+  std::filesystem::path dir;
+  WorldScene w = world_scene();
+  std::string normals;
+
+  explicit WorldBake(const std::string& tag) : dir(ahd_test::temp_dir(tag)), normals((dir / "n.exr").string()) {
+    write_image(normals, w.normals);
+  }
+  ~WorldBake() { std::filesystem::remove_all(dir); }
+  std::string base() const { return (dir / "lm").string(); }
+  std::string file(const std::string& suffix) const { return base() + suffix; }
+  ShImage read(const std::string& preset) const { return read_layout(load_layout(preset), base(), normals); }
+};
+
+// `fn` must throw one ahd::Error of a single line containing `needle`.
+template <class Fn>
+void expect_error(Fn fn, const std::string& needle) {
+  try {
+    fn();
+    ADD_FAILURE() << "accepted; expected: " << needle;
+  } catch (const Error& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find(needle), std::string::npos) << m;
+    EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+  }
+}
+
+}  // namespace layout_test
