@@ -16,25 +16,6 @@ namespace fs = std::filesystem;
 using namespace ahd;
 using namespace layout_test;
 
-namespace {
-
-void write_godot_packed(const WorldScene& w, const std::string& path) {
-  ImageF img(N, 4 * N, 3);
-  for (size_t i = 0; i < w.tangent.texels(); ++i) {
-    const int x = int(i % N), y = int(i / N);
-    for (int c = 0; c < 3; ++c) {
-      double l0, l1[3];
-      world_linear(w, i, c, &l0, l1);
-      img.at(x, y)[c] = float(l0);
-      const double yzx[3] = {l1[1], l1[2], l1[0]};  // layers 1..3: L1y, L1z, L1x
-      for (int k = 0; k < 3; ++k)
-        img.at(x, y + (k + 1) * N)[c] = l0 > 0 ? float(std::clamp(yzx[k] / (8 * l0) + 0.5, 0.0, 1.0)) : 0.5f;
-    }
-  }
-  write_image(path, img, /*half=*/true, {"R", "G", "B"});  // OpenEXR stores them sorted: B, G, R
-}
-
-}  // namespace
 
 TEST(Layout, GodotPackedMatchesSourceAndGodotsRuntime) {
   const WorldBake b("layout_godot");
@@ -94,18 +75,7 @@ TEST(Layout, BakerySh8BitAndRgbeWithinStoragePrecision) {
   const WorldBake b("layout_bakery");
   const fs::path& d = b.dir;
   const WorldScene& w = b.w;
-  ImageF l0(N, N, 3), l1[3] = {ImageF(N, N, 3), ImageF(N, N, 3), ImageF(N, N, 3)};
-  for (size_t i = 0; i < w.tangent.texels(); ++i)
-    for (int c = 0; c < 3; ++c) {
-      double a, b[3];
-      world_linear(w, i, c, &a, b);
-      l0.data[i * 3 + c] = float(a);
-      for (int k = 0; k < 3; ++k) l1[k].data[i * 3 + c] = a > 0 ? float(std::clamp(b[k] / (4 * a) + 0.5, 0.0, 1.0)) : 0.5f;
-    }
-  write_image((d / "lm_L0.hdr").string(), l0);
-  write_image((d / "lm_L1x.tga").string(), l1[0]);
-  write_image((d / "lm_L1y.tga").string(), l1[1]);
-  write_image((d / "lm_L1z.tga").string(), l1[2]);
+  write_bakery_sh(w, b.base());
   const ShImage sh = b.read("bakery-sh");
   std::mt19937 rng(2);
   double worst = 0;

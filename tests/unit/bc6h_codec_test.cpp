@@ -68,7 +68,9 @@ void expect_sane(const ImageF& in, bool is_signed, Bc6hQuality q, const char* wh
         const float v = out.at(x, y)[c];
         ASSERT_TRUE(std::isfinite(v)) << what << " at " << x << "," << y;
         ASSERT_LE(std::fabs(v), hmax + half_step(hmax)) << what << " at " << x << "," << y << " (no specks)";
-        if (!is_signed) ASSERT_GE(v, 0.0f) << what;
+        if (!is_signed) {
+          ASSERT_GE(v, 0.0f) << what;
+        }
       }
     }
   (void)bw;
@@ -147,7 +149,9 @@ TEST(Bc6h, GradientsAndOddSizes) {
     std::printf("gradient %dx%d: log-RMSE %.4f\n", w, h, e);
     // 20 stops across 3 texels is beyond what one block's endpoints can hold precisely; the
     // longer ramps span at most 5 stops per block.
-    if (std::max(w, h) >= 16) EXPECT_LT(e, 0.05) << w << "x" << h;
+    if (std::max(w, h) >= 16) {
+      EXPECT_LT(e, 0.05) << w << "x" << h;
+    }
   }
 }
 

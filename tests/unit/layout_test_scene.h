@@ -4,6 +4,7 @@
 #pragma once
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <filesystem>
@@ -103,6 +104,40 @@ inline std::vector<std::array<double, 3>> directions(const WorldScene& w, size_t
     out.push_back({d[0], d[1], d[2]});
   }
   return out;
+}
+
+// Godot ≥ 4.4 packed: one half EXR, 4 layers stacked vertically (L0, then t = L1/(8·L0) + 0.5
+// for L1y, L1z, L1x), channels B, G, R.
+inline void write_godot_packed(const WorldScene& w, const std::string& path) {
+  ImageF img(N, 4 * N, 3);
+  for (size_t i = 0; i < w.tangent.texels(); ++i) {
+    const int x = int(i % N), y = int(i / N);
+    for (int c = 0; c < 3; ++c) {
+      double l0, l1[3];
+      world_linear(w, i, c, &l0, l1);
+      img.at(x, y)[c] = float(l0);
+      const double yzx[3] = {l1[1], l1[2], l1[0]};  // layers 1..3: L1y, L1z, L1x
+      for (int k = 0; k < 3; ++k)
+        img.at(x, y + (k + 1) * N)[c] = l0 > 0 ? float(std::clamp(yzx[k] / (8 * l0) + 0.5, 0.0, 1.0)) : 0.5f;
+    }
+  }
+  write_image(path, img, /*half=*/true, {"R", "G", "B"});  // OpenEXR stores them sorted: B, G, R
+}
+
+// Bakery SH: base_L0.hdr (RGBE) + base_L1x/_L1y/_L1z.tga, t = L1/(4·L0) + 0.5 in 8 bits.
+inline void write_bakery_sh(const WorldScene& w, const std::string& base) {
+  ImageF l0(N, N, 3), l1[3] = {ImageF(N, N, 3), ImageF(N, N, 3), ImageF(N, N, 3)};
+  for (size_t i = 0; i < w.tangent.texels(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      double a, b[3];
+      world_linear(w, i, c, &a, b);
+      l0.data[i * 3 + c] = float(a);
+      for (int k = 0; k < 3; ++k) l1[k].data[i * 3 + c] = a > 0 ? float(std::clamp(b[k] / (4 * a) + 0.5, 0.0, 1.0)) : 0.5f;
+    }
+  write_image(base + "_L0.hdr", l0);
+  write_image(base + "_L1x.tga", l1[0]);
+  write_image(base + "_L1y.tga", l1[1]);
+  write_image(base + "_L1z.tga", l1[2]);
 }
 
 // A fresh temp folder holding the world scene and its normal map, removed at the end; the test
