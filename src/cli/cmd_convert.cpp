@@ -58,6 +58,7 @@ ShImage read_layout_input(const ConvertArgs& a, ReadStats* rs, std::string* sour
     MeshReadInfo mi;
     const MeshTriangles mesh = read_mesh_lightmap(a.mesh, a.uv_set, &mi);
     RasterisedNormals rn = rasterise_lightmap_normals(mesh, w, h);
+    mesh_normals_to_layout_axes(layout, &rn.normals);  // glTF's axes → the baker's world
     size_t covered = 0;
     for (uint8_t c : rn.coverage) covered += c;
     if (covered == 0)

@@ -90,12 +90,30 @@ LayoutForm parse_form(const std::string& path, const std::string& form) {
   throw file_error(path, "unknown form '" + form + "' (radiance, linear_over_pi)");
 }
 
+// "mesh_axes": ["-x", "y", "z"]: each baker axis as a signed glTF axis, each axis used once.
+void parse_mesh_axes(const std::string& path, const json& j, LayoutPreset& p) {
+  if (!j.contains("mesh_axes")) return;
+  const auto axes = j.at("mesh_axes").get<std::vector<std::string>>();
+  const std::string bad = "mesh_axes must name x, y and z once each, optionally negated (e.g. [\"-x\", \"y\", \"z\"])";
+  if (axes.size() != 3) throw file_error(path, bad);
+  bool used[3] = {false, false, false};
+  for (int i = 0; i < 3; ++i) {
+    std::string a = axes[size_t(i)];
+    p.mesh_sign[i] = 1;
+    if (!a.empty() && (a[0] == '-' || a[0] == '+')) p.mesh_sign[i] = a[0] == '-' ? -1 : 1, a = a.substr(1);
+    if (a.size() != 1 || a[0] < 'x' || a[0] > 'z' || used[a[0] - 'x']) throw file_error(path, bad);
+    p.mesh_axis[i] = a[0] - 'x';
+    used[p.mesh_axis[i]] = true;
+  }
+}
+
 void parse_preset(const std::string& path, const json& j, LayoutPreset& p) {
   p.coeffs = j.at("coeffs").get<int>();
   if (p.coeffs != 4 && p.coeffs != 9) throw file_error(path, "coeffs must be 4 or 9");
   const std::string space = j.value("space", "tangent");
   if (space != "tangent" && space != "world") throw file_error(path, "space must be tangent or world");
   p.world_space = space == "world";
+  parse_mesh_axes(path, j, p);
   p.form = parse_form(path, j.value("form", "radiance"));
   if (p.form == LayoutForm::LinearOverPi && p.coeffs != 4) throw file_error(path, "linear_over_pi holds L0 and L1 only");
   for (const auto& jf : j.at("files")) p.files.push_back(parse_file(path, jf));
@@ -313,6 +331,13 @@ void layout_size(const LayoutPreset& layout, const std::string& base, int* width
   const ImageFileInfo info = read_image_info(path);
   *width = info.width;
   *height = info.height / (layout.canonical ? 1 : std::max(1, layout.files[0].slices));
+}
+
+void mesh_normals_to_layout_axes(const LayoutPreset& layout, std::vector<float>* normals) {
+  for (size_t i = 0; i + 2 < normals->size(); i += 3) {
+    const float g[3] = {(*normals)[i], (*normals)[i + 1], (*normals)[i + 2]};
+    for (int a = 0; a < 3; ++a) (*normals)[i + size_t(a)] = float(layout.mesh_sign[a]) * g[layout.mesh_axis[a]];
+  }
 }
 
 }  // namespace ahd

@@ -51,6 +51,11 @@ struct LayoutPreset {
   bool canonical = false;  // the tool's own EXR (read_canonical_sh)
   int coeffs = 4;
   bool world_space = false;
+  // How the baker's world axes relate to glTF's (right-handed, +y up), for normals rasterised from a
+  // mesh (--mesh): baker component i = mesh_sign[i] · glTF component mesh_axis[i]. Identity for
+  // Godot; Unity-world bakers (Bakery, Unity) are left-handed: x negated, as Unity's glTF exporters do.
+  int mesh_axis[3] = {0, 1, 2};
+  int mesh_sign[3] = {1, 1, 1};
   LayoutForm form = LayoutForm::Radiance;
   std::vector<LayoutFile> files;
   std::vector<LayoutCoefficient> coefficients;  // canonical order 0..n−1 (missing ones are 0)
@@ -82,6 +87,10 @@ struct LayoutNormals {
 };
 ShImage read_layout(const LayoutPreset& layout, const std::string& base, const LayoutNormals* normals,
                     ReadStats* stats = nullptr);
+
+// Brings normals given in glTF's axes (a mesh) into the baker's world axes (the layout's
+// mesh_axes), in place: 3 floats per texel.
+void mesh_normals_to_layout_axes(const LayoutPreset& layout, std::vector<float>* normals);
 
 // The lightmap's width and height (one layer), from the header of the set's first file — what
 // in-memory normals must match before the set is read. Throws ahd::Error as read_layout does for

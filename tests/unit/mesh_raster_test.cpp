@@ -19,6 +19,7 @@
 #include "io/baker_layout.h"
 #include "io/image_io.h"
 #include "io/mesh_io.h"
+#include "layout_test_scene.h"
 #include "mesh/lightmap_raster.h"
 #include "sample/analytic_baker.h"
 #include "sh/sh.h"
@@ -540,37 +541,15 @@ TEST(MeshRaster, BadMeshesGiveOneClearError) {
 
 namespace {
 
-// The layout test's scene (baker_layout_test.cpp): floor chart on the left half (n = +y), wall on
-// the right (n = +z), 16×16 with a 1-texel gutter around each chart, stored Godot-packed.
-constexpr int kN = 16;
+// The layout tests' scene: floor chart on the left half (n = +y), wall on the right (n = +z),
+// 16×16 with a 1-texel gutter around each chart.
+constexpr int kN = layout_test::N;
 
+// The layout tests' scene (layout_test_scene.h), stored Godot-packed, and its normal map.
 void write_godot_packed_scene(const std::string& lm, const std::string& normals_exr) {
-  BakerOptions bo;
-  bo.width = bo.height = kN;
-  bo.coeffs = 4;
-  bo.area_samples = 3;
-  const ShImage t = bake_analytic_scene(bo);
-  ImageF img(kN, 4 * kN, 3), n(kN, kN, 3);
-  for (size_t i = 0; i < t.texels(); ++i) {
-    const int x = int(i % kN), y = int(i / kN);
-    const bool wall = x >= kN / 2;
-    // Tangent frame rows t, b, n of the chart; L1 to world axes, as the layout test does.
-    const double f[9] = {1, 0, 0, 0, wall ? 1.0 : 0.0, wall ? 0.0 : -1.0, 0, wall ? 0.0 : 1.0, wall ? 1.0 : 0.0};
-    for (int a = 0; a < 3; ++a) n.at(x, y)[a] = float(f[6 + a]);
-    for (int c = 0; c < 3; ++c) {
-      const float* s = t.texel(i);
-      const double l0 = kY00 * s[c];
-      const double local[3] = {s[3 * 3 + c], s[1 * 3 + c], s[2 * 3 + c]};
-      double l1[3];
-      for (int a = 0; a < 3; ++a) l1[a] = (f[0 + a] * local[0] + f[3 + a] * local[1] + f[6 + a] * local[2]) * kY1 / 1.5;
-      img.at(x, y)[c] = float(l0);
-      const double yzx[3] = {l1[1], l1[2], l1[0]};
-      for (int k = 0; k < 3; ++k)
-        img.at(x, y + (k + 1) * kN)[c] = l0 > 0 ? float(std::clamp(yzx[k] / (8 * l0) + 0.5, 0.0, 1.0)) : 0.5f;
-    }
-  }
-  write_image(lm, img, /*half=*/true, {"R", "G", "B"});
-  write_image(normals_exr, n);
+  const layout_test::WorldScene w = layout_test::world_scene();
+  layout_test::write_godot_packed(w, lm);
+  write_image(normals_exr, w.normals);
 }
 
 // Two quads whose lightmap charts are the scene's (x ∈ [1, 7] and [9, 15], y ∈ [1, 15] texels)
@@ -654,5 +633,66 @@ TEST(MeshRaster, ConvertWithMeshEqualsConvertWithTheNormalMap) {
     for (size_t i = 0; i < r.coverage.size(); ++i)
       EXPECT_EQ(cov.levels[0].data[i], mesh ? r.coverage[i] * 255 : 255) << i;
   }
+  fs::remove_all(d);
+}
+
+// Unity-world bakers (Bakery) are left-handed; a mesh exported to glTF/OBJ has x negated. The
+// preset's mesh_axes brings the mesh's normals into the baker's world: the same planes as the
+// baker's own normal map, and different ones without the key.
+TEST(MeshRaster, MeshAxesBringGltfNormalsIntoTheBakersWorld) {
+  const fs::path d = ahd_test::temp_dir("mesh_axes");
+  const layout_test::WorldScene w = layout_test::world_scene();
+  layout_test::write_bakery_sh(w, (d / "lm").string());
+  // Tilted charts (normals with an x component), in glTF axes on the mesh…
+  TestMesh m = floor_and_wall();
+  for (size_t v = 0; v < m.verts(); ++v) {
+    const bool wall = m.nrm[v * 3 + 2] > 0.5f;
+    const float n[3] = {wall ? -0.6f : 0.6f, wall ? 0.0f : 0.8f, wall ? 0.8f : 0.0f};
+    std::copy(n, n + 3, &m.nrm[v * 3]);
+  }
+  write_obj((d / "m.obj").string(), m);
+  // …and in Unity's axes (x negated) in the baker's normal map.
+  ImageF nmap(kN, kN, 3);
+  for (int y = 0; y < kN; ++y)
+    for (int x = 0; x < kN; ++x) {
+      const bool wall = x >= kN / 2;
+      const float n[3] = {wall ? 0.6f : -0.6f, wall ? 0.0f : 0.8f, wall ? 0.8f : 0.0f};
+      std::copy(n, n + 3, nmap.at(x, y));
+    }
+  write_image((d / "n.exr").string(), nmap);
+  // The same preset without mesh_axes.
+  std::ifstream in(std::string(AHD_SOURCE_DIR) + "/formats/bakers/bakery-sh.json");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const size_t at = text.find("  \"mesh_axes\"");
+  ASSERT_NE(at, std::string::npos);
+  text.erase(at, text.find('\n', at) - at + 1);
+  std::ofstream((d / "no-axes.json").string()) << text;
+
+  auto convert = [&](const std::string& tag, const std::string& layout, std::vector<std::string> extra) {
+    std::vector<std::string> args = {"convert", (d / "lm").string(), "--layout", layout, "--direction", "keep",
+                                     "-o", (d / tag / "a.ktx2").string(), "-q"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const auto res = ahd_test::run_cli(args);
+    EXPECT_EQ(res.exit_code, 0) << res.output;
+  };
+  // The normal map covers every texel; the mesh only its charts: give the map the same coverage.
+  convert("map", "bakery-sh", {"--normals", (d / "n.exr").string()});
+  convert("mesh", "bakery-sh", {"--mesh", (d / "m.obj").string()});
+  convert("mesh-no-axes", (d / "no-axes.json").string(), {"--mesh", (d / "m.obj").string()});
+  const auto ref = bytes(d / "map" / "a.dir.ktx2"), with = bytes(d / "mesh" / "a.dir.ktx2"),
+             without = bytes(d / "mesh-no-axes" / "a.dir.ktx2");
+  ASSERT_GT(ref.size(), 100u);
+  EXPECT_TRUE(with == ref) << "mesh normals not brought into the baker's axes";
+  EXPECT_FALSE(without == ref) << "mesh_axes has no effect";
+
+  // The key itself: signed axes, each once.
+  LayoutPreset bakery = load_layout("bakery-sh");
+  std::vector<float> n = {0.6f, 0.0f, 0.8f};
+  mesh_normals_to_layout_axes(bakery, &n);
+  EXPECT_EQ(n, (std::vector<float>{-0.6f, 0.0f, 0.8f}));
+  std::ofstream((d / "bad.json").string())
+      << R"({"name":"bad","coeffs":4,"space":"world","mesh_axes":["x","x","z"],"files":[{"pattern":"{base}.exr"}],)"
+      << R"("coefficients":[{"file":0}]})";
+  layout_test::expect_error([&] { load_layout((d / "bad.json").string()); }, "mesh_axes must name x, y and z once each");
   fs::remove_all(d);
 }
