@@ -71,6 +71,45 @@ TEST(Layout, GodotPackedMatchesSourceAndGodotsRuntime) {
   EXPECT_LT(worst_decode, 2e-3);
 }
 
+TEST(Layout, GodotUnpackedMatchesSourceAndGodotsRuntime) {
+  // Godot 4.0–4.3: one half EXR, layers L0, L1y, L1z, L1x stacked, signed raw radiance-SH
+  // coefficients in world space; runtime E/π = 0.282095·L0 + 0.32573·(L1·n) (bakers.md).
+  const WorldBake b("layout_godot_unpacked");
+  const WorldScene& w = b.w;
+  ImageF img(N, 4 * N, 3);
+  for (size_t i = 0; i < w.tangent.texels(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      double l0, l1[3];
+      world_linear(w, i, c, &l0, l1);
+      const int x = int(i % N), y = int(i / N);
+      img.at(x, y)[c] = float(l0 / kY00);
+      const double yzx[3] = {l1[1], l1[2], l1[0]};
+      for (int k = 0; k < 3; ++k) img.at(x, y + (k + 1) * N)[c] = float(yzx[k] * 1.5 / kY1);
+    }
+  write_image(b.file(".exr"), img, /*half=*/true, {"R", "G", "B"});
+  const ShImage sh = b.read("godot4-unpacked");
+  const ImageF s = read_image(b.file(".exr"));
+  std::mt19937 rng(3);
+  double worst = 0, worst_rt = 0;
+  for (size_t i = 0; i < sh.texels(); ++i) {
+    if (!w.tangent.coverage[i]) continue;
+    const int x = int(i % N), y = int(i / N);
+    for (const auto& n : directions(w, i, 8, rng))
+      for (int c = 0; c < 3; ++c) {
+        double l0, l1[3];
+        world_linear(w, i, c, &l0, l1);
+        const double got = readback_e_over_pi(sh, i, c, n.data());
+        worst = std::max(worst, std::fabs(got - source_e_over_pi(w, i, c, n.data())) / (l0 + 1e-6));
+        const double runtime = s.at(x, y)[c] * 0.282095 +
+                               (s.at(x, y + N)[c] * n[1] + s.at(x, y + 2 * N)[c] * n[2] + s.at(x, y + 3 * N)[c] * n[0]) * 0.32573;
+        worst_rt = std::max(worst_rt, std::fabs(got - runtime) / (l0 + 1e-6));
+      }
+  }
+  std::printf("godot4-unpacked: read-back vs source %.2e, vs Godot's runtime formula %.2e (relative to L0)\n", worst, worst_rt);
+  EXPECT_LT(worst, 4 * 0.0005);  // half storage: 2^-11 relative on L0 and on each L1 term
+  EXPECT_LT(worst_rt, 1e-4);      // Godot rounds (2/3)·Y1 = 0.325735 to 0.32573
+}
+
 TEST(Layout, BakerySh8BitAndRgbeWithinStoragePrecision) {
   const WorldBake b("layout_bakery");
   const fs::path& d = b.dir;
