@@ -36,4 +36,10 @@ std::vector<double> hemisphere_directions(int count);
 ErrorReport measure_error(const ShImage& sh, const std::vector<AhdLobe>& lobes, int threads,
                           int directions = 64);
 
+// True when measure_error(sh, lobes, …, directions).relative.p99 would exceed `threshold` — the
+// same per-texel figure and percentile — found texel by texel with an early exit, so a clearly
+// directional lightmap is decided after a few hundred texels. Single-threaded, deterministic.
+bool relative_p99_exceeds(const ShImage& sh, const std::vector<AhdLobe>& lobes, double threshold,
+                          int directions = 64);
+
 }  // namespace ahd

@@ -224,20 +224,22 @@ void decide_direction(const FittedLevel& level0, const ConvertOptions& opt, Conv
       r->directional = false;
       r->direction_reason = "dropped (--direction drop)";
       return;
-    case DirectionPlanes::Auto:
-      r->ambient_error = ambient_only_error(level0, opt.threads);
-      r->directional = r->ambient_error.relative.p99 > opt.ambient_threshold;
-      std::snprintf(why, sizeof why, "%s: I_z alone differs from the SH by %.3g (relative RMSE p99) %s threshold %.3g",
-                    r->directional ? "kept" : "dropped", r->ambient_error.relative.p99, r->directional ? ">" : "<=",
+    case DirectionPlanes::Auto: {
+      const std::vector<AhdLobe> lobes = ambient_only_lobes(level0);
+      r->directional = relative_p99_exceeds(level0.sh, lobes, opt.ambient_threshold);
+      if (opt.measure) r->ambient_error = measure_error(level0.sh, lobes, opt.threads);
+      std::snprintf(why, sizeof why, "%s: I_z alone differs from the SH by %s threshold %.3g (relative RMSE p99)",
+                    r->directional ? "kept" : "dropped", r->directional ? "more than the" : "no more than the",
                     opt.ambient_threshold);
       r->direction_reason = why;
       return;
+    }
   }
 }
 
 }  // namespace
 
-ErrorReport ambient_only_error(const FittedLevel& level, int threads) {
+std::vector<AhdLobe> ambient_only_lobes(const FittedLevel& level) {
   std::vector<AhdLobe> lobes(level.ahd.texels.size());
   for (size_t i = 0; i < lobes.size(); ++i)
     for (int c = 0; c < 3; ++c) {
@@ -245,7 +247,11 @@ ErrorReport ambient_only_error(const FittedLevel& level, int threads) {
       lobes[i].cd[c] = 0;
       lobes[i].d[c] = c == 2 ? 1 : 0;
     }
-  return measure_error(level.sh, lobes, threads);
+  return lobes;
+}
+
+ErrorReport ambient_only_error(const FittedLevel& level, int threads) {
+  return measure_error(level.sh, ambient_only_lobes(level), threads);
 }
 
 std::vector<FittedLevel> fit_levels(const ShImage& sh, const ConvertOptions& opt, ConvertResult* r) {

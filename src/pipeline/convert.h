@@ -59,7 +59,7 @@ struct ConvertResult {
   PlaneCodecStats codec_stats;
   std::vector<StageCost> timings;
   bool directional = true;    // the direction and ratio planes were written
-  ErrorReport ambient_error;  // I_z alone (d = z, ratio = 1) vs the SH, level 0 (measured in Auto)
+  ErrorReport ambient_error;  // I_z alone (d = z, ratio = 1) vs the SH, level 0 (Auto, when measuring)
   std::string direction_reason;  // why the planes were kept or dropped (for the report)
 };
 
@@ -75,7 +75,8 @@ std::vector<FittedLevel> fit_levels(const ShImage& sh, const ConvertOptions& opt
 void quantise_levels(const std::vector<FittedLevel>& levels, const Profile& profile, const ConvertOptions& opt,
                      ConvertResult* r);
 
-// The error of decoding I_z alone (d = z, ratio = 1) against the level's SH.
+// What decoding I_z alone (d = z, ratio = 1) gives, per texel, and its error against the level's SH.
+std::vector<AhdLobe> ambient_only_lobes(const FittedLevel& level);
 ErrorReport ambient_only_error(const FittedLevel& level, int threads);
 
 // The decoded value of every texel of level-0 planes (as the reference decoder reads them):

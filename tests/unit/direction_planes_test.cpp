@@ -136,3 +136,25 @@ TEST(DirectionPlanes, ManifestChecksItsPlanes) {
   m.planes.clear();  // and no manifest without its iz plane
   EXPECT_THROW(manifest_from_json(manifest_to_json(m), "m.json"), Error);
 }
+
+TEST(DirectionPlanes, EarlyExitDecisionEqualsTheMeasuredP99) {
+  // relative_p99_exceeds must answer exactly what measure_error's p99 says, for thresholds on
+  // both sides of it and at it, on a strong and a weak directional scene.
+  BakerOptions bo;
+  bo.width = bo.height = 24;
+  ShImage scene = bake_analytic_scene(bo);
+  for (float scale : {1.0f, 0.003f}) {
+    ShImage sh = scene;
+    for (size_t i = 0; i < sh.texels(); ++i)
+      for (int k = 3; k < sh.coeffs * 3; ++k) sh.texel(i)[k] *= scale;
+    ConvertOptions opt;
+    opt.measure = false;
+    ConvertResult r;
+    const std::vector<FittedLevel> levels = fit_levels(sh, opt, &r);
+    const std::vector<AhdLobe> lobes = ambient_only_lobes(levels[0]);
+    const double p99 = measure_error(levels[0].sh, lobes, 1).relative.p99;
+    ASSERT_GT(p99, 0.0);
+    for (double t : {p99 * 0.5, p99 * 0.999, p99, p99 * 1.001, p99 * 2})
+      EXPECT_EQ(relative_p99_exceeds(levels[0].sh, lobes, t), p99 > t) << "scale " << scale << " threshold " << t;
+  }
+}
