@@ -4,8 +4,6 @@
 // baker's own runtime formula on the stored files against our read-back; bad inputs give one error.
 #include <gtest/gtest.h>
 
-#include <OpenImageIO/imageio.h>
-
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -42,104 +40,6 @@ double source_luma(const WorldScene& w, size_t i, const double n[3]) {
   double l0, l1[3];
   world_linear_luma(w, i, &l0, l1);
   return l0 + dot3(l1, n);
-}
-
-// The canonical layer / part names of the exr-layers-* and exr-parts-* presets.
-const char* const kLayerNames[9] = {"L0", "L1m1", "L10", "L1p1", "L2m2", "L2m1", "L20", "L2p1", "L2p2"};
-
-// Coefficient k of `src` as an RGB image.
-ImageF coefficient_image(const ShImage& src, int k) {
-  ImageF img(src.width, src.height, 3);
-  for (size_t i = 0; i < src.texels(); ++i)
-    for (int c = 0; c < 3; ++c) img.data[i * 3 + size_t(c)] = src.texel(i)[k * 3 + c];
-  return img;
-}
-
-// One float EXR, one layer per coefficient: channels L0.R, L0.G, L0.B, L1m1.R, …
-void write_exr_layers(const std::string& path, const ShImage& src) {
-  ImageF img(src.width, src.height, 3 * src.coeffs);
-  std::vector<std::string> names;
-  for (int k = 0; k < src.coeffs; ++k)
-    for (const char* c : {"R", "G", "B"}) names.push_back(std::string(kLayerNames[k]) + "." + c);
-  img.data = src.data;  // the ShImage layout is already (texel, coefficient, colour)
-  write_image(path, img, /*half=*/false, names);
-}
-
-// One float multi-part EXR, one part per coefficient (named as the layers), channels R, G, B.
-// ImageOutput::open(name, nsubimages, specs) declares every part up front, as OpenEXR requires.
-void write_exr_parts(const std::string& path, const ShImage& src) {
-  std::vector<OIIO::ImageSpec> specs;
-  for (int k = 0; k < src.coeffs; ++k) {
-    specs.emplace_back(src.width, src.height, 3, OIIO::TypeDesc::FLOAT);
-    specs.back().attribute("oiio:subimagename", kLayerNames[k]);
-  }
-  auto out = OIIO::ImageOutput::create(path);
-  ASSERT_TRUE(out && out->open(path, int(specs.size()), specs.data())) << OIIO::geterror();
-  for (int k = 0; k < src.coeffs; ++k) {
-    if (k > 0) {
-      ASSERT_TRUE(out->open(path, specs[size_t(k)], OIIO::ImageOutput::AppendSubimage)) << out->geterror();
-    }
-    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, coefficient_image(src, k).data.data())) << out->geterror();
-  }
-  out->close();
-}
-
-// Seed 001: {base}_r/_g/_b.exr, half RGBA, the colour's radiance-SH L0, y, z, x in R, G, B, A.
-void write_three_rgba(const WorldScene& w, const std::string& base) {
-  const char* suffix[3] = {"_r.exr", "_g.exr", "_b.exr"};
-  for (int c = 0; c < 3; ++c) {
-    ImageF img(N, N, 4);
-    for (size_t i = 0; i < w.tangent.texels(); ++i) {
-      double l0, l1[3];
-      world_linear(w, i, c, &l0, l1);
-      const double sh[4] = {l0 / kY00, 1.5 * l1[1] / kY1, 1.5 * l1[2] / kY1, 1.5 * l1[0] / kY1};
-      for (int k = 0; k < 4; ++k) img.data[i * 4 + size_t(k)] = float(sh[k]);
-    }
-    write_image(base + suffix[c], img, /*half=*/true);
-  }
-}
-
-// Bakery MonoSH: L0 per colour (RGBE) and one L1 ratio per axis for all colours (8-bit TGA), the
-// luminance ratio t = L1/(4·L0) + 0.5 with Bakery's runtime luminance dot(·, 1).
-void write_bakery_monosh(const WorldScene& w, const std::string& base) {
-  ImageF l0(N, N, 3), l1(N, N, 3);
-  for (size_t i = 0; i < w.tangent.texels(); ++i) {
-    double lum0, lum1[3];
-    world_linear_luma(w, i, &lum0, lum1);
-    for (int c = 0; c < 3; ++c) {
-      double a, b[3];
-      world_linear(w, i, c, &a, b);
-      l0.data[i * 3 + size_t(c)] = float(a);
-    }
-    for (int axis = 0; axis < 3; ++axis)  // rgb = x, y, z
-      l1.data[i * 3 + size_t(axis)] = lum0 > 0 ? float(std::clamp(lum1[axis] / (4 * lum0) + 0.5, 0.0, 1.0)) : 0.5f;
-  }
-  write_image(base + "_L0.hdr", l0);
-  write_image(base + "_L1.tga", l1);
-}
-
-// Unity directional, encoded as Unity's comment describes it ("close to plain diffuse response
-// lightmaps, but normalmapped"; the encoder itself is closed): dir = the luminance's L1/(2·L0) + 0.5,
-// scaled into the 8-bit cube when longer (a hemisphere of light already has |L1| = L0); colour/w
-// such that the value along the geometric normal is the source's E/π; w varies on the 8-bit grid.
-void write_unity_directional(const WorldScene& w, const std::string& base) {
-  ImageF light(N, N, 3), dir(N, N, 4);
-  for (size_t i = 0; i < w.tangent.texels(); ++i) {
-    double lum0, lum1[3], half_dir[3];
-    world_linear_luma(w, i, &lum0, lum1);
-    const double longest = std::max({std::fabs(lum1[0]), std::fabs(lum1[1]), std::fabs(lum1[2])});
-    for (int a = 0; a < 3; ++a) {
-      dir.data[i * 4 + size_t(a)] = float(std::round((0.5 + 0.5 * lum1[a] / std::max(longest, lum0)) * 255) / 255);
-      half_dir[a] = dir.data[i * 4 + size_t(a)] - 0.5;
-    }
-    const float wq = float(77 + (i * 37) % 178) / 255.0f;
-    dir.data[i * 4 + 3] = wq;
-    const double half_lambert = dot3(&w.frame[i][6], half_dir) + 0.5;
-    for (int c = 0; c < 3; ++c)
-      light.data[i * 3 + size_t(c)] = float(source_e_over_pi(w, i, c, &w.frame[i][6]) / half_lambert * wq);
-  }
-  write_image(base + "_comp_light.exr", light, /*half=*/true);
-  write_image(base + "_comp_dir.png", dir);
 }
 
 // The L1 vector of a linear function f of the direction: (f(+e_a) − f(−e_a))/2 per axis.
