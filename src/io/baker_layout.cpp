@@ -81,6 +81,13 @@ LayoutCoefficient parse_coefficient(const PresetParse& pp, const json& jc) {
     c.divisor = parse_source(pp, jc.at("divide_by"));
     c.divisor_min = jc.at("divide_by").value("min", 0.0);
   }
+  if (jc.contains("multiply_by")) {  // RGBM: value · range · m^power, m a stored number (alpha)
+    const json& jm = jc.at("multiply_by");
+    c.multiplied = true;
+    c.multiplier = parse_source(pp, jm);
+    c.multiplier_scale = jm.value("scale", 1.0);
+    c.multiplier_power = jm.value("power", 1.0);
+  }
   return c;
 }
 
@@ -221,6 +228,7 @@ std::vector<SetImage> open_set(const LayoutPreset& layout, const std::string& ba
   for (const LayoutCoefficient& c : layout.coefficients) {
     for (const LayoutSource& src : c.source) check_channel(set, src, layout.name);
     if (c.divided) check_channel(set, c.divisor, layout.name);
+    if (c.multiplied) check_channel(set, c.multiplier, layout.name);
   }
   return set;
 }
@@ -236,6 +244,7 @@ double decode(const std::vector<SetImage>& set, const LayoutCoefficient& c, int 
   if (c.ratio) v = (v - 0.5) * c.k * l0;
   v *= c.scale;
   if (c.divided) v /= std::max(c.divisor_min, stored(set, c.divisor, x, y));
+  if (c.multiplied) v *= c.multiplier_scale * std::pow(std::max(0.0, stored(set, c.multiplier, x, y)), c.multiplier_power);
   return v;
 }
 

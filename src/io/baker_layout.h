@@ -29,6 +29,7 @@ struct LayoutSource {
 
 // One canonical coefficient, decoded per colour c from source[c] as
 //   v = t (raw) or (t − 0.5)·k·L0 (ratio; L0 = coefficient 0 decoded), then v·scale / max(min, divisor)
+//   · multiplier_scale · m^multiplier_power (RGBM: m = the stored alpha)
 // so that colours may share a stored number (Bakery MonoSH, Unity directional) or come from
 // different files (one file per colour).
 struct LayoutCoefficient {
@@ -39,6 +40,9 @@ struct LayoutCoefficient {
   bool divided = false;  // divide by a stored number (Unity's rebalancing alpha)
   LayoutSource divisor;
   double divisor_min = 0;
+  bool multiplied = false;  // multiply by scale · stored^power (RGBM's range · alpha)
+  LayoutSource multiplier;
+  double multiplier_scale = 1, multiplier_power = 1;
 };
 
 enum class LayoutForm {

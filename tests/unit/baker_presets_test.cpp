@@ -243,3 +243,36 @@ TEST(Presets, EveryPresetLoadsUnderItsOwnName) {
     EXPECT_NE(std::find(names.begin(), names.end(), want), names.end()) << want;
   for (const std::string& name : names) EXPECT_EQ(load_layout(name).name, name);
 }
+
+TEST(Presets, PlainRgbmWithinEightBitPrecision) {
+  // RGBM (8-bit RGBA, E/π = rgb·a·8): m rounded up so that rgb ≤ 1, rgb to the nearest 8-bit step.
+  const fs::path d = ahd_test::temp_dir("preset_rgbm");
+  ImageF src(8, 8, 3), rgbm(8, 8, 4);
+  for (size_t i = 0; i < src.texels(); ++i) {
+    float peak = 0;
+    for (int c = 0; c < 3; ++c) {
+      src.data[i * 3 + size_t(c)] = 0.02f + 0.37f * float((i * 7 + size_t(c) * 3) % 19);  // 0.02 … 6.68
+      peak = std::max(peak, src.data[i * 3 + size_t(c)]);
+    }
+    const float m = std::ceil(peak / 8 * 255) / 255;
+    rgbm.data[i * 4 + 3] = m;
+    for (int c = 0; c < 3; ++c) rgbm.data[i * 4 + size_t(c)] = std::round(src.data[i * 3 + size_t(c)] / (8 * m) * 255) / 255;
+  }
+  write_image((d / "lm.png").string(), rgbm);
+  const ShImage sh = read_layout(load_layout("plain-rgbm"), (d / "lm").string(), "");
+  double worst = 0;
+  const double z[3] = {0, 0, 1};
+  for (size_t i = 0; i < sh.texels(); ++i) {
+    IrradiancePoly p[3];
+    local_polys(sh, i, p);
+    const double m = rgbm.data[i * 4 + 3];
+    for (int c = 0; c < 3; ++c)  // in units of the texel's RGBM step 8·m/255
+      worst = std::max(worst, std::fabs(eval_irradiance(p[c], z) / kPi - src.data[i * 3 + size_t(c)]) / (8 * m / 255));
+  }
+  std::printf("plain-rgbm: read-back within %.3f of an 8-bit RGBM step\n", worst);
+  EXPECT_LE(worst, 0.5 + 1e-3);  // rounding to the nearest step
+  // The alpha the preset multiplies by must exist: an RGB file is refused by name.
+  write_image((d / "rgb.png").string(), src);
+  expect_error([&] { read_layout(load_layout("plain-rgbm"), (d / "rgb").string(), ""); }, "no channel A");
+  fs::remove_all(d);
+}
