@@ -56,9 +56,10 @@ void BM_ConvertUncompressed(benchmark::State& state) {
   opt.threads = 1;
   opt.codec.threads = 1;
   opt.measure = false;
+  opt.direction = state.range(1) ? DirectionPlanes::Auto : DirectionPlanes::Keep;
   for (auto _ : state) benchmark::DoNotOptimize(convert(sh, p, opt));
   state.SetItemsProcessed(int64_t(state.iterations()) * bo.width * bo.height);
 }
-BENCHMARK(BM_ConvertUncompressed)->Arg(256)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ConvertUncompressed)->Args({256, 0})->Args({256, 1})->ArgNames({"size", "auto_direction"})->Unit(benchmark::kMillisecond);
 
 }  // namespace
