@@ -334,12 +334,13 @@ ShImage read_layout(const LayoutPreset& layout, const std::string& base, const L
 }
 
 void layout_size(const LayoutPreset& layout, const std::string& base, int* width, int* height) {
-  std::string path = layout.canonical ? base : layout.files.at(0).pattern;
-  if (const size_t at = path.find("{base}"); !layout.canonical && at != std::string::npos) path.replace(at, 6, base);
-  if (!fs::exists(path)) throw file_error(path, "file not found (layout " + layout.name + " needs it)");
-  const ImageFileInfo info = read_image_info(path);
-  *width = info.width;
-  *height = info.height / (layout.canonical ? 1 : std::max(1, layout.files[0].slices));
+  if (layout.canonical) {
+    const ImageFileInfo info = read_image_info(base);
+    *width = info.width, *height = info.height;
+    return;
+  }
+  const SetImage first = open_image(layout.files.at(0), base, layout.name);  // header checks only
+  *width = first.width, *height = first.slice_height;
 }
 
 void mesh_normals_to_layout_axes(const LayoutPreset& layout, std::vector<float>* normals) {
