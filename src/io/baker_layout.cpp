@@ -233,18 +233,39 @@ std::vector<SetImage> open_set(const LayoutPreset& layout, const std::string& ba
   return set;
 }
 
-// The stored number `src` names at texel (x, y).
-double stored(const std::vector<SetImage>& set, const LayoutSource& src, int x, int y) {
+// A LayoutSource resolved against the decoded set: the image, channel index and first row, looked up
+// once instead of per texel (channel names are strings in a map).
+struct Stored {
+  const ImageF* img = nullptr;
+  int channel = 0, row0 = 0;
+  double at(int x, int y) const { return double(img->at(x, y + row0)[channel]); }
+};
+
+Stored resolve(const std::vector<SetImage>& set, const LayoutSource& src) {
   const SetImage& s = set[size_t(src.file)];
-  return double(s.img.at(x, y + src.slice * s.slice_height)[s.channel.at(src.channel)]);
+  return {&s.img, s.channel.at(src.channel), src.slice * s.slice_height};
 }
 
-double decode(const std::vector<SetImage>& set, const LayoutCoefficient& c, int colour, double l0, int x, int y) {
-  double v = stored(set, c.source[colour], x, y);
+struct ResolvedCoefficient {
+  const LayoutCoefficient* c;
+  Stored source[3], divisor, multiplier;
+};
+
+ResolvedCoefficient resolve(const std::vector<SetImage>& set, const LayoutCoefficient& c) {
+  ResolvedCoefficient r{&c, {}, {}, {}};
+  for (int i = 0; i < 3; ++i) r.source[i] = resolve(set, c.source[i]);
+  if (c.divided) r.divisor = resolve(set, c.divisor);
+  if (c.multiplied) r.multiplier = resolve(set, c.multiplier);
+  return r;
+}
+
+double decode(const ResolvedCoefficient& r, int colour, double l0, int x, int y) {
+  const LayoutCoefficient& c = *r.c;
+  double v = r.source[colour].at(x, y);
   if (c.ratio) v = (v - 0.5) * c.k * l0;
   v *= c.scale;
-  if (c.divided) v /= std::max(c.divisor_min, stored(set, c.divisor, x, y));
-  if (c.multiplied) v *= c.multiplier_scale * std::pow(std::max(0.0, stored(set, c.multiplier, x, y)), c.multiplier_power);
+  if (c.divided) v /= std::max(c.divisor_min, r.divisor.at(x, y));
+  if (c.multiplied) v *= c.multiplier_scale * std::pow(std::max(0.0, r.multiplier.at(x, y)), c.multiplier_power);
   return v;
 }
 
@@ -258,13 +279,16 @@ double to_radiance(LayoutForm form, size_t k, double v) {
 ShImage to_canonical(const LayoutPreset& layout, const std::vector<SetImage>& set) {
   const int width = set[0].width, height = set[0].slice_height;
   ShImage sh = make_sh_image(width, height, layout.coeffs);
+  std::vector<ResolvedCoefficient> coeffs;
+  for (const LayoutCoefficient& c : layout.coefficients) coeffs.push_back(resolve(set, c));
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x) {
       float* t = sh.texel(size_t(y) * width + x);
       for (int ch = 0; ch < 3; ++ch) {
-        const double l0 = decode(set, layout.coefficients[0], ch, 0, x, y);
-        for (size_t k = 0; k < layout.coefficients.size(); ++k)
-          t[k * 3 + ch] = float(to_radiance(layout.form, k, decode(set, layout.coefficients[k], ch, l0, x, y)));
+        const double l0 = decode(coeffs[0], ch, 0, x, y);  // coefficient 0 is never ratio-encoded
+        t[ch] = float(to_radiance(layout.form, 0, l0));
+        for (size_t k = 1; k < coeffs.size(); ++k)
+          t[k * 3 + ch] = float(to_radiance(layout.form, k, decode(coeffs[k], ch, l0, x, y)));
       }
     }
   return sh;
