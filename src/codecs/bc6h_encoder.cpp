@@ -470,79 +470,26 @@ void try_modes(const Block& b, const int* order, int count, int partition, const
   }
 }
 
-
-Candidate search(const Block& b, Bc6hQuality q);
-
-}  // namespace
-
-bool bc6h_quality_from_name(const std::string& name, Bc6hQuality* out) {
-  static const char* names[] = {"fast", "default", "high", "max"};
-  for (int i = 0; i < 4; ++i)
-    if (name == names[i]) return *out = Bc6hQuality(i), true;
-  return false;
-}
-
-const char* bc6h_quality_name(Bc6hQuality q) {
-  static const char* names[] = {"fast", "default", "high", "max"};
-  return names[int(q)];
-}
-
-void bc6h_encode_block(const float rgb[48], const uint8_t valid[16], bool is_signed, Bc6hQuality q, uint8_t out[16]) {
-  Block b;
-  b.is_signed = is_signed;
-  const float* L = log_table();
-  for (int t = 0; t < 16; ++t) {
-    double tw = 0;
-    b.valid[t] = valid[t] ? 1.0f : 0.0f;
-    for (int c = 0; c < 3; ++c) {
-      const float v = rgb[t * 3 + c];
-      b.h[t][c] = half_signed_int(v);
-      b.L[t][c] = L[half_bits_of(b.h[t][c])];
-      b.q[t][c] = is_signed ? b.h[t][c] * 32.0 / 31.0 : b.h[t][c] * 64.0 / 31.0;
-      // Geometry weight: the slope of log2(1+x) per half step, floored at x = 0.25 so that dark
-      // texels still pull the endpoints (their errors are large ones, where the slope lies).
-      const double x = std::max(double(std::fabs(v)), 0.25);
-      b.w[t][c] = valid[t] ? (x / (1 + x)) * (x / (1 + x)) : 0.0;
-      tw += b.w[t][c];
-    }
-    b.tw[t] = valid[t] ? tw / 3 + 1e-12 : 0.0;
-  }
-
-  // No decoded value may exceed its channel's brightest input in the block by more than one
-  // half-float step (nor, signed, go below its darkest by more than one step): no specks.
-  for (int c = 0; c < 3; ++c) {
-    b.cap[c] = -(1 << 30), b.floor_[c] = 1 << 30;
+// A candidate that is always valid: one region, 10-bit endpoints on the per-channel range,
+// rounded inwards, so every palette entry lies inside the block's range.
+Candidate in_range_candidate(const Block& b) {
+  Candidate c;
+  c.mode = 10;
+  for (int ch = 0; ch < 3; ++ch) {
+    int lo = 1 << 30;
     for (int t = 0; t < 16; ++t)
-      if (valid[t]) b.cap[c] = std::max(b.cap[c], b.h[t][c]), b.floor_[c] = std::min(b.floor_[c], b.h[t][c]);
-    b.cap[c] += 1;
-    b.floor_[c] = is_signed ? b.floor_[c] - 1 : -(1 << 30);
+      if (b.valid[t] > 0) lo = std::min(lo, b.h[t][ch]);
+    c.e[0][ch] = quantize_capped(lo, 10, b.is_signed, /*floor=*/true);
+    c.e[1][ch] = quantize_capped(b.cap[ch] - 1, 10, b.is_signed, /*floor=*/false);
+    if (decoded_h(unquantize(c.e[0][ch], 10, b.is_signed), b.is_signed) > b.cap[ch]) c.e[0][ch] = c.e[1][ch];
   }
-  Candidate best = search(b, q);
-  pack(best, is_signed, out);
+  evaluate(b, c);
+  fix_anchors(b, c);
+  return c;
 }
-
-namespace {
 
 Candidate search(const Block& b, Bc6hQuality q) {
-  const bool is_signed = b.is_signed;
-  // A candidate that is always valid: one region, 10-bit endpoints on the per-channel range,
-  // rounded inwards, so every palette entry lies inside the block's range.
-  Candidate best;
-  {
-    Candidate c;
-    c.mode = 10;
-    for (int ch = 0; ch < 3; ++ch) {
-      int lo = 1 << 30;
-      for (int t = 0; t < 16; ++t)
-        if (b.valid[t] > 0) lo = std::min(lo, b.h[t][ch]);
-      c.e[0][ch] = quantize_capped(lo, 10, is_signed, /*floor=*/true);
-      c.e[1][ch] = quantize_capped(b.cap[ch] - 1, 10, is_signed, /*floor=*/false);
-      if (decoded_h(unquantize(c.e[0][ch], 10, is_signed), is_signed) > b.cap[ch]) c.e[0][ch] = c.e[1][ch];
-    }
-    evaluate(b, c);
-    fix_anchors(b, c);
-    if (c.err < best.err) best = c;
-  }
+  Candidate best = in_range_candidate(b);
 
   const int passes = q == Bc6hQuality::Fast ? 0 : q == Bc6hQuality::Default ? 2 : q == Bc6hQuality::High ? 4 : 6;
   const int refine_top = q == Bc6hQuality::Fast ? 0 : q == Bc6hQuality::Default ? 1 : 2;  // candidates refined per group
@@ -599,6 +546,53 @@ Candidate search(const Block& b, Bc6hQuality q) {
 }
 
 }  // namespace
+
+bool bc6h_quality_from_name(const std::string& name, Bc6hQuality* out) {
+  static const char* names[] = {"fast", "default", "high", "max"};
+  for (int i = 0; i < 4; ++i)
+    if (name == names[i]) return *out = Bc6hQuality(i), true;
+  return false;
+}
+
+const char* bc6h_quality_name(Bc6hQuality q) {
+  static const char* names[] = {"fast", "default", "high", "max"};
+  return names[int(q)];
+}
+
+void bc6h_encode_block(const float rgb[48], const uint8_t valid[16], bool is_signed, Bc6hQuality q, uint8_t out[16]) {
+  Block b;
+  b.is_signed = is_signed;
+  const float* L = log_table();
+  for (int t = 0; t < 16; ++t) {
+    double tw = 0;
+    b.valid[t] = valid[t] ? 1.0f : 0.0f;
+    for (int c = 0; c < 3; ++c) {
+      const float v = rgb[t * 3 + c];
+      b.h[t][c] = half_signed_int(v);
+      b.L[t][c] = L[half_bits_of(b.h[t][c])];
+      b.q[t][c] = is_signed ? b.h[t][c] * 32.0 / 31.0 : b.h[t][c] * 64.0 / 31.0;
+      // Geometry weight: the slope of log2(1+x) per half step, floored at x = 0.25 so that dark
+      // texels still pull the endpoints (their errors are large ones, where the slope lies).
+      const double x = std::max(double(std::fabs(v)), 0.25);
+      b.w[t][c] = valid[t] ? (x / (1 + x)) * (x / (1 + x)) : 0.0;
+      tw += b.w[t][c];
+    }
+    b.tw[t] = valid[t] ? tw / 3 + 1e-12 : 0.0;
+  }
+
+  // No decoded value may exceed its channel's brightest input in the block by more than one
+  // half-float step (nor, signed, go below its darkest by more than one step): no specks.
+  for (int c = 0; c < 3; ++c) {
+    b.cap[c] = -(1 << 30), b.floor_[c] = 1 << 30;
+    for (int t = 0; t < 16; ++t)
+      if (valid[t]) b.cap[c] = std::max(b.cap[c], b.h[t][c]), b.floor_[c] = std::min(b.floor_[c], b.h[t][c]);
+    b.cap[c] += 1;
+    b.floor_[c] = is_signed ? b.floor_[c] - 1 : -(1 << 30);
+  }
+  Candidate best = search(b, q);
+  pack(best, is_signed, out);
+}
+
 
 std::vector<uint8_t> bc6h_encode_image(const ImageF& img, const Bc6hOptions& opt, Bc6hStats* stats) {
   const int bw = (img.width + 3) / 4, bh = (img.height + 3) / 4;
