@@ -55,6 +55,14 @@ Poly clip(const Poly& in, int axis, double c, bool keep_ge) {
   return out;
 }
 
+// The texel columns (axis 0) or rows (axis 1) a polygon's extent along `axis` touches, within 0..size−1.
+void cell_span(const Poly& q, int axis, int size, int* first, int* last) {
+  double lo = coord(q.p[0], axis), hi = lo;
+  for (int i = 1; i < q.n; ++i) lo = std::min(lo, coord(q.p[size_t(i)], axis)), hi = std::max(hi, coord(q.p[size_t(i)], axis));
+  *first = std::max(0, int(std::floor(lo)));
+  *last = std::min(size - 1, int(std::ceil(hi)) - 1);
+}
+
 // Signed area and centroid by a fan from vertex 0 (differences first: exact zero for vertices on
 // a common line, precise for polygons far from the origin).
 double area_centroid(const Poly& q, Pt* centroid) {
@@ -154,15 +162,13 @@ RasterisedNormals rasterise_lightmap_normals(const MeshTriangles& mesh, int widt
     for (const Pt& p : P) tri.push(p);
     Poly q = clip(clip(clip(clip(tri, 0, 0.0, true), 0, W, false), 1, 0.0, true), 1, H, false);
     if (q.n < 3) continue;
-    double xmin = q.p[0].x, xmax = xmin;
-    for (int i = 1; i < q.n; ++i) xmin = std::min(xmin, q.p[size_t(i)].x), xmax = std::max(xmax, q.p[size_t(i)].x);
-    const int cx0 = std::max(0, int(std::floor(xmin))), cx1 = std::min(width - 1, int(std::ceil(xmax)) - 1);
+    int cx0, cx1;
+    cell_span(q, 0, width, &cx0, &cx1);
     for (int x = cx0; x <= cx1; ++x) {
       const Poly col = clip(clip(q, 0, double(x), true), 0, double(x + 1), false);
       if (col.n < 3) continue;
-      double ymin = col.p[0].y, ymax = ymin;
-      for (int i = 1; i < col.n; ++i) ymin = std::min(ymin, col.p[size_t(i)].y), ymax = std::max(ymax, col.p[size_t(i)].y);
-      const int cy0 = std::max(0, int(std::floor(ymin))), cy1 = std::min(height - 1, int(std::ceil(ymax)) - 1);
+      int cy0, cy1;
+      cell_span(col, 1, height, &cy0, &cy1);
       for (int y = cy0; y <= cy1; ++y) {
         const Poly cell = clip(clip(col, 1, double(y), true), 1, double(y + 1), false);
         if (cell.n < 3) continue;

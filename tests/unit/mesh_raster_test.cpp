@@ -480,16 +480,7 @@ TEST(MeshRaster, BadMeshesGiveOneClearError) {
   std::ofstream(d / "lines.obj") << "v 0 0 0\nv 1 0 0\nvt 0 0\nl 1 2\n";
   std::ofstream(d / "c.fbx") << "x";
   std::ofstream(d / "junk.gltf") << "{ not json";
-  auto expect_error = [](auto fn, const std::string& needle) {
-    try {
-      fn();
-      ADD_FAILURE() << "accepted; expected: " << needle;
-    } catch (const Error& e) {
-      const std::string msg = e.what();
-      EXPECT_NE(msg.find(needle), std::string::npos) << msg;
-      EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
-    }
-  };
+  using layout_test::expect_error;  // one ahd::Error, one line, naming the cause
   expect_error([&] { read_mesh_lightmap((d / "none.obj").string(), -1); }, "none.obj: file not found");
   expect_error([&] { read_mesh_lightmap((d / "c.obj").string(), 1); }, "UV set 1 requested, mesh");
   expect_error([&] { read_mesh_lightmap((d / "c.obj").string(), 1); }, "has 1 UV set (0..0)");
