@@ -3,6 +3,7 @@
 
 #include <random>
 
+#include "io/profile_file.h"
 #include "fit/ahd_fit.h"
 #include "pipeline/convert.h"
 #include "sample/analytic_baker.h"
@@ -54,8 +55,7 @@ void BM_ConvertUncompressed(benchmark::State& state) {
   const Profile p = load_profile("uncompressed");
   ConvertOptions opt;
   opt.threads = 1;
-  opt.codec.threads = 1;
-  opt.measure = false;
+  opt.measure = Measure::Off;
   opt.direction = state.range(1) ? DirectionPlanes::Auto : DirectionPlanes::Keep;
   for (auto _ : state) benchmark::DoNotOptimize(convert(sh, p, opt));
   state.SetItemsProcessed(int64_t(state.iterations()) * bo.width * bo.height);

@@ -12,6 +12,6 @@ mkdir -p golden/inputs golden/expected
 "$A" sample --size 24 --order 2 --seed 5 -o golden/inputs/scene24_l2_seed5.exr >/dev/null
 while IFS=' ' read -r name input profile container; do
   [ -z "$name" ] && continue
-  "$A" convert "golden/inputs/$input" -o "golden/expected/$name.$container" --profile "$profile" --threads 1 -q
+  "$A" convert "golden/inputs/$input" -o "golden/expected/$name.$container" --profile "$profile" --threads 1 --measure full -q
 done < golden/cases.txt
 echo "golden/ regenerated: $(ls golden/expected | wc -l) files"

@@ -7,7 +7,7 @@
 
 #include "cli/commands.h"
 #include "codecs/bc6h_codec.h"
-#include "containers/container.h"
+#include "io/container_file.h"
 #include "core/error.h"
 #include "io/image_io.h"
 

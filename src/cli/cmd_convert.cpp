@@ -1,20 +1,22 @@
 // ahdpack convert [IN.exr] [-o OUT.ktx2|OUT.dds]: SH lightmap → AHD planes + manifest + report.
+#include <ahd/sample.h>
+
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 
+#include "api/options.h"
 #include "cli/commands.h"
-#include "cli/direction_options.h"
+#include "cli/conversion_args.h"
 #include "cli/output.h"
-#include "io/ahd_intermediate.h"
 #include "core/error.h"
-#include "io/image_io.h"
+#include "io/ahd_intermediate.h"
 #include "io/baker_layout.h"
+#include "io/image_io.h"
 #include "io/mesh_io.h"
+#include "io/profile_file.h"
 #include "io/sh_exr.h"
-#include "pipeline/convert.h"
-#include "pipeline/manifest.h"
-#include "sample/analytic_baker.h"
+#include "pipeline/run.h"
 
 namespace ahd::cli {
 namespace fs = std::filesystem;
@@ -28,20 +30,11 @@ struct ConvertArgs {
   std::string normals;  // lightmap-space normals for world-space layouts
   std::string mesh;     // or: the mesh, rasterised in its lightmap UVs (normals and coverage)
   int uv_set = -1;      // the mesh's lightmap UV set (−1 = the default rule of io/mesh_io.h)
-  std::string profile = "uncompressed";
-  std::string ratio;  // empty: the profile's ratio form
-  double dz_min = 0.05;
-  bool open_loop = false;
-  bool zstd = false;
-  int threads = 0;
   int sample_size = 256;
   int sample_order = 2;
   unsigned seed = 0;
-  int levels = 0;
   bool keep_intermediate = false;
-  bool coverage_plane = false;
-  bool quiet = false;
-  DirectionArgs direction;
+  ConversionArgs conv;
 };
 
 // The baker's files through a layout preset, with normals/coverage from --normals or --mesh.
@@ -82,14 +75,9 @@ ShImage read_layout_input(const ConvertArgs& a, ReadStats* rs, std::string* sour
 // The SH to convert: the built-in sample, a baker's files (--layout) or the canonical EXR.
 ShImage read_input(const ConvertArgs& a, ReadStats* rs, std::string* source) {
   if (a.input.empty()) {
-    BakerOptions bo;
-    bo.width = bo.height = a.sample_size;
-    bo.coeffs = a.sample_order == 1 ? 4 : 9;
-    bo.seed = a.seed;
-    bo.threads = a.threads;
     *source = "built-in sample (analytic scene, " + std::to_string(a.sample_size) + "x" + std::to_string(a.sample_size) +
-              (bo.coeffs == 9 ? " L2" : " L1") + ", seed " + std::to_string(a.seed) + ")";
-    return bake_analytic_scene(bo);
+              (a.sample_order == 2 ? " L2" : " L1") + ", seed " + std::to_string(a.seed) + ")";
+    return bake_sample(a.sample_size, a.sample_order, a.seed, a.conv.options.threads);
   }
   if (!a.layout.empty()) return read_layout_input(a, rs, source);
   ShImage sh = read_canonical_sh(a.input, rs);
@@ -99,58 +87,36 @@ ShImage read_input(const ConvertArgs& a, ReadStats* rs, std::string* source) {
 }
 
 void run_convert(const ConvertArgs& a) {
-  using Clock = std::chrono::steady_clock;
-  const auto t_start = Clock::now();
   std::string out_path = a.output;
   if (out_path.empty())
     out_path = "ahdpack-out/" + (a.input.empty() ? std::string("sample") : fs::path(a.input).stem().string()) + ".ktx2";
   const OutputPaths out = output_paths(out_path);
-
-  ConvertOptions opt;
-  opt.threads = a.threads;
-  opt.codec.threads = a.threads;
-  opt.fit.dz_min = a.dz_min;
-  opt.closed_loop = !a.open_loop;
-  opt.max_levels = a.levels;
-  opt.coverage_plane = a.coverage_plane;
-  apply_direction_options(a.direction, &opt);
-  if (!(a.dz_min > 0 && a.dz_min < 1)) throw Error("--eps must be in (0, 1)");
-  const Profile profile = load_profile(a.profile);
-  if (profile.ratio_rgb) opt.fit.ratio_form = RatioForm::Rgb;
-  if (a.ratio == "rgb") opt.fit.ratio_form = RatioForm::Rgb;
-  else if (a.ratio == "luminance") opt.fit.ratio_form = RatioForm::Luminance;
-  else if (!a.ratio.empty()) throw Error("--ratio must be 'luminance' or 'rgb'");
+  ConversionOptions co = conversion_options(a.conv);
+  co.container = out.kind;
 
   // Checked before anything is read or written: one clear line, no output.
+  const ResolvedOptions ro = resolve_options(co, out.name, load_profile(a.conv.profile));
   if (!a.mesh.empty() && !a.normals.empty()) throw Error("--mesh and --normals both give the normals: use one");
   if (!a.mesh.empty() && a.layout.empty()) throw Error("--mesh needs --layout (a baker's files to pair it with)");
   if (a.uv_set >= 0 && a.mesh.empty()) throw Error("--uv-set needs --mesh");
 
-  // Input.
-  auto t0 = Clock::now();
+  const auto t0 = std::chrono::steady_clock::now();
   ReadStats rs;
   std::string source;
   const ShImage sh = read_input(a, &rs, &source);
-  const double read_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  const double read_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
-  ConvertResult r;
-  r.timings.push_back({a.input.empty() ? "bake sample" : "read", read_seconds});
-  const std::vector<FittedLevel> levels = fit_levels(sh, opt, &r);
-  if (a.keep_intermediate) {
-    t0 = Clock::now();
-    write_intermediate(out.sibling(".ahd.exr"), levels, opt.fit);
-    r.timings.push_back({"intermediate", std::chrono::duration<double>(Clock::now() - t0).count()});
-  }
-  quantise_levels(levels, profile, opt, &r);
-
-  t0 = Clock::now();
-  const double total = std::chrono::duration<double>(Clock::now() - t_start).count();
-  const nlohmann::json extra = {
-      {"source", source},
-      {"read", {{"non_finite_texels", rs.non_finite_texels}, {"coverage_derived", rs.coverage_derived}}}};
-  const Manifest m = write_conversion(out, r, profile, opt.fit, !sh.normals.empty(), a.zstd, extra, total);
-  r.timings.push_back({"write", std::chrono::duration<double>(Clock::now() - t0).count()});
-  if (!a.quiet) print_conversion(source, out, m, r, opt.closed_loop, rs.non_finite_texels, total);
+  PackageOptions pkg = ro.package;
+  pkg.world_frame = !sh.normals.empty();
+  pkg.report_extra = {{"source", source},
+                      {"read", {{"non_finite_texels", rs.non_finite_texels}, {"coverage_derived", rs.coverage_derived}}}};
+  std::function<void(const std::vector<FittedLevel>&)> on_fitted;
+  if (a.keep_intermediate)
+    on_fitted = [&](const std::vector<FittedLevel>& levels) { write_intermediate(out.sibling(".ahd.exr"), levels, ro.convert.fit); };
+  const ConversionRun run = run_conversion(sh, ro.profile, ro.convert, pkg,
+                                           {{a.input.empty() ? "bake sample" : "read", read_seconds}}, on_fitted);
+  publish_conversion(out, run.output.files);
+  if (!a.conv.quiet) print_conversion(source, out, run, ro.convert.closed_loop, rs.non_finite_texels);
 }
 
 }  // namespace
@@ -179,20 +145,11 @@ void add_convert_command(CLI::App& app) {
                 "The mesh's lightmap UV set (glTF TEXCOORD_n); default: the second set when the meshes have 2 or "
                 "more, else the first")
       ->check(CLI::NonNegativeNumber);
-  c->add_option("--profile", a->profile, "Output profile name or .json file (formats/profiles)");
-  c->add_option("--ratio", a->ratio, "Ratio form: luminance (one channel) or rgb (default: the profile's)");
-  c->add_option("--eps", a->dz_min, "Smallest stored d_z (the horizon rule)");
-  c->add_flag("--open-loop", a->open_loop, "Quantise the ratio from the unquantised fit (for comparison)");
-  c->add_flag("--zstd", a->zstd, "Zstandard supercompression (KTX2)");
-  c->add_option("--levels", a->levels, "Mip levels to write (0 = full chain)")->check(CLI::NonNegativeNumber);
-  c->add_flag("--coverage-plane", a->coverage_plane, "Also write OUT.coverage.<ext>: R8, 255 where a chart covers the texel");
-  add_direction_options(c, &a->direction);
+  add_conversion_options(c, &a->conv, true);
   c->add_flag("--keep-intermediate", a->keep_intermediate, "Also write OUT.ahd.exr, the lossless fitted planes for transcode");
-  c->add_option("--threads", a->threads, "Worker threads (0 = all)");
   c->add_option("--sample-size", a->sample_size, "Built-in sample: width and height")->check(CLI::Range(1, 8192));
   c->add_option("--sample-order", a->sample_order, "Built-in sample: SH order 1 (L1) or 2 (L2)")->check(CLI::IsMember({1, 2}));
   c->add_option("--seed", a->seed, "Built-in sample: scene seed (0 = canonical)");
-  c->add_flag("-q,--quiet", a->quiet, "Print nothing on success");
   c->callback([a]() { run_convert(*a); });
 }
 

@@ -4,7 +4,7 @@
 #include <string>
 
 #include "cli/commands.h"
-#include "containers/container.h"
+#include "io/container_file.h"
 #include "core/error.h"
 #include "fit/ahd_decode.h"
 #include "io/image_io.h"

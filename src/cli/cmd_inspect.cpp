@@ -3,7 +3,7 @@
 #include <filesystem>
 
 #include "cli/commands.h"
-#include "containers/container.h"
+#include "io/container_file.h"
 #include "core/error.h"
 #include "io/image_io.h"
 #include "pipeline/manifest.h"

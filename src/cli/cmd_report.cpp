@@ -7,6 +7,7 @@
 
 #include "cli/commands.h"
 #include "cli/report.h"
+#include "io/profile_file.h"
 #include "io/sh_exr.h"
 #include "pipeline/convert.h"
 #include "sample/analytic_baker.h"
@@ -57,7 +58,7 @@ void report_profiles(int size) {
     bpt = bytes(p.iz) + (p.packed_dir_ratio ? bytes(p.dirratio) : bytes(p.dir) + bytes(p.ratio));
     for (int s = 0; s < 2; ++s) {
       ConvertOptions opt;
-      opt.measure_unconstrained = false;
+      opt.measure = Measure::Full;
       if (p.ratio_rgb) opt.fit.ratio_form = RatioForm::Rgb;
       const ConvertResult r = convert(sets[s], p, opt);
       for (int loop = 0; loop < 2; ++loop) {
@@ -92,8 +93,8 @@ void report_direction(int size, const std::string& profile_name) {
   std::printf("|---|---|---|---|---|---|\n");
   for (double s : {0.0, 0.001, 0.003, 0.01, 0.03, 0.1, 0.3, 1.0}) {
     ConvertOptions opt;
-    opt.measure_unconstrained = false;
-    opt.measure_open_loop = false;
+    opt.measure = Measure::Full;
+    opt.measure_baselines = false;
     opt.direction = DirectionPlanes::Keep;
     const ShImage sh = scaled_directional_part(scene, s);
     ConvertResult r;
@@ -122,6 +123,7 @@ void add_report_command(CLI::App& app) {
       ReadStats rs;
       sanitise_sh(hc.sh, false, &rs);
       ConvertOptions opt;
+      opt.measure = Measure::Full;
       opt.threads = 1;
       const ConvertResult res = convert(hc.sh, p, opt);
       std::string rules;
@@ -156,9 +158,9 @@ void add_report_command(CLI::App& app) {
                   "quantised rel", "quantised log2", "tilted");
       for (double eps : {0.01, 0.02, 0.05, 0.1, 0.2, 0.3}) {
         ConvertOptions opt;
+        opt.measure = Measure::Full;
         opt.fit.dz_min = eps;
-        opt.measure_unconstrained = false;
-        opt.measure_open_loop = false;
+        opt.measure_baselines = false;
         const ConvertResult res = convert(sets[s], p, opt);
         std::printf("  %-6.2f %-9.0f %.2e %.2e %.2e   %.2e %.2e %.2e   %.2e %.2e    %zu\n", eps, 1.0 / eps,
                     res.fit_error.relative.mean, res.fit_error.relative.p99, res.fit_error.relative.max,

@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "cli/report.h"
+#include "containers/container.h"
 #include "io/image_io.h"
 
 namespace ahd::cli {
@@ -11,63 +12,29 @@ namespace fs = std::filesystem;
 OutputPaths output_paths(const std::string& out) {
   OutputPaths p;
   p.kind = container_kind_from_path(out);
-  p.ext = p.kind == ContainerKind::KTX2 ? "ktx2" : "dds";
   p.dir = fs::path(out).parent_path();
   p.name = fs::path(out).stem().string();
   return p;
 }
 
-Manifest write_conversion(const OutputPaths& out, ConvertResult& r, const Profile& profile, const FitOptions& fit,
-                          bool world_frame, bool zstd, const nlohmann::json& report_extra, double total_seconds) {
-  Manifest m;
-  m.profile = profile.name;
-  m.container = out.ext;
-  m.width = r.planes.at(0).texture.levels.at(0).width;
-  m.height = r.planes.at(0).texture.levels.at(0).height;
-  m.levels = uint32_t(r.planes.at(0).texture.levels.size());
-  m.ratio_form = fit.ratio_form;
-  m.dz_min = fit.dz_min;
-  for (int i = 0; i < 3; ++i) m.luma[i] = fit.luma[i];
-  m.direction_frame = world_frame ? "normal-frame" : "tangent";
-  m.directional = r.directional;
-  std::vector<std::pair<std::string, std::vector<uint8_t>>> files;
-  for (Plane& p : r.planes) {
-    const std::string file = out.name + "." + p.name + "." + out.ext;
-    p.texture.metadata = plane_metadata(m, p.name);
-    files.emplace_back((out.dir / file).string(), encode_container(out.kind, p.texture, zstd));
-    ManifestPlane mp;
-    mp.name = p.name;
-    mp.file = file;
-    mp.format = p.texture.format;
-    mp.width = p.texture.levels[0].width;
-    mp.height = p.texture.levels[0].height;
-    mp.levels = uint32_t(p.texture.levels.size());
-    mp.bytes = files.back().second.size();
-    m.planes.push_back(mp);
-  }
-  const std::string manifest_text = manifest_to_json(m);
-  nlohmann::json report = convert_report_json(r, total_seconds);
-  report["profile"] = profile.name;
-  for (auto it = report_extra.begin(); it != report_extra.end(); ++it) report[it.key()] = *it;
-  const std::string report_text = report.dump(2) + "\n";
-  files.emplace_back(out.sibling(".json"), std::vector<uint8_t>(manifest_text.begin(), manifest_text.end()));
-  files.emplace_back(out.sibling(".report.json"), std::vector<uint8_t>(report_text.begin(), report_text.end()));
-
+void publish_conversion(const OutputPaths& out, const std::vector<OutputFile>& files) {
   std::vector<std::string> written;
   try {
-    for (const auto& [path, bytes] : files) {
-      write_file_atomic(path, bytes);
+    for (const OutputFile& f : files) {
+      const std::string path = (out.dir / f.name).string();
+      write_file_atomic(path, f.bytes);
       written.push_back(path);
     }
   } catch (...) {
     for (const auto& p : written) fs::remove(p);
     throw;
   }
-  return m;
 }
 
-void print_conversion(const std::string& source, const OutputPaths& out, const Manifest& m, const ConvertResult& r,
-                      bool closed_loop, size_t non_finite_inputs, double total_seconds) {
+void print_conversion(const std::string& source, const OutputPaths& out, const ConversionRun& run, bool closed_loop,
+                      size_t non_finite_inputs) {
+  const Manifest& m = run.output.manifest;
+  const ConvertResult& r = run.result;
   std::printf("ahdpack: %s\n", source.c_str());
   std::printf("profile %s, %u mip level(s) -> %s\n", m.profile.c_str(), m.levels, out.sibling(".json").c_str());
   for (const auto& p : m.planes)
@@ -88,21 +55,25 @@ void print_conversion(const std::string& source, const OutputPaths& out, const M
   if (r.codec_stats.clamped || r.codec_stats.non_finite)
     std::printf("codec: %zu values clamped to the format's range, %zu non-finite\n", r.codec_stats.clamped,
                 r.codec_stats.non_finite);
-  std::printf("error vs source SH irradiance (64 normals over the hemisphere, covered texels):\n");
-  print_error_header(stdout);
-  if (r.fit_error.texels) {
-    print_error_row(stdout, "fit: constrained AHD", r.fit_error);
-    if (r.unconstrained_error.texels) print_error_row(stdout, "fit: unconstrained LS", r.unconstrained_error);
-  }
-  if (closed_loop && r.open_loop_error.texels) print_error_row(stdout, "quantised, open loop", r.open_loop_error);
-  print_error_row(stdout, closed_loop ? "quantised, closed loop" : "quantised (open loop)", r.final_error);
-  for (size_t l = 1; l < r.level_error.size(); ++l) {
-    const std::string label = "  mip " + std::to_string(l);
-    print_error_row(stdout, label.c_str(), r.level_error[l]);
+  if (r.final_error.texels == 0) {
+    std::printf("error: not measured (--measure estimate or full)\n");
+  } else {
+    std::printf("error vs source SH irradiance (64 normals over the hemisphere, covered texels):\n");
+    print_error_header(stdout);
+    if (r.fit_error.texels) {
+      print_error_row(stdout, "fit: constrained AHD", r.fit_error);
+      if (r.unconstrained_error.texels) print_error_row(stdout, "fit: unconstrained LS", r.unconstrained_error);
+    }
+    if (closed_loop && r.open_loop_error.texels) print_error_row(stdout, "quantised, open loop", r.open_loop_error);
+    print_error_row(stdout, closed_loop ? "quantised, closed loop" : "quantised (open loop)", r.final_error);
+    for (size_t l = 1; l < r.level_error.size(); ++l) {
+      const std::string label = "  mip " + std::to_string(l);
+      print_error_row(stdout, label.c_str(), r.level_error[l]);
+    }
   }
   std::printf("time:");
   for (const auto& t : r.timings) std::printf(" %s %.3f s,", t.stage.c_str(), t.seconds);
-  std::printf(" total %.3f s\n", total_seconds);
+  std::printf(" total %.3f s\n", run.seconds);
 }
 
 }  // namespace ahd::cli

@@ -1,13 +1,10 @@
-// Writing a conversion: plane containers, manifest and report, all encoded in memory first and
-// then written through temporary names, so a failure leaves nothing half-written.
+// The CLI's edges of a conversion: where OUT names the files, publishing the files the library
+// returns, and the terminal summary.
 #pragma once
 #include <filesystem>
-#include <nlohmann/json.hpp>
 #include <string>
 
-#include "containers/container.h"
-#include "pipeline/convert.h"
-#include "pipeline/manifest.h"
+#include "pipeline/run.h"
 
 namespace ahd::cli {
 
@@ -16,18 +13,17 @@ struct OutputPaths {
   std::filesystem::path dir;
   std::string name;
   ContainerKind kind = ContainerKind::KTX2;
-  std::string ext;
   std::string sibling(const std::string& suffix) const { return (dir / (name + suffix)).string(); }
 };
+// Throws ahd::Error("<out>: …") for an extension other than .ktx2/.dds.
 OutputPaths output_paths(const std::string& out);
 
-// Writes every plane, the manifest and the report (with `report_extra` merged in). Throws ahd::Error;
-// on failure removes the files it already wrote.
-Manifest write_conversion(const OutputPaths& out, ConvertResult& r, const Profile& profile, const FitOptions& fit,
-                          bool world_frame, bool zstd, const nlohmann::json& report_extra, double total_seconds);
+// Writes the files of a conversion into out.dir (the manifest last). Throws ahd::Error; on failure
+// removes what it wrote.
+void publish_conversion(const OutputPaths& out, const std::vector<OutputFile>& files);
 
 // The terminal summary of a conversion.
-void print_conversion(const std::string& source, const OutputPaths& out, const Manifest& m, const ConvertResult& r,
-                      bool closed_loop, size_t non_finite_inputs, double total_seconds);
+void print_conversion(const std::string& source, const OutputPaths& out, const ConversionRun& run, bool closed_loop,
+                      size_t non_finite_inputs);
 
 }  // namespace ahd::cli

@@ -1,7 +1,7 @@
-// Printing what a conversion cost and what error it added (terminal text and JSON).
+// Printing what a conversion cost and what error it added (terminal text; the JSON report is
+// pipeline/report_json.h).
 #pragma once
 #include <cstdio>
-#include <nlohmann/json.hpp>
 #include <string>
 
 #include "fit/hemisphere_error.h"
@@ -12,8 +12,5 @@ namespace ahd::cli {
 // One row of the error table: "name  mean p99 max" for relative and log2 errors.
 void print_error_row(std::FILE* out, const char* label, const ErrorReport& e);
 void print_error_header(std::FILE* out);
-
-nlohmann::json error_json(const ErrorReport& e);
-nlohmann::json convert_report_json(const ConvertResult& r, double total_seconds);
 
 }  // namespace ahd::cli

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include <ahd/types.h>
+
 #include "core/image.h"
 
 namespace ahd {
@@ -17,7 +19,6 @@ namespace ahd {
 void bc6h_decode_block(const uint8_t block[16], bool is_signed, uint16_t out_half_rgb[48]);
 
 // Quality levels of the encoder: which candidates it tries (see bc6h_encoder.cpp).
-enum class Bc6hQuality : uint8_t { Fast, Default, High, Max };
 bool bc6h_quality_from_name(const std::string& name, Bc6hQuality* out);
 const char* bc6h_quality_name(Bc6hQuality q);
 

@@ -6,7 +6,6 @@
 #include "containers/dds.h"
 #include "containers/ktx2.h"
 #include "core/error.h"
-#include "io/image_io.h"
 
 namespace ahd {
 
@@ -29,16 +28,11 @@ Texture decode_container(ContainerKind kind, const uint8_t* data, size_t size, c
   return kind == ContainerKind::DDS ? read_dds(data, size, path) : read_ktx2(data, size, path);
 }
 
-Texture read_container_file(const std::string& path) {
-  const std::vector<uint8_t> bytes = read_file_bytes(path);
-  const bool ktx = bytes.size() >= 4 && bytes[0] == 0xAB && bytes[1] == 'K' && bytes[2] == 'T' && bytes[3] == 'X';
-  const bool dds = bytes.size() >= 4 && bytes[0] == 'D' && bytes[1] == 'D' && bytes[2] == 'S' && bytes[3] == ' ';
+Texture decode_container_auto(const uint8_t* data, size_t size, const std::string& path) {
+  const bool ktx = size >= 4 && data[0] == 0xAB && data[1] == 'K' && data[2] == 'T' && data[3] == 'X';
+  const bool dds = size >= 4 && data[0] == 'D' && data[1] == 'D' && data[2] == 'S' && data[3] == ' ';
   if (!ktx && !dds) throw file_error(path, "neither a KTX2 nor a DDS file");
-  return decode_container(ktx ? ContainerKind::KTX2 : ContainerKind::DDS, bytes.data(), bytes.size(), path);
-}
-
-void write_container_file(const std::string& path, const Texture& tex, bool zstd) {
-  write_file_atomic(path, encode_container(container_kind_from_path(path), tex, zstd));
+  return decode_container(ktx ? ContainerKind::KTX2 : ContainerKind::DDS, data, size, path);
 }
 
 }  // namespace ahd

@@ -1,5 +1,6 @@
-// Containers: one Texture ↔ the bytes of a KTX2 or DDS file, and file-level helpers.
+// Containers: one Texture ↔ the bytes of a KTX2 or DDS file (bytes only: files are io/container_file.h).
 #pragma once
+#include <ahd/types.h>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -9,7 +10,6 @@
 
 namespace ahd {
 
-enum class ContainerKind { KTX2, DDS };
 
 // By extension (.ktx2 / .dds, any case). Throws ahd::Error("<path>: …") for anything else.
 ContainerKind container_kind_from_path(const std::string& path);
@@ -22,10 +22,8 @@ std::vector<uint8_t> encode_container(ContainerKind kind, const Texture& tex, bo
 // ahd::Error("<path_for_errors>: <cause>") on anything malformed, truncated or unsupported.
 Texture decode_container(ContainerKind kind, const uint8_t* data, size_t size, const std::string& path_for_errors);
 
-// Reads a file and detects the container by its magic bytes.
-Texture read_container_file(const std::string& path);
-
-// Encodes and writes atomically (temporary name + rename).
-void write_container_file(const std::string& path, const Texture& tex, bool zstd = false);
+// Detects the container by its magic bytes and parses it (as decode_container). Throws
+// ahd::Error("<path_for_errors>: neither a KTX2 nor a DDS file") for anything else.
+Texture decode_container_auto(const uint8_t* data, size_t size, const std::string& path_for_errors);
 
 }  // namespace ahd

@@ -4,13 +4,13 @@
 // Stored: I_z = C_a + d_z C_d (exact, linear under filtering), d, and ratio = C_a / I_z (RGB form) or
 // L(C_a)/L(I_z) (luminance form). Decode: fit/ahd_decode.h.
 #pragma once
+#include <ahd/types.h>
 #include <cstdint>
 
 #include "sh/sh.h"
 
 namespace ahd {
 
-enum class RatioForm : uint8_t { Luminance, Rgb };
 
 struct FitOptions {
   // Luminance weights for the direction and the luminance ratio (Rec.709 by default).

@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
-#include "core/paths.h"
+#include "io/paths.h"
 #include "io/image_io.h"
 
 namespace ahd {

@@ -107,8 +107,6 @@ std::vector<AhdLobe> lobes_from_planes(const DecodedPlanes& p, double dz_min) {
   return lobes;
 }
 
-namespace {
-
 void check_profile(const Profile& profile, const ConvertOptions& opt) {
   const bool ratio_rgb = opt.fit.ratio_form == RatioForm::Rgb;
   if (profile.packed_dir_ratio && ratio_rgb)
@@ -122,6 +120,8 @@ void check_profile(const Profile& profile, const ConvertOptions& opt) {
     throw Error("the RGB ratio form needs a 3- or 4-channel ratio format (profile " + profile.name + " has " +
                 format_info(profile.ratio).name + ")");
 }
+
+namespace {
 
 // Planes of one level, closed loop: direction first, then I_z, then the ratio refitted against
 // the DECODED direction and I_z (covered texels; uncovered ones keep their dilated ratio).
@@ -137,18 +137,20 @@ LevelPlanes quantise_level(const FittedLevel& lv, const Profile& profile, const 
   const size_t n = sh.texels();
   const int w = sh.width, h = sh.height;
   const bool ratio_rgb = opt.fit.ratio_form == RatioForm::Rgb;
+  PlaneCodecOptions codec = opt.codec;
+  codec.threads = opt.threads;
   ImageF uv(w, h, 2), izi(w, h, 3);
   for (size_t i = 0; i < n; ++i) {
     dir_to_unit_uv(fit.texels[i].d, &uv.data[i * 2]);
     for (int c = 0; c < 3; ++c) izi.data[i * 3 + c] = fit.texels[i].iz[c];
   }
   LevelPlanes out;
-  out.iz = encode_plane(profile.iz, izi, opt.codec, stats);
+  out.iz = encode_plane(profile.iz, izi, codec, stats);
   if (!directional) return out;
   const ImageF iz_dec = decode_plane(profile.iz, out.iz);
   ImageF dir_dec;
   if (!profile.packed_dir_ratio) {
-    out.dir = encode_plane(profile.dir, uv, opt.codec);
+    out.dir = encode_plane(profile.dir, uv, codec);
     dir_dec = decode_plane(profile.dir, out.dir);
   } else {
     // The packed plane is RGBA8: the direction's decoded value is its 8-bit rounding.
@@ -180,14 +182,14 @@ LevelPlanes quantise_level(const FittedLevel& lv, const Profile& profile, const 
       img.data[i * 4 + 2] = ratio.data[i * rch];
       img.data[i * 4 + 3] = 1.0f;
     }
-    return encode_plane(profile.dirratio, img, opt.codec);
+    return encode_plane(profile.dirratio, img, codec);
   };
   if (profile.packed_dir_ratio) {
     out.dirratio = packed(ratio_closed);
-    if (opt.measure && opt.measure_open_loop) out.dirratio_open = packed(ratio_open);
+    if (opt.measuring_baselines()) out.dirratio_open = packed(ratio_open);
   } else {
-    out.ratio = encode_plane(profile.ratio, ratio_closed, opt.codec);
-    if (opt.measure && opt.measure_open_loop) out.ratio_open = encode_plane(profile.ratio, ratio_open, opt.codec);
+    out.ratio = encode_plane(profile.ratio, ratio_closed, codec);
+    if (opt.measuring_baselines()) out.ratio_open = encode_plane(profile.ratio, ratio_open, codec);
   }
   return out;
 }
@@ -227,7 +229,7 @@ void decide_direction(const FittedLevel& level0, const ConvertOptions& opt, Conv
     case DirectionPlanes::Auto: {
       const std::vector<AhdLobe> lobes = ambient_only_lobes(level0);
       r->directional = relative_p99_exceeds(level0.sh, lobes, opt.ambient_threshold);
-      if (opt.measure) r->ambient_error = measure_error(level0.sh, lobes, opt.threads);
+      if (opt.measuring()) r->ambient_error = measure_error(level0.sh, lobes, opt.threads);
       std::snprintf(why, sizeof why, "%s: I_z alone differs from the SH by %s threshold %.3g (relative RMSE p99)",
                     r->directional ? "kept" : "dropped", r->directional ? "more than the" : "no more than the",
                     opt.ambient_threshold);
@@ -255,18 +257,20 @@ ErrorReport ambient_only_error(const FittedLevel& level, int threads) {
 }
 
 std::vector<FittedLevel> fit_levels(const ShImage& sh, const ConvertOptions& opt, ConvertResult* r) {
+  opt.step("fit", 0);
   auto t0 = Clock::now();
   std::vector<FitStats> fit_stats;
   std::vector<FittedLevel> levels =
       fit_mip_chain(sh, opt.fit, opt.max_levels, opt.threads, &fit_stats, &r->dilate_stats);
   r->fit_stats = fit_stats[0];
   r->timings.push_back({"mips, fit, dilate", seconds_since(t0)});
-  if (!opt.measure) return levels;
+  opt.step("fit", 1);
+  if (!opt.measuring()) return levels;
 
   t0 = Clock::now();
   const AhdImage& fit = levels[0].ahd;
   r->fit_error = measure_error(sh, lobes_from_fit(fit), opt.threads);
-  if (opt.measure_unconstrained) {
+  if (opt.measuring_baselines()) {
     const size_t n = sh.texels();
     std::vector<AhdLobe> lobes(n);
     parallel_for(n, opt.threads, 1024, [&](size_t i) {
@@ -293,7 +297,15 @@ void quantise_levels(const std::vector<FittedLevel>& levels, const Profile& prof
   r->timings.push_back({"direction decision", seconds_since(t0)});
   t0 = Clock::now();
   std::vector<LevelPlanes> lv;
-  for (const FittedLevel& l : levels) lv.push_back(quantise_level(l, profile, opt, r->directional, &r->codec_stats));
+  // Progress by texels: level 0 is three quarters of the chain.
+  double done = 0, all = 0;
+  for (const FittedLevel& l : levels) all += double(l.sh.texels());
+  for (const FittedLevel& l : levels) {
+    opt.step("encode", done / all);
+    lv.push_back(quantise_level(l, profile, opt, r->directional, &r->codec_stats));
+    done += double(l.sh.texels());
+  }
+  opt.step("encode", 1);
   r->planes = planes_of(profile, lv, r->directional, false);
   if (opt.coverage_plane) {
     Texture cov;
@@ -305,7 +317,7 @@ void quantise_levels(const std::vector<FittedLevel>& levels, const Profile& prof
     r->planes.push_back({"coverage", std::move(cov)});
   }
   r->timings.push_back({"quantise", seconds_since(t0)});
-  if (!opt.measure) return;
+  if (!opt.measuring()) return;
 
   t0 = Clock::now();
   r->level_error.clear();
@@ -313,11 +325,16 @@ void quantise_levels(const std::vector<FittedLevel>& levels, const Profile& prof
     r->level_error.push_back(measure_error(
         levels[l].sh, lobes_from_planes(decode_planes(r->planes, ratio_rgb, int(l)), opt.fit.dz_min), opt.threads));
   r->final_error = r->level_error[0];
-  if (opt.measure_open_loop && r->directional)
+  if (opt.measuring_baselines() && r->directional)
     r->open_loop_error = measure_error(
         levels[0].sh, lobes_from_planes(decode_planes(planes_of(profile, lv, r->directional, true), ratio_rgb, 0), opt.fit.dz_min),
         opt.threads);
   r->timings.push_back({"measure quantised", seconds_since(t0)});
+}
+
+void ConvertOptions::step(const char* stage, double fraction) const {
+  if (cancel && cancel->load(std::memory_order_relaxed)) throw Cancelled();
+  if (progress) progress(stage, fraction);
 }
 
 ConvertResult convert(const ShImage& sh, const Profile& profile, const ConvertOptions& opt) {

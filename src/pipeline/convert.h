@@ -1,6 +1,8 @@
 // SH lightmap → fitted AHD → quantised planes (closed loop) → textures, with per-stage cost and
 // error. A pure function: no file I/O (the CLI reads inputs and writes what this returns).
 #pragma once
+#include <atomic>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -20,21 +22,34 @@ namespace ahd {
 // `ambient_threshold` of the SH — relative hemisphere RMSE p99 over covered texels of level 0.
 // The default 1 % is where dropping them costs less than the 8-bit direction/ratio planes' own
 // quantisation error (measured by `ahdpack report direction`, README).
-enum class DirectionPlanes { Auto, Keep, Drop };
 constexpr double kDefaultAmbientThreshold = 0.01;
 
 struct ConvertOptions {
   FitOptions fit;
   bool closed_loop = true;
-  bool measure = true;                // measure errors at all (off: pure conversion, for benchmarks)
-  bool measure_unconstrained = true;  // also fit the unconstrained LS baseline for the report
-  bool measure_open_loop = true;      // also quantise open loop to report the closed-loop gain
-  PlaneCodecOptions codec;
-  int threads = 0;
+  // Off: no error measurement (the library's default: a cook step pays only for the conversion).
+  // Estimate: a deterministic sample of texels per level. Full: every texel and level, plus the
+  // unconstrained LS and open-loop baselines (the report commands).
+  Measure measure = Measure::Off;
+  PlaneCodecOptions codec;  // its `threads` is ignored: `threads` below is the one thread count
+  int threads = 0;          // 0 = all hardware threads; the bytes never depend on it
   int max_levels = 0;  // mip levels to write: 0 = the full chain down to 1×1
   bool coverage_plane = false;  // also write an R8 "coverage" plane (255 = covered) per level
   DirectionPlanes direction = DirectionPlanes::Auto;
   double ambient_threshold = kDefaultAmbientThreshold;
+  // Called from the calling thread between steps: stage name and fraction done in [0, 1].
+  std::function<void(const char* stage, double fraction)> progress;
+  // When set and raised (by any thread), the conversion stops at its next step with ahd::Cancelled.
+  const std::atomic<bool>* cancel = nullptr;
+
+  // With Measure::Full: also the unconstrained-LS and open-loop baselines (off saves the report
+  // commands' time where they print neither).
+  bool measure_baselines = true;
+
+  bool measuring() const { return measure != Measure::Off; }
+  bool measuring_baselines() const { return measure == Measure::Full && measure_baselines; }
+  // Reports progress and honours the cancel flag (throws ahd::Cancelled).
+  void step(const char* stage, double fraction) const;
 };
 
 struct Plane {
@@ -62,6 +77,10 @@ struct ConvertResult {
   ErrorReport ambient_error;  // I_z alone (d = z, ratio = 1) vs the SH, level 0 (Auto, when measuring)
   std::string direction_reason;  // why the planes were kept or dropped (for the report)
 };
+
+// Throws ahd::Error when `profile` cannot be written with these options (a format this build cannot
+// encode, the RGB ratio form with a one-channel ratio plane).
+void check_profile(const Profile& profile, const ConvertOptions& opt);
 
 // The whole conversion: fit_levels then quantise_levels.
 ConvertResult convert(const ShImage& sh, const Profile& profile, const ConvertOptions& opt);

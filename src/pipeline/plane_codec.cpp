@@ -108,7 +108,7 @@ TextureLevel encode_plane(PixelFormat f, const ImageF& img, const PlaneCodecOpti
     case PixelFormat::BC6H_SFLOAT: {
       Bc6hOptions o;
       o.is_signed = f == PixelFormat::BC6H_SFLOAT;
-      o.quality = Bc6hQuality(std::clamp(opt.bc6h_quality, 0, 3));
+      o.quality = opt.bc6h_quality;
       o.threads = opt.threads;
       Bc6hStats bs;
       lvl.data = bc6h_encode_image(img, o, &bs);

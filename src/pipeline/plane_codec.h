@@ -1,5 +1,6 @@
 // One image plane ↔ one texture level of a pixel format: the switch over every codec.
 #pragma once
+#include <ahd/types.h>
 #include <cstddef>
 
 #include "core/image.h"
@@ -9,7 +10,7 @@ namespace ahd {
 
 struct PlaneCodecOptions {
   int threads = 0;
-  int bc6h_quality = 1;  // 0 fast, 1 default, 2 high, 3 max
+  Bc6hQuality bc6h_quality = Bc6hQuality::Default;
 };
 
 // What encoding had to clamp (counted, reported).

@@ -1,27 +1,16 @@
 #include "pipeline/profile.h"
 
-#include <algorithm>
-#include <cstdlib>
-#include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "pipeline/builtin_profiles.h"
 
 namespace ahd {
-namespace fs = std::filesystem;
 
-Profile load_profile(const std::string& name_or_path) {
-  const std::string path = data_file_path("profiles", name_or_path);
-  std::ifstream f(path);
-  if (!f) {
-    std::string known;
-    for (const auto& n : list_profiles()) known += (known.empty() ? "" : ", ") + n;
-    throw file_error(path, "unknown profile '" + name_or_path + "' (known: " + known + ")");
-  }
+Profile profile_from_json(const std::string& text, const std::string& path) {
   nlohmann::json j;
   try {
-    j = nlohmann::json::parse(f);
+    j = nlohmann::json::parse(text);
   } catch (const std::exception& e) {
     throw file_error(path, std::string("invalid JSON (") + e.what() + ")");
   }
@@ -56,6 +45,19 @@ Profile load_profile(const std::string& name_or_path) {
   return p;
 }
 
-std::vector<std::string> list_profiles() { return list_data_files("profiles"); }
+Profile builtin_profile(const std::string& name) {
+  for (size_t i = 0; i < kBuiltinProfileCount; ++i)
+    if (name == kBuiltinProfiles[i].name)
+      return profile_from_json(kBuiltinProfiles[i].json, "built-in profile " + name);
+  std::string known;
+  for (const std::string& n : builtin_profile_names()) known += (known.empty() ? "" : ", ") + n;
+  throw Error("unknown profile '" + name + "' (known: " + known + ")");
+}
+
+std::vector<std::string> builtin_profile_names() {
+  std::vector<std::string> names;
+  for (size_t i = 0; i < kBuiltinProfileCount; ++i) names.push_back(kBuiltinProfiles[i].name);
+  return names;  // generated in sorted order
+}
 
 }  // namespace ahd

@@ -1,9 +1,10 @@
-// Output profiles: which planes a conversion writes and in which formats (formats/profiles/*.json).
+// Output profiles: which planes a conversion writes and in which formats. The standard profiles are
+// built into the library (generated from formats/profiles/*.json at build time, so the library needs
+// no data files and no environment); io/profile_file.h finds profiles on disk by name or path.
 #pragma once
 #include <string>
 #include <vector>
 
-#include "core/paths.h"
 #include "core/pixel_format.h"
 
 namespace ahd {
@@ -20,11 +21,15 @@ struct Profile {
   bool ratio_rgb = false;  // "ratio_form": "rgb" — C_a/I_z per channel instead of L(C_a)/L(I_z)
 };
 
-// Loads a profile by name (formats/profiles/NAME.json) or from a .json path. Throws ahd::Error
-// naming the file and the problem.
-Profile load_profile(const std::string& name_or_path);
+// Parses a profile's JSON text (untrusted: every field is checked). Throws
+// ahd::Error("<path_for_errors>: <cause>").
+Profile profile_from_json(const std::string& text, const std::string& path_for_errors);
 
-// Names of the profiles in formats/profiles/, sorted.
-std::vector<std::string> list_profiles();
+// A standard profile by name ("uncompressed", "pc-bc", …). Throws ahd::Error listing the known
+// names when there is none of that name.
+Profile builtin_profile(const std::string& name);
+
+// The standard profiles' names, sorted.
+std::vector<std::string> builtin_profile_names();
 
 }  // namespace ahd

@@ -1,28 +1,13 @@
-// The canonical SH lightmap every reader produces and every later stage consumes.
+// The canonical SH lightmap every reader produces and every later stage consumes (the struct is
+// public: <ahd/types.h>).
 #pragma once
 #include <cstddef>
 #include <cstdint>
 #include <vector>
 
+#include <ahd/types.h>
+
 namespace ahd {
-
-// w×h texels of `coeffs` (4 = L1, 9 = L2) radiance-SH coefficients × RGB, canonical order and
-// normalisation (sh/sh.h). Layout: data[((y*w + x)*coeffs + k)*3 + c].
-struct ShImage {
-  int width = 0;
-  int height = 0;
-  int coeffs = 9;
-  std::vector<float> data;
-  // 1 where a chart covers the texel, 0 in gutters / empty space. Always width*height entries.
-  std::vector<uint8_t> coverage;
-  // Empty: the SH is in tangent space (z = surface normal). Otherwise width*height*3 unit WORLD-space
-  // normals, and the SH is in world space; the fit rotates it into frame_from_normal(n).
-  std::vector<float> normals;
-
-  size_t texels() const { return size_t(width) * height; }
-  float* texel(size_t i) { return data.data() + i * size_t(coeffs) * 3; }
-  const float* texel(size_t i) const { return data.data() + i * size_t(coeffs) * 3; }
-};
 
 // Allocates a zeroed image with every texel covered.
 ShImage make_sh_image(int width, int height, int coeffs);

@@ -1,13 +1,20 @@
-// The GLSL decode snippet (formats/shaders/ahd_decode.glsl) run on a real GL — Mesa's llvmpipe —
-// with hardware bilinear filtering of the produced textures, against the C++ reference decoder
-// applied to bilinearly filtered plane values. Also shows the paper's promise on a GPU pipeline:
-// with the surface normal, the decoded irradiance is I_z, linear between texels.
+// The decode snippets run on a real GL — Mesa's llvmpipe — with hardware bilinear filtering of the
+// produced textures, against the C++ reference decoder applied to bilinearly filtered plane values:
+// the GLSL one (formats/shaders/ahd_decode.glsl) as it is, and the HLSL one
+// (formats/shaders/ahd_decode.hlsl) compiled by a real HLSL front end (glslang, `glslangValidator -D`)
+// to SPIR-V and taken back to GLSL by spirv-cross, so both snippets are proven against the reference.
+// Also shows the paper's promise on a GPU pipeline: with the surface normal, the decoded irradiance
+// is I_z, linear between texels.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <unistd.h>
 
+#include "io/profile_file.h"
 #include "codecs/octahedral.h"
 #include "fit/ahd_decode.h"
 #include "gl_upload.h"
@@ -74,6 +81,75 @@ void main() {
   else frag = vec4(ahd_irradiance(iz, duv, ratio, normalize(normal), dz_min), iz.g);
 })";
 
+// The same main() in HLSL around the HLSL snippet. Parameters in one cbuffer (flattened by
+// spirv-cross into `uniform vec4 Params[2]`), textures and one linear sampler.
+const char* kHlslMain = R"(
+Texture2D t_iz : register(t0);
+Texture2D t_dir : register(t1);
+Texture2D t_ratio : register(t2);
+SamplerState s_linear : register(s0);
+cbuffer Params : register(b0) {
+  float4 p_grid_dzmin_mode;     // grid.xy, dz_min, mode
+  float4 p_normal_packed;       // normal.xyz, packed planes
+};
+float4 main(float4 pos : SV_Position) : SV_Target {
+  float2 tc = pos.xy / p_grid_dzmin_mode.xy;
+  float3 iz = t_iz.Sample(s_linear, tc).rgb;
+  float2 duv;
+  float3 ratio;
+  if (p_normal_packed.w != 0.0) {
+    float4 dr = t_dir.Sample(s_linear, tc);
+    duv = dr.rg;
+    ratio = dr.bbb;
+  } else {
+    duv = t_dir.Sample(s_linear, tc).rg;
+    ratio = t_ratio.Sample(s_linear, tc).rrr;
+  }
+  float mode = p_grid_dzmin_mode.w;
+  if (mode == 1.0) return float4(duv, ratio.r, 0.0);
+  if (mode == 2.0) return float4(iz, 0.0);
+  return float4(ahd_irradiance(iz, duv, ratio, normalize(p_normal_packed.xyz), p_grid_dzmin_mode.z), iz.g);
+})";
+
+enum class Lang { Glsl, Hlsl };
+
+// HLSL → SPIR-V (glslang's HLSL front end) → GLSL 330 (spirv-cross). Empty on failure (reported).
+std::string hlsl_to_glsl(const std::string& hlsl) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("ahd_hlsl_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  { std::ofstream(dir / "decode.hlsl") << hlsl; }
+  const std::string cmd = "glslangValidator -D -V -S frag -e main -o '" + (dir / "decode.spv").string() + "' '" +
+                          (dir / "decode.hlsl").string() + "' > '" + (dir / "log.txt").string() +
+                          "' 2>&1 && spirv-cross --version 330 --no-es --flatten-ubo '" + (dir / "decode.spv").string() +
+                          "' --output '" + (dir / "decode.glsl").string() + "' >> '" + (dir / "log.txt").string() + "' 2>&1";
+  const int rc = std::system(cmd.c_str());
+  const std::string glsl = read_text((dir / "decode.glsl").string()), log = read_text((dir / "log.txt").string());
+  std::filesystem::remove_all(dir);
+  if (rc != 0) ADD_FAILURE() << "HLSL compile failed (glslang-tools and spirv-cross installed?):\n" << log;
+  return rc == 0 ? glsl : std::string();
+}
+
+std::string fragment_source(Lang lang) {
+  const std::string dir = std::string(AHD_SOURCE_DIR) + "/formats/shaders/";
+  if (lang == Lang::Glsl) return "#version 330 core\n" + read_text(dir + "ahd_decode.glsl") + kFragmentMain;
+  return hlsl_to_glsl(read_text(dir + "ahd_decode.hlsl") + kHlslMain);
+}
+
+// The location of the active uniform whose name contains `part` (spirv-cross names combined
+// samplers SPIRV_Cross_Combined<texture><sampler>).
+GLint uniform_containing(GLuint prog, const std::string& part) {
+  GLint count = 0;
+  glGetProgramiv(prog, GL_ACTIVE_UNIFORMS, &count);
+  for (GLint i = 0; i < count; ++i) {
+    char name[256];
+    GLint size;
+    GLenum type;
+    glGetActiveUniform(prog, GLuint(i), sizeof name, nullptr, &size, &type, name);
+    if (std::string(name).find(part) != std::string::npos) return glGetUniformLocation(prog, name);
+  }
+  return -1;
+}
+
 // Clamp-to-edge bilinear sample of a decoded plane at texture coordinate (s, t), as GL defines it.
 void bilinear(const ImageF& img, double s, double t, float* out) {
   const double x = s * img.width - 0.5, y = t * img.height - 0.5;
@@ -96,7 +172,7 @@ struct RenderResult {
   int samples = 0;
 };
 
-RenderResult render_and_compare(const std::string& profile_name, const double normal[3]) {
+RenderResult render_and_compare(Lang lang, const std::string& profile_name, const double normal[3]) {
   BakerOptions bo;
   bo.width = bo.height = 16;
   bo.area_samples = 4;
@@ -107,11 +183,11 @@ RenderResult render_and_compare(const std::string& profile_name, const double no
   const ConvertResult r = convert(sh, profile, opt);
 
   // GL program.
-  const std::string snippet = read_text(std::string(AHD_SOURCE_DIR) + "/formats/shaders/ahd_decode.glsl");
-  EXPECT_FALSE(snippet.empty());
+  const std::string fragment = fragment_source(lang);
+  EXPECT_FALSE(fragment.empty());
   const GLuint prog = glCreateProgram();
   glAttachShader(prog, compile(GL_VERTEX_SHADER, kVertex));
-  glAttachShader(prog, compile(GL_FRAGMENT_SHADER, "#version 330 core\n" + snippet + kFragmentMain));
+  glAttachShader(prog, compile(GL_FRAGMENT_SHADER, fragment));
   glLinkProgram(prog);
   GLint linked = 0;
   glGetProgramiv(prog, GL_LINK_STATUS, &linked);
@@ -144,15 +220,24 @@ RenderResult render_and_compare(const std::string& profile_name, const double no
     texs[i] = ahd_test::upload_texture(planes[i]->texture);
     EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR)) << "upload of " << planes[i]->name;
   }
-  glUniform1i(glGetUniformLocation(prog, "t_iz"), 0);
-  glUniform1i(glGetUniformLocation(prog, "t_dir"), 1);
-  glUniform1i(glGetUniformLocation(prog, "t_ratio"), planes[2] ? 2 : 1);
-  glUniform1i(glGetUniformLocation(prog, "packed_planes"), profile.packed_dir_ratio ? 1 : 0);
-  glUniform1f(glGetUniformLocation(prog, "dz_min"), float(opt.fit.dz_min));
-  glUniform2f(glGetUniformLocation(prog, "grid"), float(G), float(G));
-  glUniform3f(glGetUniformLocation(prog, "normal"), float(normal[0]), float(normal[1]), float(normal[2]));
-  auto draw = [&](int mode) {
+  glUniform1i(uniform_containing(prog, "t_iz"), 0);
+  glUniform1i(uniform_containing(prog, "t_dir"), 1);
+  glUniform1i(uniform_containing(prog, "t_ratio"), planes[2] ? 2 : 1);
+  auto set_parameters = [&](int mode) {
+    if (lang == Lang::Hlsl) {
+      const float params[8] = {float(G), float(G), float(opt.fit.dz_min), float(mode),
+                               float(normal[0]), float(normal[1]), float(normal[2]), profile.packed_dir_ratio ? 1.0f : 0.0f};
+      glUniform4fv(uniform_containing(prog, "Params"), 2, params);
+      return;
+    }
+    glUniform1i(glGetUniformLocation(prog, "packed_planes"), profile.packed_dir_ratio ? 1 : 0);
+    glUniform1f(glGetUniformLocation(prog, "dz_min"), float(opt.fit.dz_min));
+    glUniform2f(glGetUniformLocation(prog, "grid"), float(G), float(G));
+    glUniform3f(glGetUniformLocation(prog, "normal"), float(normal[0]), float(normal[1]), float(normal[2]));
     glUniform1i(glGetUniformLocation(prog, "mode"), mode);
+  };
+  auto draw = [&](int mode) {
+    set_parameters(mode);
     glDrawArrays(GL_TRIANGLES, 0, 3);
     std::vector<float> out(size_t(G) * G * 4);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
@@ -213,7 +298,7 @@ RenderResult render_and_compare(const std::string& profile_name, const double no
 
 }  // namespace
 
-class ShaderRender : public ::testing::TestWithParam<std::string> {
+class ShaderRender : public ::testing::TestWithParam<std::tuple<Lang, std::string>> {
  protected:
   void SetUp() override {
     std::string why;
@@ -221,17 +306,18 @@ class ShaderRender : public ::testing::TestWithParam<std::string> {
   }
 };
 
-TEST_P(ShaderRender, GlslSnippetMatchesReferenceDecoder) {
-  const std::string profile = GetParam();
+TEST_P(ShaderRender, SnippetMatchesReferenceDecoder) {
+  const auto [lang, profile] = GetParam();
   const Profile p = load_profile(profile);
   for (PixelFormat f : {p.iz, p.dir, p.ratio, p.dirratio})
     if (!plane_format_supported(f)) GTEST_SKIP() << "profile " << profile << " needs " << format_info(f).name;
   const double z[3] = {0, 0, 1}, tilted[3] = {0.45, -0.3, 0.84};
-  const RenderResult a = render_and_compare(profile, z);
-  const RenderResult b = render_and_compare(profile, tilted);
-  std::printf("%s (%d samples per normal): snippet vs C++ on GL-filtered values: n=z %.2e, tilted %.2e; "
+  const RenderResult a = render_and_compare(lang, profile, z);
+  const RenderResult b = render_and_compare(lang, profile, tilted);
+  ASSERT_GT(a.samples, 0);
+  std::printf("%s %s (%d samples per normal): snippet vs C++ on GL-filtered values: n=z %.2e, tilted %.2e; "
               "I_z linearity (n=z) %.2e; vs exact bilinear filtering: n=z %.2e, tilted %.2e\n",
-              profile.c_str(), a.samples, a.max_rel, b.max_rel, a.max_iz_linear, a.max_filter, b.max_filter);
+              lang == Lang::Glsl ? "GLSL" : "HLSL", profile.c_str(), a.samples, a.max_rel, b.max_rel, a.max_iz_linear, a.max_filter, b.max_filter);
   // The snippet computes what the reference decoder computes, to float precision.
   EXPECT_LT(a.max_rel, 1e-5);
   EXPECT_LT(b.max_rel, 1e-5);
@@ -243,9 +329,11 @@ TEST_P(ShaderRender, GlslSnippetMatchesReferenceDecoder) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Profiles, ShaderRender,
-                         ::testing::Values("uncompressed", "pc-bc", "packed-float", "packed-rgb9e5"),
+                         ::testing::Combine(::testing::Values(Lang::Glsl, Lang::Hlsl),
+                                            ::testing::Values("uncompressed", "pc-bc", "packed-float", "packed-rgb9e5")),
                          [](const auto& info) {
-                           std::string n = info.param;
+                           std::string n = std::string(std::get<0>(info.param) == Lang::Glsl ? "glsl_" : "hlsl_") +
+                                           std::get<1>(info.param);
                            for (char& c : n)
                              if (c == '-') c = '_';
                            return n;

@@ -7,8 +7,9 @@
 #include <fstream>
 
 #include "cli_runner.h"
-#include "containers/container.h"
+#include "io/container_file.h"
 #include "core/image.h"
+#include "io/profile_file.h"
 #include "io/image_io.h"
 #include "io/sh_exr.h"
 #include "pipeline/convert.h"

@@ -39,7 +39,7 @@ Agreement decode_vs_runtime(const WorldBake& b, const std::string& layout, const
   EXPECT_EQ(conv.exit_code, 0) << conv.output;
   const ShImage sh = b.read(layout);
   ConvertOptions opt;
-  opt.measure = false;
+  opt.measure = Measure::Off;
   ConvertResult fr;
   const std::vector<FittedLevel> fit = fit_levels(sh, opt, &fr);
 

@@ -9,8 +9,9 @@
 #include <sstream>
 
 #include "cli_runner.h"
-#include "containers/container.h"
+#include "io/container_file.h"
 #include "core/error.h"
+#include "io/profile_file.h"
 #include "io/image_io.h"
 #include "pipeline/convert.h"
 #include "pipeline/manifest.h"
@@ -98,7 +99,8 @@ TEST(DirectionPlanes, AutoKeepsDirectionalLightAndDropsWeakOne) {
   const ShImage scene = bake_analytic_scene(bo);
   const Profile p = load_profile("uncompressed");
   ConvertOptions opt;
-  opt.measure_unconstrained = false;
+  opt.measure = Measure::Full;
+  opt.measure_baselines = false;
   ConvertResult strong = convert(scene, p, opt);
   EXPECT_TRUE(strong.directional) << strong.direction_reason;
   EXPECT_EQ(strong.planes.size(), 3u);
@@ -148,7 +150,7 @@ TEST(DirectionPlanes, EarlyExitDecisionEqualsTheMeasuredP99) {
     for (size_t i = 0; i < sh.texels(); ++i)
       for (int k = 3; k < sh.coeffs * 3; ++k) sh.texel(i)[k] *= scale;
     ConvertOptions opt;
-    opt.measure = false;
+    opt.measure = Measure::Off;
     ConvertResult r;
     const std::vector<FittedLevel> levels = fit_levels(sh, opt, &r);
     const std::vector<AhdLobe> lobes = ambient_only_lobes(levels[0]);

@@ -47,7 +47,7 @@ TEST(Golden, OutputsMatchStoredFiles) {
     ++n;
     const fs::path out = tmp / (name + "." + container);
     const auto res = ahd_test::run_cli({"convert", (root / "inputs" / input).string(), "-o", out.string(), "--profile",
-                                        profile, "--threads", "1", "-q"});
+                                        profile, "--threads", "1", "--measure", "full", "-q"});
     ASSERT_EQ(res.exit_code, 0) << res.output;
     int files = 0;
     for (const auto& e : fs::directory_iterator(root / "expected")) {

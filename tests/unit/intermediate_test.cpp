@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "core/error.h"
+#include "io/profile_file.h"
 #include "io/ahd_intermediate.h"
 #include "pipeline/convert.h"
 #include "sample/analytic_baker.h"

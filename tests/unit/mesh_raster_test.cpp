@@ -14,7 +14,7 @@
 #include <sstream>
 
 #include "cli_runner.h"
-#include "containers/container.h"
+#include "io/container_file.h"
 #include "core/error.h"
 #include "io/baker_layout.h"
 #include "io/image_io.h"

@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "io/profile_file.h"
 #include "fit/ahd_decode.h"
 #include "fit/fit_image.h"
 #include "pipeline/convert.h"
@@ -74,6 +75,7 @@ TEST(Pipeline, BakerHandlesTinyAndOddSizes) {
 TEST(Pipeline, UncompressedProfileClosedLoopBeatsOpenLoop) {
   const ShImage sh = scene(64, 9);
   ConvertOptions opt;
+  opt.measure = Measure::Full;
   opt.threads = 2;
   const ConvertResult r = convert(sh, load_profile("uncompressed"), opt);
   ASSERT_EQ(r.planes.size(), 3u);
@@ -94,10 +96,8 @@ TEST(Pipeline, ConvertIsDeterministicAcrossThreadCounts) {
   const ShImage sh = scene(40, 9);
   ConvertOptions a;
   a.threads = 1;
-  a.codec.threads = 1;
   ConvertOptions b = a;
   b.threads = 2;
-  b.codec.threads = 2;
   const ConvertResult x = convert(sh, load_profile("uncompressed"), a), y = convert(sh, load_profile("uncompressed"), b);
   ASSERT_EQ(x.planes.size(), y.planes.size());
   for (size_t p = 0; p < x.planes.size(); ++p) EXPECT_EQ(x.planes[p].texture.levels[0].data, y.planes[p].texture.levels[0].data);

@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <functional>
 
+#include "io/profile_file.h"
 #include "fit/ahd_decode.h"
 #include "layout_test_scene.h"
 #include "pipeline/convert.h"
@@ -38,7 +39,7 @@ ShImage canonical_world(const WorldScene& w) {
 
 ConvertResult convert_planes(const ShImage& sh) {
   ConvertOptions opt;
-  opt.measure = false;
+  opt.measure = Measure::Off;
   opt.direction = DirectionPlanes::Keep;
   return convert(sh, load_profile("uncompressed"), opt);
 }
@@ -46,7 +47,7 @@ ConvertResult convert_planes(const ShImage& sh) {
 // The fitted AHD of level 0 before quantisation, as plane values.
 DecodedPlanes fitted_planes(const ShImage& sh) {
   ConvertOptions opt;
-  opt.measure = false;
+  opt.measure = Measure::Off;
   ConvertResult r;
   const auto lv = fit_levels(sh, opt, &r);
   DecodedPlanes p;
@@ -195,7 +196,7 @@ TEST(PresetConversion, UnityAndPlainKeepTheIrradianceAlongTheNormal) {
     }
   write_image(b.file("_plain.exr"), plain);
   ConvertOptions opt;
-  opt.measure = false;
+  opt.measure = Measure::Off;
   const ConvertResult p = convert(read_layout(load_layout("plain"), b.file("_plain"), ""), load_profile("uncompressed"), opt);
   const ConvertResult pr = convert_planes(ambient);
   ASSERT_EQ(p.planes.size(), 1u);

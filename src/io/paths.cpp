@@ -1,4 +1,4 @@
-#include "core/paths.h"
+#include "io/paths.h"
 
 #include <algorithm>
 #include <cstdlib>

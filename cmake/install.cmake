@@ -1,0 +1,19 @@
+# install() and the exported package: find_package(ahdpack) → ahdpack::ahd, ahdpack::ahd_io,
+# ahdpack::ahd_sample (static libraries, public headers <ahd/…>), and the ahdpack command.
+include(CMakePackageConfigHelpers)
+
+install(TARGETS ahd ahd_io ahd_sample EXPORT ahdpackTargets
+  ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+  INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/include/ahd DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+install(EXPORT ahdpackTargets NAMESPACE ahdpack:: DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/ahdpack)
+configure_package_config_file(${CMAKE_CURRENT_SOURCE_DIR}/cmake/ahdpackConfig.cmake.in
+  ${CMAKE_CURRENT_BINARY_DIR}/ahdpackConfig.cmake INSTALL_DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/ahdpack)
+write_basic_package_version_file(${CMAKE_CURRENT_BINARY_DIR}/ahdpackConfigVersion.cmake
+  COMPATIBILITY SameMinorVersion)
+install(FILES ${CMAKE_CURRENT_BINARY_DIR}/ahdpackConfig.cmake ${CMAKE_CURRENT_BINARY_DIR}/ahdpackConfigVersion.cmake
+  DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/ahdpack)
+if(AHD_BUILD_CLI)
+  install(TARGETS ahdpack RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+  install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/formats/ DESTINATION ${CMAKE_INSTALL_DATADIR}/ahdpack/formats)
+endif()

@@ -1,0 +1,66 @@
+/* ahdpack's C API, for cook steps that are not C++ (C#, Rust, Python through their FFI).
+ * Link ahdpack::ahd (and a C++ runtime). Same contract as <ahd/convert.h>: pure, deterministic,
+ * thread-safe on different inputs. Every function that can fail returns 0 on success and non-zero
+ * on failure, writing one line (the cause) into `error` (NUL-terminated, truncated to error_size). */
+#ifndef AHD_AHD_H
+#define AHD_AHD_H
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* An SH lightmap in caller-owned memory, read only during ahd_convert (copied in).
+ * sh: width*height*coeffs*3 floats, texel-major: sh[((y*width + x)*coeffs + k)*3 + c], k in the
+ *     order Y00, y, z, x (, xy, yz, 3z²−1, xz, x²−y²), radiance projection (README conventions).
+ * coverage: width*height bytes (non-zero = covered), or NULL for every texel covered.
+ * normals: width*height*3 unit world-space normals when the SH is in world space, else NULL. */
+typedef struct ahd_sh_input {
+  int width, height, coeffs; /* coeffs: 4 (L1) or 9 (L2) */
+  const float* sh;
+  const unsigned char* coverage;
+  const float* normals;
+} ahd_sh_input;
+
+/* Options; ahd_options_init sets the documented defaults (those of ahd::ConversionOptions). */
+typedef struct ahd_options {
+  const char* profile;      /* standard profile name, default "uncompressed" */
+  const char* profile_json; /* or a profile definition (JSON text); NULL = use `profile` */
+  int ratio;                /* -1 the profile's form (default), 0 luminance, 1 rgb */
+  int bc6h_quality;         /* 0 fast, 1 default, 2 high, 3 max */
+  int threads;              /* 0 = all hardware threads */
+  double eps;               /* horizon rule, default 0.05 */
+  int closed_loop;          /* default 1 */
+  int levels;               /* 0 = full mip chain */
+  int coverage_plane;       /* default 0 */
+  int direction;            /* 0 auto (default), 1 keep, 2 drop */
+  double ambient_threshold; /* default 0.01 */
+  int container;            /* 0 KTX2 (default), 1 DDS */
+  int zstd;                 /* KTX2 supercompression, default 0 */
+  int plane_metadata;       /* ahd.* KTX2 key/values, default 1 */
+  int measure;              /* 0 off (default), 1 estimate, 2 full */
+} ahd_options;
+
+void ahd_options_init(ahd_options* options);
+
+/* The finished conversion: files (planes, then NAME.json, then NAME.report.json) owned by it. */
+typedef struct ahd_result ahd_result;
+
+/* Converts `input` into files named after `name` (a file stem, no folders). On success *result
+ * holds the files (free with ahd_result_free); on failure *result is NULL. */
+int ahd_convert(const ahd_sh_input* input, const char* name, const ahd_options* options, ahd_result** result,
+                char* error, size_t error_size);
+
+size_t ahd_result_file_count(const ahd_result* result);
+/* The i-th file's name (NUL-terminated) and bytes; valid until ahd_result_free. NULL when i is out of range. */
+const char* ahd_result_file_name(const ahd_result* result, size_t i);
+const unsigned char* ahd_result_file_data(const ahd_result* result, size_t i, size_t* size);
+void ahd_result_free(ahd_result* result);
+
+/* The library's version, "MAJOR.MINOR.PATCH". */
+const char* ahd_version(void);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* AHD_AHD_H */

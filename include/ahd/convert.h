@@ -1,0 +1,72 @@
+// ahdpack's C++ entry point: an SH lightmap in memory → the finished conversion in memory (every
+// plane container, the manifest and the report, as bytes with their file names). Link ahdpack::ahd.
+//
+// Contract:
+// - Pure: no file system, no environment, no global state. The caller owns the input; the result
+//   owns its bytes. Safe to call from several threads at once on different inputs.
+// - Deterministic: the same input and options give the same bytes, whatever `threads` is.
+// - Errors: throws ahd::Error (one line: the cause) on invalid options or input (sizes, coefficient
+//   count, non-finite values are counted and zeroed, not errors); ahd::Cancelled when `cancel` rises.
+// - Untrusted input: `sh` is only read within width*height*coeffs*3 floats after its size is
+//   checked against data.size(); the profile JSON is parsed defensively.
+#pragma once
+#include <ahd/types.h>
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace ahd {
+
+struct ConversionOptions {
+  // Output profile: a standard one by name ("uncompressed", "uncompressed-rgb", "pc-bc",
+  // "packed-float", "packed-rgb9e5"; README "Outputs"), or, when `profile_json` is not empty, that
+  // definition (the format of formats/profiles/*.json).
+  std::string profile = "uncompressed";
+  std::string profile_json;
+  // The ratio plane's form; unset: the profile's (luminance unless the profile says rgb).
+  std::optional<RatioForm> ratio;
+  Bc6hQuality bc6h_quality = Bc6hQuality::Default;  // for profiles with BC6H planes
+  int threads = 0;            // worker threads, 0 = all hardware threads
+  double eps = 0.05;          // the horizon rule: smallest stored d_z, in (0, 1)
+  bool closed_loop = true;    // refit the ratio against the decoded direction and I_z
+  int levels = 0;             // mip levels to write, 0 = the full chain down to 1×1
+  bool coverage_plane = false;  // also write NAME.coverage.<ext> (R8, 255 = covered)
+  DirectionPlanes direction = DirectionPlanes::Auto;
+  double ambient_threshold = 0.01;  // Auto: drop dir/ratio when I_z alone is within this (rel. p99)
+  ContainerKind container = ContainerKind::KTX2;
+  bool zstd = false;  // KTX2 Zstandard supercompression
+  // ahd.* key/value metadata in every KTX2 plane (the manifest holds the same). Khronos'
+  // `ktx validate` warns once per unknown key, so its strict mode (-e) rejects such files: set
+  // false for files that pass strict validation.
+  bool plane_metadata = true;
+  Measure measure = Measure::Off;  // error diagnostics in the report (they cost time)
+  // Called on the calling thread between steps with a stage name ("fit", "encode", "measure",
+  // "write") and the fraction of that stage done, in [0, 1].
+  std::function<void(const char* stage, double fraction)> progress;
+  // When not null and raised (from any thread), the conversion stops with ahd::Cancelled.
+  const std::atomic<bool>* cancel = nullptr;
+};
+
+// One output file: its name (no folder) and its bytes.
+struct OutputFile {
+  std::string name;
+  std::vector<uint8_t> bytes;
+};
+
+struct Conversion {
+  // The plane containers (NAME.iz.<ext>, NAME.dir.<ext>, …), then NAME.json (the manifest: which file
+  // holds which plane and how to decode it) and NAME.report.json (rules fired, errors, seconds).
+  // A caller that writes them should publish the manifest last.
+  std::vector<OutputFile> files;
+  bool directional = true;  // false: only the iz plane was written (see DirectionPlanes)
+};
+
+// Converts `sh` into planes named after `name` (a file stem such as "room": no folder, no dots
+// needed). See the contract above.
+Conversion convert(const ShImage& sh, const std::string& name, const ConversionOptions& options = {});
+
+}  // namespace ahd

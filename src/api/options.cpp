@@ -1,0 +1,53 @@
+#include "api/options.h"
+
+#include "core/error.h"
+
+namespace ahd {
+
+ResolvedOptions resolve_options(const ConversionOptions& o, const std::string& name) {
+  return resolve_options(o, name,
+                         o.profile_json.empty() ? builtin_profile(o.profile) : profile_from_json(o.profile_json, "profile_json"));
+}
+
+ResolvedOptions resolve_options(const ConversionOptions& o, const std::string& name, const Profile& profile) {
+  if (!(o.eps > 0 && o.eps < 1)) throw Error("eps (--eps) must be in (0, 1)");
+  if (o.levels < 0) throw Error("levels must be ≥ 0");
+  if (!(o.ambient_threshold >= 0)) throw Error("the ambient threshold must be ≥ 0");
+  if (name.empty() || name.find_first_of("/\\") != std::string::npos)
+    throw Error("the output name must be a file stem without folders (got '" + name + "')");
+  ResolvedOptions r;
+  r.profile = profile;
+  ConvertOptions& c = r.convert;
+  c.fit.dz_min = o.eps;
+  c.fit.ratio_form = o.ratio ? *o.ratio : profile.ratio_rgb ? RatioForm::Rgb : RatioForm::Luminance;
+  c.closed_loop = o.closed_loop;
+  c.measure = o.measure;
+  c.codec.bc6h_quality = o.bc6h_quality;
+  c.threads = o.threads;
+  c.max_levels = o.levels;
+  c.coverage_plane = o.coverage_plane;
+  c.direction = o.direction;
+  c.ambient_threshold = o.ambient_threshold;
+  c.progress = o.progress;
+  c.cancel = o.cancel;
+  check_profile(r.profile, c);
+  PackageOptions& p = r.package;
+  p.name = name;
+  p.container = o.container;
+  p.zstd = o.zstd;
+  p.plane_metadata = o.plane_metadata;
+  return r;
+}
+
+void check_sh_image(const ShImage& sh) {
+  if (sh.width <= 0 || sh.height <= 0) throw Error("the SH image has no texels");
+  if (sh.coeffs != 4 && sh.coeffs != 9) throw Error("the SH image must hold 4 (L1) or 9 (L2) coefficients");
+  const size_t n = sh.texels();
+  if (sh.data.size() != n * size_t(sh.coeffs) * 3)
+    throw Error("the SH data holds " + std::to_string(sh.data.size()) + " floats, not width*height*coeffs*3 = " +
+                std::to_string(n * size_t(sh.coeffs) * 3));
+  if (sh.coverage.size() != n) throw Error("the coverage must hold width*height entries");
+  if (!sh.normals.empty() && sh.normals.size() != n * 3) throw Error("the normals must be empty or width*height*3 floats");
+}
+
+}  // namespace ahd

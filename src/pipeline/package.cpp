@@ -1,0 +1,50 @@
+#include "pipeline/package.h"
+
+#include "containers/container.h"
+#include "pipeline/report_json.h"
+
+namespace ahd {
+
+const char* container_extension(ContainerKind kind) { return kind == ContainerKind::KTX2 ? "ktx2" : "dds"; }
+
+PackagedConversion package_conversion(ConvertResult& r, const Profile& profile, const FitOptions& fit,
+                                      const PackageOptions& opt, double total_seconds) {
+  const std::string ext = container_extension(opt.container);
+  PackagedConversion out;
+  Manifest& m = out.manifest;
+  m.profile = profile.name;
+  m.container = ext;
+  m.width = r.planes.at(0).texture.levels.at(0).width;
+  m.height = r.planes.at(0).texture.levels.at(0).height;
+  m.levels = uint32_t(r.planes.at(0).texture.levels.size());
+  m.ratio_form = fit.ratio_form;
+  m.dz_min = fit.dz_min;
+  for (int i = 0; i < 3; ++i) m.luma[i] = fit.luma[i];
+  m.direction_frame = opt.world_frame ? "normal-frame" : "tangent";
+  m.directional = r.directional;
+  for (Plane& p : r.planes) {
+    const std::string file = opt.name + "." + p.name + "." + ext;
+    if (opt.plane_metadata) p.texture.metadata = plane_metadata(m, p.name);
+    else p.texture.metadata.clear();
+    out.files.push_back({file, encode_container(opt.container, p.texture, opt.zstd)});
+    ManifestPlane mp;
+    mp.name = p.name;
+    mp.file = file;
+    mp.format = p.texture.format;
+    mp.width = p.texture.levels[0].width;
+    mp.height = p.texture.levels[0].height;
+    mp.levels = uint32_t(p.texture.levels.size());
+    mp.bytes = out.files.back().bytes.size();
+    m.planes.push_back(mp);
+  }
+  const std::string manifest_text = manifest_to_json(m);
+  nlohmann::json report = convert_report_json(r, total_seconds);
+  report["profile"] = profile.name;
+  for (auto it = opt.report_extra.begin(); it != opt.report_extra.end(); ++it) report[it.key()] = *it;
+  const std::string report_text = report.dump(2) + "\n";
+  out.files.push_back({opt.name + ".json", std::vector<uint8_t>(manifest_text.begin(), manifest_text.end())});
+  out.files.push_back({opt.name + ".report.json", std::vector<uint8_t>(report_text.begin(), report_text.end())});
+  return out;
+}
+
+}  // namespace ahd

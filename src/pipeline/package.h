@@ -1,0 +1,37 @@
+// Packaging a conversion: its planes as container bytes, the manifest and the report, all in memory
+// and named, ready for a caller to publish (io/output_set.h does it atomically on disk).
+#pragma once
+#include <ahd/convert.h>
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "pipeline/convert.h"
+#include "pipeline/manifest.h"
+
+namespace ahd {
+
+struct PackageOptions {
+  std::string name;  // the stem: NAME.<plane>.<ext>, NAME.json, NAME.report.json
+  ContainerKind container = ContainerKind::KTX2;
+  bool zstd = false;
+  bool plane_metadata = true;  // ahd.* key/values in each plane (ConversionOptions::plane_metadata)
+  bool world_frame = false;    // the SH was world space + normals: d is in each texel's normal frame
+  nlohmann::json report_extra = nlohmann::json::object();  // merged into the report (e.g. "source")
+};
+
+struct PackagedConversion {
+  Manifest manifest;
+  std::vector<OutputFile> files;  // planes, then NAME.json, then NAME.report.json
+};
+
+// Encodes every plane of `r` (attaching the plane metadata to r's textures) and assembles the
+// manifest and the report. Throws ahd::Error on an invalid texture.
+PackagedConversion package_conversion(ConvertResult& r, const Profile& profile, const FitOptions& fit,
+                                      const PackageOptions& opt, double total_seconds);
+
+// The file extension of a container kind ("ktx2", "dds").
+const char* container_extension(ContainerKind kind);
+
+}  // namespace ahd

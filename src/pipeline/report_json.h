@@ -1,0 +1,14 @@
+// The conversion report (NAME.report.json) as JSON: fit rules, errors per stage and level, codec
+// clamps, the direction decision, seconds per stage.
+#pragma once
+#include <nlohmann/json.hpp>
+
+#include "fit/hemisphere_error.h"
+#include "pipeline/convert.h"
+
+namespace ahd {
+
+nlohmann::json error_json(const ErrorReport& e);
+nlohmann::json convert_report_json(const ConvertResult& r, double total_seconds);
+
+}  // namespace ahd

@@ -1,0 +1,59 @@
+#include "pipeline/run.h"
+
+#include <chrono>
+
+namespace ahd {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Quantise the fitted levels and package the result; `r` already holds the earlier stages.
+ConversionRun finish(ConversionRun run, const std::vector<FittedLevel>& levels, const Profile& profile,
+                     const ConvertOptions& opt, const PackageOptions& pkg, double prior_seconds, Clock::time_point t0) {
+  quantise_levels(levels, profile, opt, &run.result);
+  opt.step("write", 0);
+  const auto t_pack = Clock::now();
+  const double before_pack = prior_seconds + std::chrono::duration<double>(t_pack - t0).count();
+  run.output = package_conversion(run.result, profile, opt.fit, pkg, before_pack);
+  const double pack = std::chrono::duration<double>(Clock::now() - t_pack).count();
+  run.result.timings.push_back({"package", pack});
+  run.seconds = before_pack + pack;
+  opt.step("write", 1);
+  return run;
+}
+
+double sum_seconds(const std::vector<StageCost>& stages) {
+  double s = 0;
+  for (const StageCost& c : stages) s += c.seconds;
+  return s;
+}
+
+}  // namespace
+
+ConversionRun run_conversion(const ShImage& sh, const Profile& profile, const ConvertOptions& opt,
+                             const PackageOptions& pkg, std::vector<StageCost> prior,
+                             const std::function<void(const std::vector<FittedLevel>&)>& on_fitted) {
+  check_profile(profile, opt);
+  const auto t0 = Clock::now();
+  const double prior_seconds = sum_seconds(prior);
+  ConversionRun run;
+  run.result.timings = std::move(prior);
+  const std::vector<FittedLevel> levels = fit_levels(sh, opt, &run.result);
+  if (on_fitted) {
+    const auto t = Clock::now();
+    on_fitted(levels);
+    run.result.timings.push_back({"intermediate", std::chrono::duration<double>(Clock::now() - t).count()});
+  }
+  return finish(std::move(run), levels, profile, opt, pkg, prior_seconds, t0);
+}
+
+ConversionRun run_transcode(const std::vector<FittedLevel>& levels, const Profile& profile, const ConvertOptions& opt,
+                            const PackageOptions& pkg, std::vector<StageCost> prior) {
+  const auto t0 = Clock::now();
+  const double prior_seconds = sum_seconds(prior);
+  ConversionRun run;
+  run.result.timings = std::move(prior);
+  return finish(std::move(run), levels, profile, opt, pkg, prior_seconds, t0);
+}
+
+}  // namespace ahd

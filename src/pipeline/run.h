@@ -1,0 +1,29 @@
+// The whole conversion as one call, for the CLI and the public API alike: fit → quantise → package,
+// with per-stage seconds. Everything a caller does around it is reading inputs and publishing files.
+#pragma once
+#include <functional>
+#include <vector>
+
+#include "pipeline/convert.h"
+#include "pipeline/package.h"
+
+namespace ahd {
+
+struct ConversionRun {
+  ConvertResult result;      // planes, statistics, errors (as measured), timings
+  PackagedConversion output;  // the files, manifest first-class
+  double seconds = 0;         // total, including the `prior` stages the caller timed
+};
+
+// SH → files. `prior` are stages the caller already timed (e.g. reading the input); they lead the
+// report's timings and count in its total. `on_fitted` (optional) sees the fitted levels before
+// quantisation (the CLI writes the lossless intermediate there).
+ConversionRun run_conversion(const ShImage& sh, const Profile& profile, const ConvertOptions& opt,
+                             const PackageOptions& pkg, std::vector<StageCost> prior = {},
+                             const std::function<void(const std::vector<FittedLevel>&)>& on_fitted = {});
+
+// Fitted levels (a stored intermediate) → files: quantise and package only.
+ConversionRun run_transcode(const std::vector<FittedLevel>& levels, const Profile& profile, const ConvertOptions& opt,
+                            const PackageOptions& pkg, std::vector<StageCost> prior = {});
+
+}  // namespace ahd

@@ -1,0 +1,165 @@
+// The public API (<ahd/convert.h>, <ahd/ahd.h>) in process: what a cook step sees.
+#include <ahd/ahd.h>
+#include <ahd/convert.h>
+#include <ahd/sample.h>
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "containers/container.h"
+
+namespace {
+
+const ahd::ShImage& sample32() {
+  static const ahd::ShImage sh = ahd::bake_sample(32, 2, 0, 1);
+  return sh;
+}
+
+const ahd::OutputFile* find(const ahd::Conversion& c, const std::string& name) {
+  for (const auto& f : c.files)
+    if (f.name == name) return &f;
+  return nullptr;
+}
+
+nlohmann::json json_of(const ahd::OutputFile& f) { return nlohmann::json::parse(f.bytes.begin(), f.bytes.end()); }
+
+}  // namespace
+
+TEST(Api, ConvertReturnsPlanesThenManifestThenReport) {
+  ahd::ConversionOptions opt;
+  opt.profile = "pc-bc";
+  const ahd::Conversion c = ahd::convert(sample32(), "room", opt);
+  ASSERT_EQ(c.files.size(), 5u);
+  EXPECT_EQ(c.files[0].name, "room.iz.ktx2");
+  EXPECT_EQ(c.files[3].name, "room.json");
+  EXPECT_EQ(c.files[4].name, "room.report.json");
+  EXPECT_TRUE(c.directional);
+  const nlohmann::json m = json_of(c.files[3]);
+  ASSERT_EQ(m.at("planes").size(), 3u);
+  for (const auto& p : m.at("planes")) {
+    const ahd::OutputFile* f = find(c, p.at("file").get<std::string>());
+    ASSERT_NE(f, nullptr) << p.dump();
+    EXPECT_EQ(p.at("bytes").get<size_t>(), f->bytes.size());
+    const ahd::Texture t = ahd::decode_container(ahd::ContainerKind::KTX2, f->bytes.data(), f->bytes.size(), f->name);
+    EXPECT_EQ(t.levels.size(), 6u);  // 32 → 1
+  }
+}
+
+TEST(Api, SameBytesWhateverTheThreadCount) {
+  ahd::ConversionOptions a, b;
+  a.profile = b.profile = "pc-bc";
+  a.threads = 1;
+  b.threads = 2;
+  const ahd::Conversion x = ahd::convert(sample32(), "s", a), y = ahd::convert(sample32(), "s", b);
+  ASSERT_EQ(x.files.size(), y.files.size());
+  for (size_t i = 0; i + 1 < x.files.size(); ++i) EXPECT_EQ(x.files[i].bytes, y.files[i].bytes) << x.files[i].name;
+}
+
+TEST(Api, DiagnosticsAreOffByDefaultAndFullOnRequest) {
+  ahd::ConversionOptions opt;
+  const nlohmann::json off = json_of(ahd::convert(sample32(), "s", opt).files.back());
+  EXPECT_EQ(off.at("error").at("quantised_closed_loop").at("texels").get<size_t>(), 0u);
+  EXPECT_TRUE(off.at("levels").empty());
+  opt.measure = ahd::Measure::Full;
+  const nlohmann::json full = json_of(ahd::convert(sample32(), "s", opt).files.back());
+  size_t covered = 0;
+  for (uint8_t c : sample32().coverage) covered += c;
+  EXPECT_EQ(full.at("error").at("quantised_closed_loop").at("texels").get<size_t>(), covered);
+  EXPECT_GT(full.at("error").at("unconstrained_ls").at("texels").get<size_t>(), 0u);
+  EXPECT_EQ(full.at("levels").size(), 6u);
+}
+
+TEST(Api, ProgressIsReportedInOrderAndCancelStopsTheConversion) {
+  ahd::ConversionOptions opt;
+  std::vector<std::pair<std::string, double>> seen;
+  opt.progress = [&](const char* stage, double f) { seen.emplace_back(stage, f); };
+  ahd::convert(sample32(), "s", opt);
+  ASSERT_GE(seen.size(), 6u);
+  EXPECT_EQ(seen.front(), std::make_pair(std::string("fit"), 0.0));
+  EXPECT_EQ(seen.back(), std::make_pair(std::string("write"), 1.0));
+  for (size_t i = 1; i < seen.size(); ++i)
+    if (seen[i].first == seen[i - 1].first) EXPECT_GE(seen[i].second, seen[i - 1].second) << seen[i].first;
+
+  std::atomic<bool> cancel{false};
+  opt.cancel = &cancel;
+  opt.progress = [&](const char* stage, double) {
+    if (std::string(stage) == "encode") cancel = true;
+  };
+  EXPECT_THROW(ahd::convert(sample32(), "s", opt), ahd::Cancelled);
+}
+
+TEST(Api, InvalidOptionsAndInputsAreOneClearError) {
+  auto message = [](const ahd::ShImage& sh, const ahd::ConversionOptions& o, const std::string& name = "s") {
+    try {
+      ahd::convert(sh, name, o);
+    } catch (const ahd::Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("(no error)");
+  };
+  ahd::ConversionOptions o;
+  o.eps = 1.5;
+  EXPECT_NE(message(sample32(), o).find("eps"), std::string::npos);
+  o = {};
+  o.profile = "no-such-profile";
+  EXPECT_NE(message(sample32(), o).find("unknown profile 'no-such-profile'"), std::string::npos);
+  o = {};
+  o.profile_json = "{\"name\": \"x\", \"planes\": {\"iz\": \"r8\", \"dir\": \"rg8\", \"ratio\": \"r8\"}}";
+  EXPECT_NE(message(sample32(), o).find("iz plane needs an HDR RGB format"), std::string::npos);
+  o = {};
+  EXPECT_NE(message(sample32(), o, "a/b").find("without folders"), std::string::npos);
+  ahd::ShImage bad = sample32();
+  bad.data.pop_back();
+  EXPECT_NE(message(bad, o).find("SH data holds"), std::string::npos);
+  bad = sample32();
+  bad.coeffs = 5;
+  EXPECT_NE(message(bad, o).find("4 (L1) or 9 (L2)"), std::string::npos);
+}
+
+TEST(Api, PlaneMetadataCanBeLeftOutForStrictValidators) {
+  ahd::ConversionOptions opt;
+  const ahd::Conversion with = ahd::convert(sample32(), "s", opt);
+  opt.plane_metadata = false;
+  const ahd::Conversion without = ahd::convert(sample32(), "s", opt);
+  auto keys = [](const ahd::OutputFile& f) {
+    size_t n = 0;
+    for (const auto& kv : ahd::decode_container(ahd::ContainerKind::KTX2, f.bytes.data(), f.bytes.size(), f.name).metadata)
+      n += kv.first.rfind("ahd.", 0) == 0;
+    return n;
+  };
+  EXPECT_GT(keys(with.files[0]), 5u);
+  EXPECT_EQ(keys(without.files[0]), 0u);
+  // The manifest says the same either way (sizes aside).
+  nlohmann::json a = json_of(with.files[3]), b = json_of(without.files[3]);
+  for (auto* m : {&a, &b})
+    for (auto& p : (*m)["planes"]) p.erase("bytes");
+  EXPECT_EQ(a, b);
+}
+
+TEST(Api, CApiConvertsAndReportsErrors) {
+  const ahd::ShImage& sh = sample32();
+  ahd_sh_input in = {sh.width, sh.height, sh.coeffs, sh.data.data(), sh.coverage.data(), nullptr};
+  ahd_options opt;
+  ahd_options_init(&opt);
+  ahd_result* r = nullptr;
+  char err[128] = "";
+  ASSERT_EQ(ahd_convert(&in, "s", &opt, &r, err, sizeof err), 0) << err;
+  const ahd::Conversion cpp = ahd::convert(sh, "s", {});
+  ASSERT_EQ(ahd_result_file_count(r), cpp.files.size());
+  for (size_t i = 0; i + 1 < cpp.files.size(); ++i) {
+    size_t n = 0;
+    const unsigned char* d = ahd_result_file_data(r, i, &n);
+    EXPECT_EQ(std::string(ahd_result_file_name(r, i)), cpp.files[i].name);
+    EXPECT_EQ(std::vector<uint8_t>(d, d + n), cpp.files[i].bytes);
+  }
+  EXPECT_EQ(ahd_result_file_name(r, 99), nullptr);
+  ahd_result_free(r);
+
+  opt.eps = 0;
+  EXPECT_NE(ahd_convert(&in, "s", &opt, &r, err, sizeof err), 0);
+  EXPECT_EQ(r, nullptr);
+  EXPECT_NE(std::string(err).find("eps"), std::string::npos);
+  EXPECT_NE(ahd_convert(nullptr, "s", &opt, &r, err, 8), 0);
+  EXPECT_EQ(std::string(err).size(), 7u);  // truncated to the buffer, NUL-terminated
+}
