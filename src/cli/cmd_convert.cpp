@@ -8,6 +8,7 @@
 #include "cli/output.h"
 #include "io/ahd_intermediate.h"
 #include "core/error.h"
+#include "fit/direction_refine.h"
 #include "io/image_io.h"
 #include "io/baker_layout.h"
 #include "io/mesh_io.h"
@@ -30,6 +31,7 @@ struct ConvertArgs {
   int uv_set = -1;      // the mesh's lightmap UV set (−1 = the default rule of io/mesh_io.h)
   std::string profile = "uncompressed";
   std::string ratio;  // empty: the profile's ratio form
+  std::string direction_fit = direction_fit_name(FitOptions{}.direction_fit);
   double dz_min = 0.05;
   bool open_loop = false;
   bool zstd = false;
@@ -120,6 +122,7 @@ void run_convert(const ConvertArgs& a) {
   if (a.ratio == "rgb") opt.fit.ratio_form = RatioForm::Rgb;
   else if (a.ratio == "luminance") opt.fit.ratio_form = RatioForm::Luminance;
   else if (!a.ratio.empty()) throw Error("--ratio must be 'luminance' or 'rgb'");
+  if (!parse_direction_fit(a.direction_fit, &opt.fit.direction_fit)) throw Error("--direction-fit must be 'linear' or 'refined'");
 
   // Checked before anything is read or written: one clear line, no output.
   if (!a.mesh.empty() && !a.normals.empty()) throw Error("--mesh and --normals both give the normals: use one");
@@ -182,6 +185,7 @@ void add_convert_command(CLI::App& app) {
   c->add_option("--profile", a->profile, "Output profile name or .json file (formats/profiles)");
   c->add_option("--ratio", a->ratio, "Ratio form: luminance (one channel) or rgb (default: the profile's)");
   c->add_option("--eps", a->dz_min, "Smallest stored d_z (the horizon rule)");
+  c->add_option("--direction-fit", a->direction_fit, "d and luminance ratio: linear (the paper's) or refined (lowest hemisphere error)");
   c->add_flag("--open-loop", a->open_loop, "Quantise the ratio from the unquantised fit (for comparison)");
   c->add_flag("--zstd", a->zstd, "Zstandard supercompression (KTX2)");
   c->add_option("--levels", a->levels, "Mip levels to write (0 = full chain)")->check(CLI::NonNegativeNumber);
