@@ -3,6 +3,7 @@
 //   eps         the horizon rule's eps against error (how the default was chosen)
 //   profiles    every profile end to end: bytes per texel, error vs the source SH, open vs closed loop
 //   direction   I_z alone vs the full encoding as the directional part shrinks (--direction auto)
+//   fit         linear vs refined direction fit (cmd_report_fit.cpp)
 #include <cstdio>
 
 #include "cli/commands.h"
@@ -109,6 +110,7 @@ void report_direction(int size, const std::string& profile_name) {
 
 void add_report_command(CLI::App& app) {
   CLI::App* r = app.add_subcommand("report", "Accuracy reports");
+  add_report_fit_command(r);
   CLI::App* h = r->add_subcommand("hard-cases", "Fit and quantise the hard-case set; print the error table");
   auto profile = std::make_shared<std::string>("uncompressed");
   h->add_option("--profile", *profile, "Output profile");
