@@ -29,6 +29,7 @@ struct ConversionOptions {
   std::string profile_json;
   // The ratio plane's form; unset: the profile's (luminance unless the profile says rgb).
   std::optional<RatioForm> ratio;
+  DirectionFit direction_fit = DirectionFit::Linear;
   Bc6hQuality bc6h_quality = Bc6hQuality::Default;  // for profiles with BC6H planes
   int threads = 0;            // worker threads, 0 = all hardware threads
   double eps = 0.05;          // the horizon rule: smallest stored d_z, in (0, 1)

@@ -45,6 +45,11 @@ struct ShImage {
 // The ratio plane: one luminance ratio L(C_a)/L(I_z), or C_a/I_z per colour channel.
 enum class RatioForm : uint8_t { Luminance, Rgb };
 
+// How the fit chooses d (and, in the luminance form, the ratio): Linear — the optimal linear
+// direction of the luminance L1 band (the paper's choice); Refined — the direction and the one ratio
+// that minimise the constrained fit's hemisphere error (more accurate, ~9× slower fit; README).
+enum class DirectionFit : uint8_t { Linear, Refined };
+
 // Whether the direction and ratio planes are written. Auto drops them when decoding I_z alone stays
 // within the ambient threshold of the SH (a plain lightmap, or SH with a negligible L1/L2 part).
 enum class DirectionPlanes { Auto, Keep, Drop };

@@ -47,6 +47,7 @@ ahd::ConversionOptions options_from(const ahd_options& o) {
   if (o.profile) c.profile = o.profile;
   if (o.profile_json) c.profile_json = o.profile_json;
   if (o.ratio >= 0) c.ratio = enum_in_range<ahd::RatioForm>(o.ratio, 2, "ratio");
+  c.direction_fit = enum_in_range<ahd::DirectionFit>(o.direction_fit, 2, "direction_fit");
   c.bc6h_quality = enum_in_range<ahd::Bc6hQuality>(o.bc6h_quality, 4, "bc6h_quality");
   c.threads = o.threads;
   c.eps = o.eps;
@@ -73,6 +74,7 @@ void ahd_options_init(ahd_options* o) {
   o->profile = "uncompressed";
   o->profile_json = nullptr;
   o->ratio = -1;
+  o->direction_fit = int(d.direction_fit);
   o->bc6h_quality = int(d.bc6h_quality);
   o->threads = d.threads;
   o->eps = d.eps;

@@ -20,6 +20,7 @@ ResolvedOptions resolve_options(const ConversionOptions& o, const std::string& n
   ConvertOptions& c = r.convert;
   c.fit.dz_min = o.eps;
   c.fit.ratio_form = o.ratio ? *o.ratio : profile.ratio_rgb ? RatioForm::Rgb : RatioForm::Luminance;
+  c.fit.direction_fit = o.direction_fit;
   c.closed_loop = o.closed_loop;
   c.measure = o.measure;
   c.codec.bc6h_quality = o.bc6h_quality;

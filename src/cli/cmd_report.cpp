@@ -3,11 +3,13 @@
 //   eps         the horizon rule's eps against error (how the default was chosen)
 //   profiles    every profile end to end: bytes per texel, error vs the source SH, open vs closed loop
 //   direction   I_z alone vs the full encoding as the directional part shrinks (--direction auto)
+//   fit         linear vs refined direction fit (cmd_report_fit.cpp)
 #include <cstdio>
 
 #include "cli/commands.h"
 #include "cli/report.h"
 #include "io/profile_file.h"
+#include "fit/direction_refine.h"
 #include "io/sh_exr.h"
 #include "pipeline/convert.h"
 #include "sample/analytic_baker.h"
@@ -110,11 +112,16 @@ void report_direction(int size, const std::string& profile_name) {
 
 void add_report_command(CLI::App& app) {
   CLI::App* r = app.add_subcommand("report", "Accuracy reports");
+  add_report_fit_command(r);
   CLI::App* h = r->add_subcommand("hard-cases", "Fit and quantise the hard-case set; print the error table");
   auto profile = std::make_shared<std::string>("uncompressed");
   h->add_option("--profile", *profile, "Output profile");
-  h->callback([profile]() {
+  auto dir_fit = std::make_shared<std::string>(direction_fit_name(FitOptions{}.direction_fit));
+  h->add_option("--direction-fit", *dir_fit, "linear or refined");
+  h->callback([profile, dir_fit]() {
     const Profile p = load_profile(*profile);
+    FitOptions fit;
+    if (!parse_direction_fit(*dir_fit, &fit.direction_fit)) throw Error("--direction-fit must be 'linear' or 'refined'");
     std::printf("Hard cases, profile %s. Errors vs the source SH over 64 hemisphere normals, relative to the "
                 "texel's mean irradiance; I_z = error along the normal.\n\n", p.name.c_str());
     std::printf("| case | texels | rules fired | fit rel mean | fit rel max | fit I_z max | LS rel mean | LS I_z max | "
@@ -125,6 +132,7 @@ void add_report_command(CLI::App& app) {
       ConvertOptions opt;
       opt.measure = Measure::Full;
       opt.threads = 1;
+      opt.fit.direction_fit = fit.direction_fit;
       const ConvertResult res = convert(hc.sh, p, opt);
       std::string rules;
       auto add = [&](const char* what, size_t n) {

@@ -13,6 +13,7 @@ void add_compress_commands(CLI::App& app);   // cmd_compress.cpp: compress + dec
 void add_bench_command(CLI::App& app);       // cmd_bench.cpp
 void add_sample_command(CLI::App& app);      // cmd_sample.cpp
 void add_report_command(CLI::App& app);      // cmd_report.cpp: hard-cases, eps, profiles
+void add_report_fit_command(CLI::App* report);  // cmd_report_fit.cpp: `report fit`, linear vs refined d
 void add_transcode_command(CLI::App& app);   // cmd_transcode.cpp
 
 }  // namespace ahd::cli

@@ -2,6 +2,7 @@
 
 #include "codecs/bc6h_codec.h"
 #include "core/error.h"
+#include "fit/direction_refine.h"
 
 namespace ahd::cli {
 
@@ -11,6 +12,9 @@ void add_conversion_options(CLI::App* c, ConversionArgs* a, bool fit) {
   if (fit) {
     c->add_option("--ratio", a->ratio, "Ratio form: luminance (one channel) or rgb (default: the profile's)");
     c->add_option("--eps", o.eps, "Smallest stored d_z (the horizon rule)");
+    c->add_option("--direction-fit", a->direction_fit,
+                  "d and luminance ratio: linear (the paper's) or refined (lowest hemisphere error)")
+        ->check(CLI::IsMember({"linear", "refined"}));
     c->add_option("--levels", o.levels, "Mip levels to write (0 = full chain)")->check(CLI::NonNegativeNumber);
     c->add_flag("--coverage-plane", o.coverage_plane,
                 "Also write OUT.coverage.<ext>: R8, 255 where a chart covers the texel");
@@ -41,6 +45,8 @@ ConversionOptions conversion_options(const ConversionArgs& a) {
   if (a.ratio == "rgb") o.ratio = RatioForm::Rgb;
   else if (a.ratio == "luminance") o.ratio = RatioForm::Luminance;
   else if (!a.ratio.empty()) throw Error("--ratio must be 'luminance' or 'rgb'");
+  if (!parse_direction_fit(a.direction_fit, &o.direction_fit))
+    throw Error("--direction-fit must be 'linear' or 'refined'");
   o.direction = a.direction == "keep" ? DirectionPlanes::Keep : a.direction == "drop" ? DirectionPlanes::Drop : DirectionPlanes::Auto;
   if (!bc6h_quality_from_name(a.quality, &o.bc6h_quality)) throw Error("--quality must be fast, default, high or max");
   o.measure = a.measure == "off" ? Measure::Off : a.measure == "full" ? Measure::Full : Measure::Estimate;

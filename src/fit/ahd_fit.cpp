@@ -1,6 +1,7 @@
 #include "fit/ahd_fit.h"
 
 #include "fit/ahd_decode.h"
+#include "fit/direction_refine.h"
 
 #include <algorithm>
 #include <cmath>
@@ -66,7 +67,8 @@ AhdFit fit_texel(const IrradiancePoly p[3], const FitOptions& opt) {
   for (int c = 0; c < 3; ++c) out.ratio[c] = 1.0f;
 
   double d[3];
-  if (!optimal_direction(p, opt, d)) out.flags |= kFitNoDirection;
+  const bool directional = optimal_direction(p, opt, d);
+  if (!directional) out.flags |= kFitNoDirection;
   // Decoding divides by d_z: grazing / below-horizon directions are tilted up (ahd_decode.h).
   if (tilt_above_horizon(d, opt.dz_min)) out.flags |= kFitDirClamped;
   double iz[3];
@@ -81,6 +83,8 @@ AhdFit fit_texel(const IrradiancePoly p[3], const FitOptions& opt) {
       negative = true;
     }
   }
+  // Refinement keeps d_z ≥ dz_min itself; kFitDirClamped still says whether the linear d needed it.
+  if (directional && opt.direction_fit == DirectionFit::Refined) refine_direction(p, iz, opt, d);
   AhdFit colours = fit_colours(p, d, iz, opt);
   colours.flags |= out.flags | (negative ? kFitNegativeIz : 0);
   return colours;
@@ -89,8 +93,10 @@ AhdFit fit_texel(const IrradiancePoly p[3], const FitOptions& opt) {
 AhdFit fit_colours(const IrradiancePoly p[3], const double d[3], const double iz[3], const FitOptions& opt) {
   AhdFit out{};
   const double dz = d[2];
-  double ca[3], cd[3];
-  for (int c = 0; c < 3; ++c) {
+  // The least-squares luminance ratio needs no per-channel fit.
+  const bool ls_ratio = opt.direction_fit == DirectionFit::Refined && opt.ratio_form == RatioForm::Luminance;
+  double ca[3] = {0, 0, 0}, cd[3] = {0, 0, 0};
+  for (int c = 0; c < 3 && !ls_ratio; ++c) {
     if (!(iz[c] > 0.0)) {
       ca[c] = cd[c] = 0.0;
       continue;
@@ -103,7 +109,12 @@ AhdFit fit_colours(const IrradiancePoly p[3], const double d[3], const double iz
   const double lum_ca = opt.luma[0] * ca[0] + opt.luma[1] * ca[1] + opt.luma[2] * ca[2];
   double r_lum = 1.0;
   if (lum_iz > 0.0) {
-    r_lum = std::clamp(lum_ca / lum_iz, 0.0, 1.0);
+    if (ls_ratio) {
+      const double f0[3] = {hemisphere_integral(p[0]), hemisphere_integral(p[1]), hemisphere_integral(p[2])};
+      r_lum = least_squares_ratio(lune_moments(p, d), f0, iz, dz);
+    } else {
+      r_lum = std::clamp(lum_ca / lum_iz, 0.0, 1.0);
+    }
   } else {
     out.flags |= kFitBlack;
   }

@@ -12,6 +12,11 @@
 namespace ahd {
 
 
+// How d (and the luminance ratio) are chosen. Linear: the paper's choice, the optimal linear
+// direction of the luminance L1 band, and ratio = L(C_a)/L(I_z) of the per-channel fits. Refined:
+// d moved from there to minimise the constrained fit's own hemisphere error, and the luminance
+// ratio the one that minimises that error over the three channels (fit/direction_refine.h).
+
 struct FitOptions {
   // Luminance weights for the direction and the luminance ratio (Rec.709 by default).
   double luma[3] = {0.2126, 0.7152, 0.0722};
@@ -21,6 +26,7 @@ struct FitOptions {
   // |L1 luminance| below this fraction of the L0 luminance means "no preferred direction": d = z.
   double no_direction_threshold = 1e-6;
   RatioForm ratio_form = RatioForm::Luminance;
+  DirectionFit direction_fit = DirectionFit::Linear;
 };
 
 // Why a texel needed a rule (bits of AhdFit::flags; counted in FitStats).
@@ -68,6 +74,7 @@ double hemisphere_mse(const HemisphereMoments& m, double ca, double cd);
 
 // The colour part of the fit for a GIVEN direction d (unit, d[2] ≥ dz_min) and GIVEN irradiance
 // along the normal iz[c] ≥ 0 (the closed-loop quantiser passes the decoded d and I_z here).
+// The luminance ratio follows opt.direction_fit (Refined: the least-squares ratio).
 AhdFit fit_colours(const IrradiancePoly p[3], const double d[3], const double iz[3], const FitOptions& opt);
 
 // Fits one texel from its three channel polynomials (local frame). Always finite output for

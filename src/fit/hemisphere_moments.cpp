@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "fit/ahd_fit.h"
+#include "fit/direction_refine.h"
 
 namespace ahd {
 namespace {
@@ -130,6 +131,37 @@ HemisphereMoments hemisphere_moments(const IrradiancePoly& poly, const double d[
          2.0 * p.q[0][2] * lune_monomial(bi, s, c, 1, 0, 1, 1);
   m.f2 = with_f2 ? hemisphere_square(p) : 0.0;
   return m;
+}
+
+LuneMoments lune_moments(const IrradiancePoly p[3], const double d[3]) {
+  // The same lune integrals as hemisphere_moments(), shared by the three channels: one rotation
+  // angle, one set of β integrals, and only the rotated coefficients that ∫ E g reads.
+  const double rxy = std::sqrt(d[0] * d[0] + d[1] * d[1]);
+  const double cphi = rxy > 0 ? d[0] / rxy : 1.0, sphi = rxy > 0 ? d[1] / rxy : 0.0;
+  const double c = std::fmax(-1.0, std::fmin(1.0, d[2]));
+  const double s = rxy;
+  const BetaIntegrals bi(kPi - std::atan2(s, c), s, c);
+  LuneMoments m;
+  m.g1 = lune_monomial(bi, s, c, 0, 0, 0, 1);
+  m.g2 = lune_monomial(bi, s, c, 0, 0, 0, 2);
+  const double lx = lune_monomial(bi, s, c, 1, 0, 0, 1), lz = lune_monomial(bi, s, c, 0, 0, 1, 1);
+  const double lxx = lune_monomial(bi, s, c, 2, 0, 0, 1), lyy = lune_monomial(bi, s, c, 0, 2, 0, 1);
+  const double lzz = lune_monomial(bi, s, c, 0, 0, 2, 1), lxz = lune_monomial(bi, s, c, 1, 0, 1, 1);
+  const double cc = cphi * cphi, ss = sphi * sphi, cs2 = 2.0 * cphi * sphi;
+  for (int k = 0; k < 3; ++k) {
+    const IrradiancePoly& q = p[k];
+    const double ex = cphi * q.e[0] + sphi * q.e[1];
+    const double qxx = cc * q.q[0][0] + cs2 * q.q[0][1] + ss * q.q[1][1];
+    const double qyy = ss * q.q[0][0] - cs2 * q.q[0][1] + cc * q.q[1][1];
+    const double qxz = cphi * q.q[0][2] + sphi * q.q[1][2];
+    m.f1[k] = q.e0 * m.g1 + ex * lx + q.e[2] * lz + qxx * lxx + qyy * lyy + q.q[2][2] * lzz + 2.0 * qxz * lxz;
+  }
+  return m;
+}
+
+double hemisphere_integral(const IrradiancePoly& p) {
+  return 2.0 * kPi * p.e0 + p.e[2] * hemisphere_monomial(0, 0, 1) +
+         (p.q[0][0] + p.q[1][1] + p.q[2][2]) * hemisphere_monomial(2, 0, 0);
 }
 
 }  // namespace ahd

@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "fit/ahd_decode.h"
+#include "fit/direction_refine.h"
 #include "io/image_io.h"
 
 namespace ahd {
@@ -83,6 +84,8 @@ void write_intermediate(const std::string& path, const std::vector<FittedLevel>&
     std::snprintf(num, sizeof num, "%.17g", fit.dz_min);
     spec.attribute("ahd:dz_min", num);
     spec.attribute("ahd:ratio_form", fit.ratio_form == RatioForm::Rgb ? "rgb" : "luminance");
+    // The closed-loop refit of a transcode must choose the luminance ratio the same way.
+    spec.attribute("ahd:direction_fit", direction_fit_name(fit.direction_fit));
     std::snprintf(num, sizeof num, "%.17g %.17g %.17g", fit.luma[0], fit.luma[1], fit.luma[2]);
     spec.attribute("ahd:luma", num);
     const auto mode = l == 0 ? OIIO::ImageOutput::Create : OIIO::ImageOutput::AppendMIPLevel;
@@ -122,6 +125,10 @@ std::vector<FittedLevel> read_intermediate(const std::string& path, FitOptions* 
     fit->dz_min = std::strtod(dz.c_str(), nullptr);
     if (!(fit->dz_min > 0 && fit->dz_min < 1)) throw file_error(path, "invalid ahd:dz_min '" + dz + "'");
     fit->ratio_form = spec0.get_string_attribute("ahd:ratio_form") == "rgb" ? RatioForm::Rgb : RatioForm::Luminance;
+    // Intermediates written before the attribute existed were fitted the paper's way.
+    const std::string dir_fit = spec0.get_string_attribute("ahd:direction_fit", "linear");
+    if (!parse_direction_fit(dir_fit, &fit->direction_fit))
+      throw file_error(path, "invalid ahd:direction_fit '" + dir_fit + "'");
     const std::string luma = spec0.get_string_attribute("ahd:luma");
     if (std::sscanf(luma.c_str(), "%lf %lf %lf", &fit->luma[0], &fit->luma[1], &fit->luma[2]) != 3)
       throw file_error(path, "invalid ahd:luma '" + luma + "'");
