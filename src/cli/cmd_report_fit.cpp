@@ -6,6 +6,7 @@
 
 #include <cstdio>
 
+#include "io/profile_file.h"
 #include "cli/commands.h"
 #include "fit/direction_refine.h"
 #include "fit/fit_quality.h"
@@ -27,7 +28,7 @@ AhdImage quantised_planes(const ShImage& sh, const FitOptions& fit) {
   const bool rgb = fit.ratio_form == RatioForm::Rgb;
   ConvertOptions opt;
   opt.fit = fit;
-  opt.measure = false;
+  opt.measure = Measure::Off;
   opt.max_levels = 1;
   opt.direction = DirectionPlanes::Keep;
   const ConvertResult r = convert(sh, load_profile(rgb ? "uncompressed-rgb" : "uncompressed"), opt);
