@@ -26,6 +26,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #if defined(__x86_64__) || defined(__i386__)
 #include <immintrin.h>
@@ -83,6 +84,9 @@ void floats_to_half(const float* in, uint16_t* out, int n) {
 // ---- the encoder -----------------------------------------------------------------------------
 
 namespace {
+
+// Least-squares passes after the axis fit (each kept only if it lowers the error).
+constexpr int kPasses = 2;
 
 constexpr int kW4[16] = {0, 4, 9, 13, 17, 21, 26, 30, 34, 38, 43, 47, 51, 55, 60, 64};
 
@@ -153,23 +157,29 @@ inline void palette(const Endpoints& ep, float P[3][16]) {
 }
 
 // Indices by weighted projection on the palette's segment, then the better neighbour; returns
-// the weighted squared error in half steps.
+// the weighted squared error in half steps. Every palette entry lies within the block's range
+// (the endpoints do), so any index is allowed.
 float assign(const Fit& f, const Endpoints& ep, uint8_t idx[16]) {
   float P[3][16];
   palette(ep, P);
   const float d0 = P[0][15] - P[0][0], d1 = P[1][15] - P[1][0], d2 = P[2][15] - P[2][0];
-  float total = 0;
-  for (int t = 0; t < 16; ++t) {
+  float pos[16];
+  for (int t = 0; t < 16; ++t) {  // vectorised: no branches, no gathers
     const float w0 = f.W[0][t], w1 = f.W[1][t], w2 = f.W[2][t];
     const float num = w0 * d0 * (f.H[0][t] - P[0][0]) + w1 * d1 * (f.H[1][t] - P[1][0]) + w2 * d2 * (f.H[2][t] - P[2][0]);
     const float den = w0 * d0 * d0 + w1 * d1 * d1 + w2 * d2 * d2;
-    float p = den > 0 ? 128.0f * num / den : 0.0f;
-    p = std::clamp(p, 0.0f, 128.0f);
-    int k = kNearest.idx[int(p + 0.5f)];
+    const float p = 128.0f * num / (den > 0 ? den : 1.0f);
+    pos[t] = std::min(std::max(p, 0.0f), 128.0f) + 0.5f;
+  }
+  float total = 0;
+  for (int t = 0; t < 16; ++t) {
+    const float w0 = f.W[0][t], w1 = f.W[1][t], w2 = f.W[2][t];
+    const float h0 = f.H[0][t], h1 = f.H[1][t], h2 = f.H[2][t];
     auto err = [&](int j) {
-      const float e0 = P[0][j] - f.H[0][t], e1 = P[1][j] - f.H[1][t], e2 = P[2][j] - f.H[2][t];
+      const float e0 = P[0][j] - h0, e1 = P[1][j] - h1, e2 = P[2][j] - h2;
       return w0 * e0 * e0 + w1 * e1 * e1 + w2 * e2 * e2;
     };
+    int k = kNearest.idx[int(pos[t])];
     float best = err(k);
     if (k > 0) {
       const float e = err(k - 1);
@@ -185,26 +195,35 @@ float assign(const Fit& f, const Endpoints& ep, uint8_t idx[16]) {
   return total;
 }
 
-// Quantises endpoint targets (half bits) in the most precise one-region mode whose delta fits.
+// Quantises endpoint targets (half bits) in the most precise one-region mode whose delta fits,
+// never decoding above the channel's cap. A mode whose delta cannot fit by the targets' spread
+// (quantising moves an endpoint by under one step each) is skipped before quantising.
 Endpoints quantize(const Fit& f, const float a[3], const float b[3]) {
+  float spread = 0;  // in 16-bit interpolation units
+  for (int c = 0; c < 3; ++c) spread = std::max(spread, std::fabs(b[c] - a[c]) * (64.0f / 31.0f));
   Endpoints ep;
-  for (int m = 0; m < 4; ++m) {
+  for (int m = 0; m < 3; ++m) {
     const OneRegionMode& md = kModes[m];
+    const int lim = (1 << (md.delta - 1)) - 1;  // symmetric, so the endpoints can be swapped
+    if (spread > float((lim + 2) << (16 - md.epb))) continue;
     bool fits = true;
-    for (int c = 0; c < 3; ++c) {
+    for (int c = 0; c < 3 && fits; ++c) {
       ep.e[0][c] = quantize_endpoint(a[c], md.epb, f.cap[c]);
       ep.e[1][c] = quantize_endpoint(b[c], md.epb, f.cap[c]);
-      if (md.delta < md.epb) {
-        const int d = ep.e[1][c] - ep.e[0][c];
-        fits &= d > -(1 << (md.delta - 1)) && d < (1 << (md.delta - 1));  // symmetric: swappable
-      }
+      const int d = ep.e[1][c] - ep.e[0][c];
+      fits = d >= -lim && d <= lim;
     }
     if (fits) {
       ep.m = m;
       return ep;
     }
   }
-  return ep;  // mode 11 always fits (its last iteration returned)
+  ep.m = 3;  // 10-bit absolute endpoints: always representable
+  for (int c = 0; c < 3; ++c) {
+    ep.e[0][c] = quantize_endpoint(a[c], 10, f.cap[c]);
+    ep.e[1][c] = quantize_endpoint(b[c], 10, f.cap[c]);
+  }
+  return ep;
 }
 
 // Least squares for the endpoints given the indices (per channel, weighted), in half bits.
@@ -248,29 +267,34 @@ void pack(const Endpoints& ep, const uint8_t idx[16], uint8_t out[16]) {
 
 void encode_block_fast(const uint16_t h[48], const float x[48], const uint8_t valid[16], uint8_t out[16]) {
   Fit f;
-  int hmin[3] = {1 << 30, 1 << 30, 1 << 30}, hmax[3] = {0, 0, 0};
-  float tw[16], wsum = 0;
+  // Channel planes. Padding texels take the values of the first real one, so that plain minima
+  // and maxima over all 16 are those of the real texels; their weight is 0.
+  int first = 0;
+  while (first < 15 && !valid[first]) ++first;
+  float vmask[16];
   for (int t = 0; t < 16; ++t) {
-    float s = 0;
-    for (int c = 0; c < 3; ++c) {
-      const int v = h[t * 3 + c];
-      f.H[c][t] = float(v);
-      const float xv = std::max(x[t * 3 + c], 0.25f), slope = xv / (1.0f + xv);
-      f.W[c][t] = valid[t] ? slope * slope : 0.0f;
-      s += f.W[c][t];
-      if (valid[t]) hmin[c] = std::min(hmin[c], v), hmax[c] = std::max(hmax[c], v);
-    }
-    tw[t] = s * (1.0f / 3.0f);
-    wsum += tw[t];
+    const int s = valid[t] ? t : first;
+    vmask[t] = valid[t] ? 1.0f : 0.0f;
+    for (int c = 0; c < 3; ++c) f.H[c][t] = float(h[s * 3 + c]), f.W[c][t] = x[s * 3 + c];
   }
-  for (int c = 0; c < 3; ++c) f.cap[c] = hmax[c] + 1, f.lo[c] = float(hmin[c]), f.hi[c] = float(hmax[c]);
+  for (int c = 0; c < 3; ++c) {
+    float lo = f.H[c][0], hi = f.H[c][0];
+    for (int t = 0; t < 16; ++t) {  // vectorised
+      const float xv = std::max(f.W[c][t], 0.25f), slope = xv / (1.0f + xv);
+      f.W[c][t] = slope * slope * vmask[t];
+      lo = std::min(lo, f.H[c][t]), hi = std::max(hi, f.H[c][t]);
+    }
+    f.lo[c] = lo, f.hi[c] = hi, f.cap[c] = int(hi) + 1;
+  }
+  float tw[16], wsum = 0;
+  for (int t = 0; t < 16; ++t) tw[t] = (f.W[0][t] + f.W[1][t] + f.W[2][t]) * (1.0f / 3.0f), wsum += tw[t];
 
   uint8_t idx[16] = {};
-  if (hmin[0] == hmax[0] && hmin[1] == hmax[1] && hmin[2] == hmax[2]) {
+  if (f.lo[0] == f.hi[0] && f.lo[1] == f.hi[1] && f.lo[2] == f.hi[2]) {
     // Solid: mode 14 with both endpoints the exact 16-bit value (ceil(64h/31) decodes to h).
     Endpoints ep;
     ep.m = 0;
-    for (int c = 0; c < 3; ++c) ep.e[0][c] = ep.e[1][c] = (hmax[c] * 64 + 30) / 31;
+    for (int c = 0; c < 3; ++c) ep.e[0][c] = ep.e[1][c] = (int(f.hi[c]) * 64 + 30) / 31;
     pack(ep, idx, out);
     return;
   }
@@ -313,7 +337,7 @@ void encode_block_fast(const uint16_t h[48], const float x[48], const uint8_t va
 
   Endpoints best = quantize(f, a, b);
   float best_err = assign(f, best, idx);
-  for (int pass = 0; pass < 2 && best_err > 0; ++pass) {
+  for (int pass = 0; pass < kPasses && best_err > 0; ++pass) {
     if (!refit(f, idx, a, b)) break;
     const Endpoints ep = quantize(f, a, b);
     uint8_t trial[16];
