@@ -85,6 +85,14 @@ void floats_to_half(const float* in, uint16_t* out, int n) {
 
 namespace {
 
+// Sum of 16 floats in four lanes (t mod 4), a fixed order the compiler can vectorise.
+inline float sum16(const float v[16]) {
+  float l[4] = {0, 0, 0, 0};
+  for (int t = 0; t < 16; t += 4)
+    for (int i = 0; i < 4; ++i) l[i] += v[t + i];
+  return (l[0] + l[1]) + (l[2] + l[3]);
+}
+
 // Least-squares passes after the axis fit (each kept only if it lowers the error).
 constexpr int kPasses = 2;
 
@@ -179,17 +187,14 @@ float assign(const Fit& f, const Endpoints& ep, uint8_t idx[16]) {
       const float e0 = P[0][j] - h0, e1 = P[1][j] - h1, e2 = P[2][j] - h2;
       return w0 * e0 * e0 + w1 * e1 * e1 + w2 * e2 * e2;
     };
-    int k = kNearest.idx[int(pos[t])];
-    float best = err(k);
-    if (k > 0) {
-      const float e = err(k - 1);
-      if (e < best) best = e, k = k - 1;
-    }
-    if (k < 15) {
-      const float e = err(k + 1);
-      if (e < best) best = e, k = k + 1;
-    }
-    idx[t] = uint8_t(k);
+    // Both neighbours, branch-free (at the ends the "neighbour" is k itself and never wins).
+    const int k = kNearest.idx[int(pos[t])], km = k - (k > 0), kp = k + (k < 15);
+    const float ek = err(k), em = err(km), ep = err(kp);
+    int kb = em < ek ? km : k;
+    float best = em < ek ? em : ek;
+    kb = ep < best ? kp : kb;
+    best = ep < best ? ep : best;
+    idx[t] = uint8_t(kb);
     total += best;
   }
   return total;
@@ -228,13 +233,20 @@ Endpoints quantize(const Fit& f, const float a[3], const float b[3]) {
 
 // Least squares for the endpoints given the indices (per channel, weighted), in half bits.
 bool refit(const Fit& f, const uint8_t idx[16], float a[3], float b[3]) {
+  float g[16];
+  for (int t = 0; t < 16; ++t) g[t] = float(kW4[idx[t]]) * (1.0f / 64.0f);
   for (int c = 0; c < 3; ++c) {
-    float s00 = 0, s01 = 0, s11 = 0, t0 = 0, t1 = 0;
-    for (int t = 0; t < 16; ++t) {
-      const float g = kW4[idx[t]] * (1.0f / 64.0f), w = f.W[c][t];
-      s00 += w * (1 - g) * (1 - g), s01 += w * (1 - g) * g, s11 += w * g * g;
-      t0 += w * (1 - g) * f.H[c][t], t1 += w * g * f.H[c][t];
-    }
+    // Four partial sums (lanes t mod 4) so the loop vectorises without reassociating floats.
+    float p00[4] = {}, p01[4] = {}, p11[4] = {}, q0[4] = {}, q1[4] = {};
+    for (int t = 0; t < 16; t += 4)
+      for (int l = 0; l < 4; ++l) {
+        const float gg = g[t + l], w = f.W[c][t + l], hh = f.H[c][t + l], wa = w * (1 - gg), wb = w * gg;
+        p00[l] += wa * (1 - gg), p01[l] += wa * gg, p11[l] += wb * gg;
+        q0[l] += wa * hh, q1[l] += wb * hh;
+      }
+    const float s00 = (p00[0] + p00[1]) + (p00[2] + p00[3]), s01 = (p01[0] + p01[1]) + (p01[2] + p01[3]),
+                s11 = (p11[0] + p11[1]) + (p11[2] + p11[3]), t0 = (q0[0] + q0[1]) + (q0[2] + q0[3]),
+                t1 = (q1[0] + q1[1]) + (q1[2] + q1[3]);
     const float det = s00 * s11 - s01 * s01;
     if (!(std::fabs(det) > 1e-6f * (s00 * s11 + 1e-30f))) return false;
     a[c] = std::clamp((t0 * s11 - s01 * t1) / det, 0.0f, float(f.cap[c]));
@@ -286,8 +298,9 @@ void encode_block_fast(const uint16_t h[48], const float x[48], const uint8_t va
     }
     f.lo[c] = lo, f.hi[c] = hi, f.cap[c] = int(hi) + 1;
   }
-  float tw[16], wsum = 0;
-  for (int t = 0; t < 16; ++t) tw[t] = (f.W[0][t] + f.W[1][t] + f.W[2][t]) * (1.0f / 3.0f), wsum += tw[t];
+  float tw[16];
+  for (int t = 0; t < 16; ++t) tw[t] = (f.W[0][t] + f.W[1][t] + f.W[2][t]) * (1.0f / 3.0f);
+  const float wsum = sum16(tw);
 
   uint8_t idx[16] = {};
   if (f.lo[0] == f.hi[0] && f.lo[1] == f.hi[1] && f.lo[2] == f.hi[2]) {
@@ -300,18 +313,18 @@ void encode_block_fast(const uint16_t h[48], const float x[48], const uint8_t va
   }
 
   // Principal axis of the weighted texels (power iteration from the covariance's diagonal).
-  float mean[3] = {0, 0, 0};
+  float mean[3], tmp[6][16];
   for (int c = 0; c < 3; ++c) {
-    float s = 0;
-    for (int t = 0; t < 16; ++t) s += tw[t] * f.H[c][t];
-    mean[c] = s / wsum;
+    for (int t = 0; t < 16; ++t) tmp[c][t] = tw[t] * f.H[c][t];
+    mean[c] = sum16(tmp[c]) / wsum;
   }
-  float cov[6] = {0, 0, 0, 0, 0, 0};  // xx yy zz xy xz yz
   for (int t = 0; t < 16; ++t) {
     const float d0 = f.H[0][t] - mean[0], d1 = f.H[1][t] - mean[1], d2 = f.H[2][t] - mean[2], w = tw[t];
-    cov[0] += w * d0 * d0, cov[1] += w * d1 * d1, cov[2] += w * d2 * d2;
-    cov[3] += w * d0 * d1, cov[4] += w * d0 * d2, cov[5] += w * d1 * d2;
+    tmp[0][t] = w * d0 * d0, tmp[1][t] = w * d1 * d1, tmp[2][t] = w * d2 * d2;
+    tmp[3][t] = w * d0 * d1, tmp[4][t] = w * d0 * d2, tmp[5][t] = w * d1 * d2;
   }
+  float cov[6];  // xx yy zz xy xz yz
+  for (int i = 0; i < 6; ++i) cov[i] = sum16(tmp[i]);
   float ax[3] = {cov[0], cov[1], cov[2]};
   for (int it = 0; it < 4; ++it) {
     const float v0 = cov[0] * ax[0] + cov[3] * ax[1] + cov[4] * ax[2];
