@@ -1,13 +1,25 @@
 // ahdpack bench bc6h [FOLDER] [--csv OUT.csv]: speed against error for every quality level, on
-// every EXR of a folder (default: the shared BC6H test images), as PEERS.md measures them.
+// every EXR of a folder (default: the shared BC6H test images), as PEERS.md measures them; then
+// BC4 and BC5 on LDR planes derived from the same images.
+//
+// Speed is reported three ways, because the machine is shared and wall time alone says little:
+//   cpu/thr  MPix/s of one thread's CPU time (CLOCK_THREAD_CPUTIME_ID), the PEERS.md figure
+//   wall 1t  MPix/s of wall time with one thread
+//   wall all MPix/s of wall time with every hardware thread
+//   cpu all  MPix/s per CPU-second of the process with every thread (CLOCK_PROCESS_CPUTIME_ID)
+// Each is the median of 3 runs (1 run for BC6H max).
+#include <time.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <thread>
+#include <functional>
 
 #include "cli/commands.h"
+#include "codecs/bc4.h"
+#include "codecs/bc5.h"
 #include "codecs/bc6h_codec.h"
 #include "core/error.h"
 #include "core/parallel.h"
@@ -20,16 +32,75 @@ ImageF clamp_to_half_range(const ImageF& img);  // cmd_compress.cpp
 namespace {
 namespace fs = std::filesystem;
 
-double seconds_to_encode(const ImageF& img, Bc6hOptions o, int runs) {
-  std::vector<double> t;
-  for (int r = 0; r < runs; ++r) {
-    const auto t0 = std::chrono::steady_clock::now();
-    const std::vector<uint8_t> b = bc6h_encode_image(img, o);
-    t.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-  }
-  std::sort(t.begin(), t.end());
-  return t[t.size() / 2];  // median
+double clock_seconds(clockid_t id) {
+  timespec ts{};
+  clock_gettime(id, &ts);
+  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
 }
+
+struct Timing {
+  double wall = 0, cpu = 0;  // seconds (median of the runs, each taken separately)
+};
+
+// Runs `encode` `runs` times; cpu is the calling thread's CPU time when threads == 1 (the encoder
+// then runs on the calling thread), else the whole process's CPU time.
+Timing time_runs(const std::function<void()>& encode, int runs, bool one_thread) {
+  std::vector<double> wall, cpu;
+  const clockid_t id = one_thread ? CLOCK_THREAD_CPUTIME_ID : CLOCK_PROCESS_CPUTIME_ID;
+  for (int r = 0; r < runs; ++r) {
+    const double c0 = clock_seconds(id);
+    const auto t0 = std::chrono::steady_clock::now();
+    encode();
+    wall.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    cpu.push_back(clock_seconds(id) - c0);
+  }
+  std::sort(wall.begin(), wall.end());
+  std::sort(cpu.begin(), cpu.end());
+  return {wall[wall.size() / 2], cpu[cpu.size() / 2]};
+}
+
+struct Errors {
+  double log_rmse = 0, rmse = 0, psnr = 0, max = 0;
+};
+
+// log-RMSE over log2(1 + x), RMSE, PSNR with peak = `peak`, max |error|, over the first
+// `channels` channels of both images.
+Errors measure(const ImageF& src, const ImageF& dec, int channels, double peak) {
+  double sl = 0, se = 0, mx = 0;
+  for (size_t i = 0; i < src.texels(); ++i)
+    for (int c = 0; c < channels; ++c) {
+      const double a = src.data[i * src.channels + c], b = dec.data[i * dec.channels + c];
+      const double l = std::log2(1.0 + b) - std::log2(1.0 + a);
+      sl += l * l;
+      se += (b - a) * (b - a);
+      mx = std::max(mx, std::fabs(b - a));
+    }
+  const double n = double(src.texels()) * channels;
+  Errors e;
+  e.log_rmse = std::sqrt(sl / n);
+  e.rmse = std::sqrt(se / n);
+  e.psnr = 20 * std::log10(peak / e.rmse);
+  e.max = mx;
+  return e;
+}
+
+// An LDR plane from an HDR image, as the pipeline's direction and ratio planes are: x/(1+x) per
+// channel (a smooth map of [0, 65504] onto [0, 1)).
+ImageF ldr_plane(const ImageF& img, int channels) {
+  ImageF out(img.width, img.height, channels);
+  for (size_t i = 0; i < img.texels(); ++i)
+    for (int c = 0; c < channels; ++c) {
+      const float v = img.data[i * img.channels + c];
+      out.data[i * channels + c] = v / (1.0f + v);
+    }
+  return out;
+}
+
+struct Row {
+  std::string image, codec, quality;
+  Timing one, all;
+  Errors err;
+};
 
 }  // namespace
 
@@ -38,13 +109,16 @@ void add_bench_command(CLI::App& app) {
     std::string folder = std::string(AHD_FORMATS_DIR) + "/../../shared/data/bc6h";
     std::string csv;
     std::vector<std::string> qualities = {"fast", "default", "high", "max"};
+    std::vector<std::string> codecs = {"bc6h", "bc4", "bc5"};
   };
   auto a = std::make_shared<Args>();
   CLI::App* b = app.add_subcommand("bench", "Benchmarks");
-  CLI::App* c = b->add_subcommand("bc6h", "BC6H speed and error per quality level over a folder of EXRs");
+  CLI::App* c = b->add_subcommand(
+      "bc6h", "BC6H speed and error per quality level over a folder of EXRs; BC4/BC5 on x/(1+x) planes of the same images");
   c->add_option("folder", a->folder, "Folder of EXR images (default: ../shared/data/bc6h)");
   c->add_option("--csv", a->csv, "Also write the table as CSV");
-  c->add_option("--qualities", a->qualities, "Quality levels to run");
+  c->add_option("--qualities", a->qualities, "BC6H quality levels to run (fast default high max)");
+  c->add_option("--codecs", a->codecs, "Codecs to run (bc6h bc4 bc5)");
   c->callback([a]() {
     std::vector<fs::path> files;
     std::error_code ec;
@@ -52,39 +126,74 @@ void add_bench_command(CLI::App& app) {
       if (e.path().extension() == ".exr") files.push_back(e.path());
     if (ec || files.empty()) throw file_error(a->folder, "no EXR images in this folder");
     std::sort(files.begin(), files.end());
+    for (const std::string& codec : a->codecs)
+      if (codec != "bc6h" && codec != "bc4" && codec != "bc5") throw Error("unknown codec " + codec);
     const int all = resolve_threads(0);
-    std::string csv = "image,quality,mpix_s_1thread,mpix_s_all_threads,threads,log_rmse,rmse,psnr_db,max_error\n";
-    std::printf("%-22s %-8s %12s %14s %10s %10s %9s %10s\n", "image", "quality", "MPix/s (1t)", "MPix/s (all)",
-                "log-RMSE", "RMSE", "PSNR dB", "max err");
+    std::string csv =
+        "image,codec,quality,mpix_s_thread_cpu,mpix_s_wall_1thread,mpix_s_wall_all_threads,mpix_s_cpu_all_threads,threads,"
+        "log_rmse,rmse,psnr_db,max_error\n";
+    std::printf("speed: MPix/s; cpu/thr = one thread's CPU time (CLOCK_THREAD_CPUTIME_ID), wall 1t / wall %dt = wall time,\n"
+                "cpu %dt = per CPU-second of the process with %d threads; median of 3 runs (BC6H max: 1)\n",
+                all, all, all);
+    std::printf("%-22s %-5s %-8s %8s %8s %8s %8s %10s %10s %8s %10s\n", "image", "codec", "quality", "cpu/thr", "wall 1t",
+                "wall all", "cpu all", "log-RMSE", "RMSE", "PSNR dB", "max err");
+    auto emit = [&](const Row& r, double mp) {
+      std::printf("%-22s %-5s %-8s %8.3f %8.3f %8.3f %8.3f %10.5f %10.4g %8.2f %10.4g\n", r.image.c_str(), r.codec.c_str(),
+                  r.quality.c_str(), mp / r.one.cpu, mp / r.one.wall, mp / r.all.wall, mp / r.all.cpu, r.err.log_rmse,
+                  r.err.rmse, r.err.psnr, r.err.max);
+      std::fflush(stdout);
+      char row[320];
+      std::snprintf(row, sizeof row, "%s,%s,%s,%.4f,%.4f,%.4f,%.4f,%d,%.6f,%.6g,%.3f,%.6g\n", r.image.c_str(),
+                    r.codec.c_str(), r.quality.c_str(), mp / r.one.cpu, mp / r.one.wall, mp / r.all.wall,
+                    mp / r.all.cpu, all, r.err.log_rmse, r.err.rmse, r.err.psnr, r.err.max);
+      csv += row;
+    };
+    const bool want_bc6h = std::count(a->codecs.begin(), a->codecs.end(), "bc6h") > 0;
+    if (want_bc6h)
+      for (const std::string& qn : a->qualities) {
+        Bc6hQuality q;
+        if (!bc6h_quality_from_name(qn, &q)) throw Error("unknown quality " + qn);
+      }
     for (const auto& f : files) {
       const ImageF img = clamp_to_half_range(read_image(f.string()));
+      const std::string name = f.filename().string();
+      const double mp = img.texels() / 1e6;
       double peak = 0;
-      for (float v : img.data) peak = std::max(peak, double(v));
-      for (const std::string& qn : a->qualities) {
-        Bc6hOptions o;
-        if (!bc6h_quality_from_name(qn, &o.quality)) throw Error("unknown quality " + qn);
-        const int runs = o.quality == Bc6hQuality::Max ? 1 : 3;
-        o.threads = 1;
-        const double t1 = seconds_to_encode(img, o, runs);
-        o.threads = all;
-        const double tn = seconds_to_encode(img, o, runs);
-        const std::vector<uint8_t> blocks = bc6h_encode_image(img, o);
-        const ImageF dec = bc6h_decode_image(blocks.data(), img.width, img.height, false);
-        double sl = 0, se = 0, mx = 0;
-        for (size_t i = 0; i < img.data.size(); ++i) {
-          const double l = std::log2(1.0 + dec.data[i]) - std::log2(1.0 + img.data[i]);
-          sl += l * l;
-          se += double(dec.data[i] - img.data[i]) * (dec.data[i] - img.data[i]);
-          mx = std::max(mx, double(std::fabs(dec.data[i] - img.data[i])));
+      for (size_t i = 0; i < img.texels(); ++i)
+        for (int ch = 0; ch < std::min(3, img.channels); ++ch) peak = std::max(peak, double(img.data[i * img.channels + ch]));
+      if (want_bc6h)
+        for (const std::string& qn : a->qualities) {
+          Bc6hOptions o;
+          bc6h_quality_from_name(qn, &o.quality);
+          const int runs = o.quality == Bc6hQuality::Max ? 1 : 3;
+          std::vector<uint8_t> blocks;
+          Row r{name, "bc6h", qn, {}, {}, {}};
+          o.threads = 1;
+          r.one = time_runs([&] { blocks = bc6h_encode_image(img, o); }, runs, true);
+          o.threads = all;
+          r.all = time_runs([&] { blocks = bc6h_encode_image(img, o); }, runs, false);
+          r.err = measure(img, bc6h_decode_image(blocks.data(), img.width, img.height, false), 3, peak);
+          emit(r, mp);
         }
-        const double n = double(img.data.size()), lr = std::sqrt(sl / n), rmse = std::sqrt(se / n);
-        const double psnr = 20 * std::log10(peak / rmse), mp = img.texels() / 1e6;
-        std::printf("%-22s %-8s %12.3f %14.3f %10.5f %10.4g %9.2f %10.4g\n", f.filename().string().c_str(), qn.c_str(),
-                    mp / t1, mp / tn, lr, rmse, psnr, mx);
-        char row[256];
-        std::snprintf(row, sizeof row, "%s,%s,%.4f,%.4f,%d,%.6f,%.6g,%.3f,%.6g\n", f.filename().string().c_str(), qn.c_str(),
-                      mp / t1, mp / tn, all, lr, rmse, psnr, mx);
-        csv += row;
+      for (const std::string& codec : a->codecs) {
+        if (codec == "bc6h") continue;
+        const int channels = codec == "bc4" ? 1 : 2;
+        const ImageF plane = ldr_plane(img, channels);
+        static const char* efforts[] = {"fast", "default", "high"};
+        for (int effort = 0; effort < 3; ++effort) {
+          std::vector<uint8_t> blocks;
+          auto run = [&](int threads) {
+            blocks = channels == 1 ? bc4_encode_image(plane, 0, threads, effort) : bc5_encode_image(plane, threads, effort);
+          };
+          Row r{name, codec, efforts[effort], {}, {}, {}};
+          r.one = time_runs([&] { run(1); }, 3, true);
+          r.all = time_runs([&] { run(all); }, 3, false);
+          ImageF dec(img.width, img.height, channels);
+          if (channels == 1) bc4_decode_image(blocks.data(), img.width, img.height, 8, 0, dec, 0);
+          else dec = bc5_decode_image(blocks.data(), img.width, img.height);
+          r.err = measure(plane, dec, channels, 1.0);
+          emit(r, mp);
+        }
       }
     }
     if (!a->csv.empty()) {

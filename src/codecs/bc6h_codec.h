@@ -47,7 +47,8 @@ std::vector<uint8_t> bc6h_encode_image(const ImageF& img, const Bc6hOptions& opt
 // Decodes w×h texels to a 3-channel float image.
 ImageF bc6h_decode_image(const uint8_t* blocks, int width, int height, bool is_signed);
 
-// Encodes one block of 16 RGB floats (already within the format's range).
+// Encodes one block of 16 RGB floats (any values: the input rule above is applied, uncounted);
+// the same bytes as that block within bc6h_encode_image.
 void bc6h_encode_block(const float rgb[48], const uint8_t valid[16], bool is_signed, Bc6hQuality q, uint8_t out[16]);
 
 }  // namespace ahd

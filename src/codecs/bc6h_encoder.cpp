@@ -9,8 +9,8 @@
 // by (PEERS.md), large values relative, values below 1 closer to absolute.
 //
 // Quality levels choose how many candidates are tried:
-//   fast    one region + the best two-region partition (ranked by two-line fit), the 2 most
-//           precise modes whose deltas fit, no refinement
+//   fast    UF16: the real-time path of bc6h_fast.cpp (one region, no search). SF16: one region +
+//           the best two-region partition, the 2 most precise modes whose deltas fit, no refinement
 //   default one region + 2 best partitions, 2 refinement passes on the best candidate of each
 //   high    one region + 6 partitions, 3 modes each, 4 refinement passes on the 2 best
 //   max     one region + all 32 partitions, every mode, 6 passes, ±1 endpoint perturbation
@@ -23,11 +23,13 @@
 #include <Imath/half.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <vector>
 
 #include "codecs/bc6h_codec.h"
+#include "codecs/bc6h_fast.h"
 #include "codecs/bc6h_tables.h"
 #include "core/parallel.h"
 
@@ -559,7 +561,29 @@ const char* bc6h_quality_name(Bc6hQuality q) {
   return names[int(q)];
 }
 
-void bc6h_encode_block(const float rgb[48], const uint8_t valid[16], bool is_signed, Bc6hQuality q, uint8_t out[16]) {
+namespace {
+
+// The input rule (NaN → 0, ±Inf and |x| > 65504 → ±65504, negatives → 0 in UF16), counting what
+// it changed in `counts` (nan, inf, too large, negative) when given.
+inline float apply_input_rule(float v, bool is_signed, size_t* counts) {
+  constexpr float kMax = 65504.0f;
+  if (!(std::fabs(v) <= kMax)) {  // NaN, ±Inf or beyond half's range: the rare path
+    if (std::isnan(v)) {
+      if (counts) counts[0]++;
+      v = 0.0f;
+    } else {
+      if (counts) counts[std::isinf(v) ? 1 : 2]++;
+      v = std::copysign(kMax, v);
+    }
+  }
+  if (!is_signed && v < 0.0f) {
+    if (counts) counts[3]++;
+    v = 0.0f;
+  }
+  return v;
+}
+
+void encode_block_searched(const float rgb[48], const uint8_t valid[16], bool is_signed, Bc6hQuality q, uint8_t out[16]) {
   Block b;
   b.is_signed = is_signed;
   const float* L = log_table();
@@ -593,46 +617,56 @@ void bc6h_encode_block(const float rgb[48], const uint8_t valid[16], bool is_sig
   pack(best, is_signed, out);
 }
 
+// A block whose values already follow the input rule: `fast` UF16 takes the real-time path
+// (bc6h_fast.cpp), everything else the search.
+void encode_block_ruled(const float rgb[48], const uint8_t valid[16], bool is_signed, Bc6hQuality q, uint8_t out[16]) {
+  if (q == Bc6hQuality::Fast && !is_signed) {
+    uint16_t h[48];
+    floats_to_half(rgb, h, 48);
+    encode_block_fast(h, rgb, valid, out);
+    return;
+  }
+  encode_block_searched(rgb, valid, is_signed, q, out);
+}
+
+}  // namespace
+
+void bc6h_encode_block(const float rgb[48], const uint8_t valid[16], bool is_signed, Bc6hQuality q, uint8_t out[16]) {
+  float ruled[48];
+  for (int i = 0; i < 48; ++i) ruled[i] = apply_input_rule(rgb[i], is_signed, nullptr);
+  encode_block_ruled(ruled, valid, is_signed, q, out);
+}
+
 
 std::vector<uint8_t> bc6h_encode_image(const ImageF& img, const Bc6hOptions& opt, Bc6hStats* stats) {
   const int bw = (img.width + 3) / 4, bh = (img.height + 3) / 4;
   std::vector<uint8_t> out(size_t(bw) * bh * 16);
-  const float max = 65504.0f;
-  // The input rule, applied once (and counted) before blocks are formed.
-  ImageF src(img.width, img.height, 3);
-  Bc6hStats st;
-  for (size_t i = 0; i < img.texels(); ++i)
-    for (int c = 0; c < 3; ++c) {
-      float v = c < img.channels ? img.data[i * img.channels + c] : 0.0f;
-      if (std::isnan(v)) {
-        st.nan++;
-        v = 0.0f;
-      } else if (std::isinf(v)) {
-        st.inf++;
-        v = v > 0 ? max : -max;
-      } else if (std::fabs(v) > max) {
-        st.too_large++;
-        v = std::copysign(max, v);
-      }
-      if (!opt.is_signed && v < 0.0f) {
-        st.negative++;
-        v = 0.0f;
-      }
-      src.data[i * 3 + c] = v;
-    }
-  if (stats) *stats = st;
+  // The input rule is applied as each block is gathered (no copy of the image: at real-time
+  // speeds a copy costs as much as the encoding); counts are summed, so they do not depend on
+  // the thread count either.
+  std::atomic<size_t> counts[4] = {0, 0, 0, 0};  // nan, inf, too large, negative
   parallel_for(size_t(bw) * bh, opt.threads, 16, [&](size_t blk) {
     const int bx = int(blk % bw), by = int(blk / bw);
     float rgb[48];
     uint8_t valid[16];
+    size_t local[4] = {0, 0, 0, 0};
     for (int t = 0; t < 16; ++t) {
       const int x = bx * 4 + t % 4, y = by * 4 + t / 4;
       valid[t] = x < img.width && y < img.height;
-      const float* p = src.at(std::min(x, img.width - 1), std::min(y, img.height - 1));
-      for (int c = 0; c < 3; ++c) rgb[t * 3 + c] = p[c];
+      const float* p = img.at(std::min(x, img.width - 1), std::min(y, img.height - 1));
+      for (int c = 0; c < 3; ++c) {
+        const float v = c < img.channels ? p[c] : 0.0f;
+        rgb[t * 3 + c] = apply_input_rule(v, opt.is_signed, valid[t] ? local : nullptr);
+      }
     }
-    bc6h_encode_block(rgb, valid, opt.is_signed, opt.quality, &out[blk * 16]);
+    for (int i = 0; i < 4; ++i)
+      if (local[i]) counts[i].fetch_add(local[i], std::memory_order_relaxed);
+    encode_block_ruled(rgb, valid, opt.is_signed, opt.quality, &out[blk * 16]);
   });
+  if (stats) {
+    stats->nan = counts[0].load(), stats->inf = counts[1].load();
+    stats->too_large = counts[2].load(), stats->negative = counts[3].load();
+  }
   return out;
 }
 

@@ -1,0 +1,371 @@
+// BC6H `fast`: a real-time UF16 encoder, no search.
+//
+// Where real-time encoders get their speed (read in Basis Universal's transcoder encoder, facts
+// only): one region and one mode for nearly every block, endpoints taken from the principal axis
+// instead of searched, indices by projecting each texel on the endpoint segment instead of trying
+// every palette entry, one or two least-squares passes, integer half bits throughout. Our design
+// keeps that shape and adds what our guarantees and metric need:
+//  * Half-bit domain (as bc6h_encoder.cpp): BC6H interpolates linearly in a 16-bit domain that
+//    maps to half bits by ×31/64, and half bits are piecewise linear in log2, so lines fitted on
+//    half bits are lines in the metric. Each texel-channel is weighted by (x/(1+x))², the slope of
+//    log2(1+x) per half step (floored at x = 0.25), so the fit minimises the judged error.
+//  * The most precise one-region mode whose endpoint delta fits (14: 16 bits ±8 → 13: 12 bits ±128
+//    → 12: 11 bits ±256 → 11: 10 bits absolute): smooth blocks keep 16-, 12- or 11-bit
+//    endpoints instead of 10, which is where most of a lightmap's error would be.
+//  * No specks by construction: every endpoint is quantised so that it decodes at most one half
+//    step above its channel's brightest input (rounded down when nearest rounding would exceed
+//    it), and every palette entry lies between the endpoints, so no texel can speckle.
+//  * Solid blocks are mode 14 with exact endpoints (a half-bit value is always representable).
+// Plain scalar C++ written so the compiler vectorises the 16-texel loops; bytes depend only on
+// the block.
+#include "codecs/bc6h_fast.h"
+
+#include <Imath/half.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#if defined(__x86_64__) || defined(__i386__)
+#include <immintrin.h>
+#define AHD_HAVE_X86 1
+#endif
+
+namespace ahd::bc6h {
+
+// ---- half conversion -------------------------------------------------------------------------
+
+namespace {
+
+std::atomic<bool> g_force_portable{false};
+
+void to_half_portable(const float* in, uint16_t* out, int n) {
+  for (int i = 0; i < n; ++i) out[i] = Imath::half(in[i]).bits();
+}
+
+#ifdef AHD_HAVE_X86
+__attribute__((target("avx,f16c"))) void to_half_f16c(const float* in, uint16_t* out, int n) {
+  int i = 0;
+  for (; i + 8 <= n; i += 8) {
+    const __m128i h = _mm256_cvtps_ph(_mm256_loadu_ps(in + i), _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out + i), h);
+  }
+  if (i < n) to_half_portable(in + i, out + i, n - i);
+}
+#endif
+
+bool detect_f16c() {
+#ifdef AHD_HAVE_X86
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx") && __builtin_cpu_supports("f16c");
+#else
+  return false;
+#endif
+}
+
+}  // namespace
+
+bool cpu_has_f16c() {
+  static const bool has = detect_f16c();
+  return has;
+}
+
+void force_portable_half(bool portable) { g_force_portable.store(portable, std::memory_order_relaxed); }
+
+void floats_to_half(const float* in, uint16_t* out, int n) {
+#ifdef AHD_HAVE_X86
+  if (cpu_has_f16c() && !g_force_portable.load(std::memory_order_relaxed)) return to_half_f16c(in, out, n);
+#endif
+  to_half_portable(in, out, n);
+}
+
+// ---- the encoder -----------------------------------------------------------------------------
+
+namespace {
+
+// Sum of 16 floats in four lanes (t mod 4), a fixed order the compiler can vectorise.
+inline float sum16(const float v[16]) {
+  float l[4] = {0, 0, 0, 0};
+  for (int t = 0; t < 16; t += 4)
+    for (int i = 0; i < 4; ++i) l[i] += v[t + i];
+  return (l[0] + l[1]) + (l[2] + l[3]);
+}
+
+// Least-squares passes after the axis fit (each kept only if it lowers the error).
+constexpr int kPasses = 2;
+
+constexpr int kW4[16] = {0, 4, 9, 13, 17, 21, 26, 30, 34, 38, 43, 47, 51, 55, 60, 64};
+
+// Palette index nearest to a position p = 128·t on the segment (t in [0, 1]).
+struct NearestIndex {
+  uint8_t idx[129];
+  constexpr NearestIndex() : idx{} {
+    for (int p = 0; p <= 128; ++p) {
+      int best = 0;
+      for (int k = 1; k < 16; ++k) {
+        const int d = 2 * kW4[k] - p, db = 2 * kW4[best] - p;
+        if ((d < 0 ? -d : d) < (db < 0 ? -db : db)) best = k;
+      }
+      idx[p] = uint8_t(best);
+    }
+  }
+};
+constexpr NearestIndex kNearest;
+
+// One-region modes by precision: mode number (0-based), endpoint bits, delta bits, mode code.
+struct OneRegionMode {
+  int mode, epb, delta, code;
+};
+constexpr OneRegionMode kModes[4] = {{13, 16, 4, 0x0f}, {12, 12, 8, 0x0b}, {11, 11, 9, 0x07}, {10, 10, 10, 0x03}};
+
+inline int unquantize_u(int e, int bits) {
+  if (bits >= 15) return e;
+  if (e == 0) return 0;
+  if (e == (1 << bits) - 1) return 0xFFFF;
+  return ((e << 16) + 0x8000) >> bits;
+}
+inline int decode_h(int c) { return (c * 31) >> 6; }
+
+// The endpoint component (bits wide) whose decoded half bits are nearest `target` (half bits,
+// float) without exceeding `cap`.
+inline int quantize_endpoint(float target, int bits, int cap) {
+  const int maxv = (1 << bits) - 1;
+  const float c = target * (64.0f / 31.0f);
+  int e = int(c * float(1 << bits) * (1.0f / 65536.0f));
+  e = std::clamp(e, 0, maxv);
+  // Candidates e and e+1 bracket the target; keep the nearer (ties to the lower one).
+  if (e < maxv && std::fabs(float(decode_h(unquantize_u(e + 1, bits))) - target) <
+                      std::fabs(float(decode_h(unquantize_u(e, bits))) - target))
+    ++e;
+  while (e > 0 && decode_h(unquantize_u(e, bits)) > cap) --e;
+  return e;
+}
+
+struct Fit {
+  float H[3][16];  // half bits as floats
+  float W[3][16];  // metric weight per texel-channel (0 for padding)
+  int cap[3];
+  float lo[3], hi[3];  // per-channel range of the valid texels
+};
+
+struct Endpoints {
+  int m = 3;  // index into kModes
+  int e[2][3];
+};
+
+// Palette (decoded half bits) of two quantised endpoints, per channel.
+inline void palette(const Endpoints& ep, float P[3][16]) {
+  const int bits = kModes[ep.m].epb;
+  for (int c = 0; c < 3; ++c) {
+    const int a = unquantize_u(ep.e[0][c], bits), b = unquantize_u(ep.e[1][c], bits);
+    for (int k = 0; k < 16; ++k) P[c][k] = float(decode_h((a * (64 - kW4[k]) + b * kW4[k] + 32) >> 6));
+  }
+}
+
+// Indices by weighted projection on the palette's segment, then the better neighbour; returns
+// the weighted squared error in half steps. Every palette entry lies within the block's range
+// (the endpoints do), so any index is allowed.
+float assign(const Fit& f, const Endpoints& ep, uint8_t idx[16]) {
+  float P[3][16];
+  palette(ep, P);
+  const float d0 = P[0][15] - P[0][0], d1 = P[1][15] - P[1][0], d2 = P[2][15] - P[2][0];
+  float pos[16];
+  for (int t = 0; t < 16; ++t) {  // vectorised: no branches, no gathers
+    const float w0 = f.W[0][t], w1 = f.W[1][t], w2 = f.W[2][t];
+    const float num = w0 * d0 * (f.H[0][t] - P[0][0]) + w1 * d1 * (f.H[1][t] - P[1][0]) + w2 * d2 * (f.H[2][t] - P[2][0]);
+    const float den = w0 * d0 * d0 + w1 * d1 * d1 + w2 * d2 * d2;
+    const float p = 128.0f * num / (den > 0 ? den : 1.0f);
+    pos[t] = std::min(std::max(p, 0.0f), 128.0f) + 0.5f;
+  }
+  float total = 0;
+  for (int t = 0; t < 16; ++t) {
+    const float w0 = f.W[0][t], w1 = f.W[1][t], w2 = f.W[2][t];
+    const float h0 = f.H[0][t], h1 = f.H[1][t], h2 = f.H[2][t];
+    auto err = [&](int j) {
+      const float e0 = P[0][j] - h0, e1 = P[1][j] - h1, e2 = P[2][j] - h2;
+      return w0 * e0 * e0 + w1 * e1 * e1 + w2 * e2 * e2;
+    };
+    // Both neighbours, branch-free (at the ends the "neighbour" is k itself and never wins).
+    const int k = kNearest.idx[int(pos[t])], km = k - (k > 0), kp = k + (k < 15);
+    const float ek = err(k), em = err(km), ep = err(kp);
+    int kb = em < ek ? km : k;
+    float best = em < ek ? em : ek;
+    kb = ep < best ? kp : kb;
+    best = ep < best ? ep : best;
+    idx[t] = uint8_t(kb);
+    total += best;
+  }
+  return total;
+}
+
+// Quantises endpoint targets (half bits) in the most precise one-region mode whose delta fits,
+// never decoding above the channel's cap. A mode whose delta cannot fit by the targets' spread
+// (quantising moves an endpoint by under one step each) is skipped before quantising.
+Endpoints quantize(const Fit& f, const float a[3], const float b[3]) {
+  float spread = 0;  // in 16-bit interpolation units
+  for (int c = 0; c < 3; ++c) spread = std::max(spread, std::fabs(b[c] - a[c]) * (64.0f / 31.0f));
+  Endpoints ep;
+  for (int m = 0; m < 3; ++m) {
+    const OneRegionMode& md = kModes[m];
+    const int lim = (1 << (md.delta - 1)) - 1;  // symmetric, so the endpoints can be swapped
+    if (spread > float((lim + 2) << (16 - md.epb))) continue;
+    bool fits = true;
+    for (int c = 0; c < 3 && fits; ++c) {
+      ep.e[0][c] = quantize_endpoint(a[c], md.epb, f.cap[c]);
+      ep.e[1][c] = quantize_endpoint(b[c], md.epb, f.cap[c]);
+      const int d = ep.e[1][c] - ep.e[0][c];
+      fits = d >= -lim && d <= lim;
+    }
+    if (fits) {
+      ep.m = m;
+      return ep;
+    }
+  }
+  ep.m = 3;  // 10-bit absolute endpoints: always representable
+  for (int c = 0; c < 3; ++c) {
+    ep.e[0][c] = quantize_endpoint(a[c], 10, f.cap[c]);
+    ep.e[1][c] = quantize_endpoint(b[c], 10, f.cap[c]);
+  }
+  return ep;
+}
+
+// Least squares for the endpoints given the indices (per channel, weighted), in half bits.
+bool refit(const Fit& f, const uint8_t idx[16], float a[3], float b[3]) {
+  float g[16];
+  for (int t = 0; t < 16; ++t) g[t] = float(kW4[idx[t]]) * (1.0f / 64.0f);
+  for (int c = 0; c < 3; ++c) {
+    // Four partial sums (lanes t mod 4) so the loop vectorises without reassociating floats.
+    float p00[4] = {}, p01[4] = {}, p11[4] = {}, q0[4] = {}, q1[4] = {};
+    for (int t = 0; t < 16; t += 4)
+      for (int l = 0; l < 4; ++l) {
+        const float gg = g[t + l], w = f.W[c][t + l], hh = f.H[c][t + l], wa = w * (1 - gg), wb = w * gg;
+        p00[l] += wa * (1 - gg), p01[l] += wa * gg, p11[l] += wb * gg;
+        q0[l] += wa * hh, q1[l] += wb * hh;
+      }
+    const float s00 = (p00[0] + p00[1]) + (p00[2] + p00[3]), s01 = (p01[0] + p01[1]) + (p01[2] + p01[3]),
+                s11 = (p11[0] + p11[1]) + (p11[2] + p11[3]), t0 = (q0[0] + q0[1]) + (q0[2] + q0[3]),
+                t1 = (q1[0] + q1[1]) + (q1[2] + q1[3]);
+    const float det = s00 * s11 - s01 * s01;
+    if (!(std::fabs(det) > 1e-6f * (s00 * s11 + 1e-30f))) return false;
+    a[c] = std::clamp((t0 * s11 - s01 * t1) / det, 0.0f, float(f.cap[c]));
+    b[c] = std::clamp((s00 * t1 - s01 * t0) / det, 0.0f, float(f.cap[c]));
+  }
+  return true;
+}
+
+// Writes a one-region block: 5 mode bits, the low 10 bits of each base endpoint, then per channel
+// the delta (or second endpoint) followed by the base's high bits from the highest down, then the
+// indices (texel 0 without its top bit). This is the spec's layout of modes 11–14.
+void pack(const Endpoints& ep, const uint8_t idx[16], uint8_t out[16]) {
+  const OneRegionMode& md = kModes[ep.m];
+  unsigned __int128 v = unsigned(md.code);
+  int pos = 5;
+  for (int c = 0; c < 3; ++c, pos += 10) v |= (unsigned __int128)(ep.e[0][c] & 0x3FF) << pos;
+  for (int c = 0; c < 3; ++c) {
+    const int d = (ep.e[1][c] - (md.delta < md.epb ? ep.e[0][c] : 0)) & ((1 << md.delta) - 1);
+    v |= (unsigned __int128)unsigned(d) << pos;
+    pos += md.delta;
+    for (int bit = md.epb - 1; bit >= 10; --bit, ++pos) v |= (unsigned __int128)((ep.e[0][c] >> bit) & 1) << pos;
+  }
+  v |= (unsigned __int128)idx[0] << pos;
+  pos += 3;
+  for (int t = 1; t < 16; ++t, pos += 4) v |= (unsigned __int128)idx[t] << pos;
+  for (int i = 0; i < 16; ++i) out[i] = uint8_t(v >> (8 * i));
+}
+
+}  // namespace
+
+void encode_block_fast(const uint16_t h[48], const float x[48], const uint8_t valid[16], uint8_t out[16]) {
+  Fit f;
+  // Channel planes. Padding texels take the values of the first real one, so that plain minima
+  // and maxima over all 16 are those of the real texels; their weight is 0.
+  int first = 0;
+  while (first < 15 && !valid[first]) ++first;
+  float vmask[16];
+  for (int t = 0; t < 16; ++t) {
+    const int s = valid[t] ? t : first;
+    vmask[t] = valid[t] ? 1.0f : 0.0f;
+    for (int c = 0; c < 3; ++c) f.H[c][t] = float(h[s * 3 + c]), f.W[c][t] = x[s * 3 + c];
+  }
+  for (int c = 0; c < 3; ++c) {
+    float lo = f.H[c][0], hi = f.H[c][0];
+    for (int t = 0; t < 16; ++t) {  // vectorised
+      const float xv = std::max(f.W[c][t], 0.25f), slope = xv / (1.0f + xv);
+      f.W[c][t] = slope * slope * vmask[t];
+      lo = std::min(lo, f.H[c][t]), hi = std::max(hi, f.H[c][t]);
+    }
+    f.lo[c] = lo, f.hi[c] = hi, f.cap[c] = int(hi) + 1;
+  }
+  float tw[16];
+  for (int t = 0; t < 16; ++t) tw[t] = (f.W[0][t] + f.W[1][t] + f.W[2][t]) * (1.0f / 3.0f);
+  const float wsum = sum16(tw);
+
+  uint8_t idx[16] = {};
+  if (f.lo[0] == f.hi[0] && f.lo[1] == f.hi[1] && f.lo[2] == f.hi[2]) {
+    // Solid: mode 14 with both endpoints the exact 16-bit value (ceil(64h/31) decodes to h).
+    Endpoints ep;
+    ep.m = 0;
+    for (int c = 0; c < 3; ++c) ep.e[0][c] = ep.e[1][c] = (int(f.hi[c]) * 64 + 30) / 31;
+    pack(ep, idx, out);
+    return;
+  }
+
+  // Principal axis of the weighted texels (power iteration from the covariance's diagonal).
+  float mean[3], tmp[6][16];
+  for (int c = 0; c < 3; ++c) {
+    for (int t = 0; t < 16; ++t) tmp[c][t] = tw[t] * f.H[c][t];
+    mean[c] = sum16(tmp[c]) / wsum;
+  }
+  for (int t = 0; t < 16; ++t) {
+    const float d0 = f.H[0][t] - mean[0], d1 = f.H[1][t] - mean[1], d2 = f.H[2][t] - mean[2], w = tw[t];
+    tmp[0][t] = w * d0 * d0, tmp[1][t] = w * d1 * d1, tmp[2][t] = w * d2 * d2;
+    tmp[3][t] = w * d0 * d1, tmp[4][t] = w * d0 * d2, tmp[5][t] = w * d1 * d2;
+  }
+  float cov[6];  // xx yy zz xy xz yz
+  for (int i = 0; i < 6; ++i) cov[i] = sum16(tmp[i]);
+  float ax[3] = {cov[0], cov[1], cov[2]};
+  for (int it = 0; it < 4; ++it) {
+    const float v0 = cov[0] * ax[0] + cov[3] * ax[1] + cov[4] * ax[2];
+    const float v1 = cov[3] * ax[0] + cov[1] * ax[1] + cov[5] * ax[2];
+    const float v2 = cov[4] * ax[0] + cov[5] * ax[1] + cov[2] * ax[2];
+    const float m = std::max({std::fabs(v0), std::fabs(v1), std::fabs(v2)});
+    if (!(m > 0)) break;
+    ax[0] = v0 / m, ax[1] = v1 / m, ax[2] = v2 / m;
+  }
+  float len2 = ax[0] * ax[0] + ax[1] * ax[1] + ax[2] * ax[2];
+  if (!(len2 > 0)) ax[0] = ax[1] = ax[2] = 1, len2 = 3;
+  float tmin = 1e30f, tmax = -1e30f;
+  for (int t = 0; t < 16; ++t) {
+    if (!valid[t]) continue;
+    const float p = (f.H[0][t] - mean[0]) * ax[0] + (f.H[1][t] - mean[1]) * ax[1] + (f.H[2][t] - mean[2]) * ax[2];
+    tmin = std::min(tmin, p), tmax = std::max(tmax, p);
+  }
+  float a[3], b[3];
+  for (int c = 0; c < 3; ++c) {
+    a[c] = std::clamp(mean[c] + tmin / len2 * ax[c], f.lo[c], f.hi[c]);
+    b[c] = std::clamp(mean[c] + tmax / len2 * ax[c], f.lo[c], f.hi[c]);
+  }
+
+  Endpoints best = quantize(f, a, b);
+  float best_err = assign(f, best, idx);
+  for (int pass = 0; pass < kPasses && best_err > 0; ++pass) {
+    if (!refit(f, idx, a, b)) break;
+    const Endpoints ep = quantize(f, a, b);
+    uint8_t trial[16];
+    const float err = assign(f, ep, trial);
+    if (!(err < best_err)) break;
+    best = ep, best_err = err;
+    std::memcpy(idx, trial, 16);
+  }
+  // Texel 0's index is stored without its top bit: mirror the block when it is set (the palette
+  // is symmetric, and quantize() keeps deltas inside the symmetric part of their range).
+  if (idx[0] >= 8) {
+    for (int c = 0; c < 3; ++c) std::swap(best.e[0][c], best.e[1][c]);
+    for (int t = 0; t < 16; ++t) idx[t] = uint8_t(15 - idx[t]);
+  }
+  pack(best, idx, out);
+}
+
+}  // namespace ahd::bc6h

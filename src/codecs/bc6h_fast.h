@@ -1,0 +1,23 @@
+// The real-time BC6H path (quality `fast`, UF16) and its half-float conversion. Internal to the
+// codec: bc6h_encode_image calls it; tests call it to force each conversion path.
+#pragma once
+#include <cstdint>
+
+namespace ahd::bc6h {
+
+// Half-float bit patterns of n finite floats, rounded to nearest even (exactly Imath::half's
+// bits). Uses the CPU's F16C instructions when it has them (checked once at run time) and a
+// portable bit-exact path otherwise; both give the same bits.
+void floats_to_half(const float* in, uint16_t* out, int n);
+
+// Which conversion floats_to_half uses: true = the portable path whatever the CPU (tests).
+void force_portable_half(bool portable);
+bool cpu_has_f16c();
+
+// Encodes one UF16 block without search (see bc6h_fast.cpp). h: the texels' half bits
+// (h[t*3+c], finite, non-negative), x: the same values as floats, valid: 1 for real texels, 0 for
+// the padding of partial blocks (not fitted, not counted). No decoded value exceeds its channel's
+// brightest valid input by more than one half step. Depends only on its arguments.
+void encode_block_fast(const uint16_t h[48], const float x[48], const uint8_t valid[16], uint8_t out[16]);
+
+}  // namespace ahd::bc6h
