@@ -9,6 +9,7 @@
 #include "cli/commands.h"
 #include "cli/conversion_args.h"
 #include "cli/output.h"
+#include "cli/progress.h"
 #include "core/error.h"
 #include "io/ahd_intermediate.h"
 #include "io/baker_layout.h"
@@ -93,6 +94,7 @@ void run_convert(const ConvertArgs& a) {
   const OutputPaths out = output_paths(out_path);
   ConversionOptions co = conversion_options(a.conv);
   co.container = out.kind;
+  attach_terminal_progress(&co, a.conv.quiet);
 
   // Checked before anything is read or written: one clear line, no output.
   const ResolvedOptions ro = resolve_options(co, out.name, load_profile(a.conv.profile));

@@ -6,6 +6,7 @@
 #include "cli/commands.h"
 #include "cli/conversion_args.h"
 #include "cli/output.h"
+#include "cli/progress.h"
 #include "core/error.h"
 #include "io/ahd_intermediate.h"
 #include "io/profile_file.h"
@@ -27,6 +28,7 @@ void add_transcode_command(CLI::App& app) {
     const OutputPaths out = output_paths(a->output);
     ConversionOptions co = conversion_options(a->conv);
     co.container = out.kind;
+    attach_terminal_progress(&co, a->conv.quiet);
     const Profile profile = load_profile(a->conv.profile);
     const auto t0 = std::chrono::steady_clock::now();
     FitOptions fit;

@@ -1,6 +1,7 @@
 // ahdpack: SH lightmaps in, AHD directional lightmaps out. A thin shell over the library.
 #include <cstdio>
 #include <exception>
+#include <new>
 
 #include "cli/commands.h"
 #include "core/error.h"
@@ -21,8 +22,14 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
+  } catch (const ahd::Cancelled&) {
+    std::fprintf(stderr, "\nahdpack: cancelled: nothing was written\n");
+    return 130;
   } catch (const ahd::Error& e) {
     std::fprintf(stderr, "ahdpack: error: %s\n", e.what());
+    return 1;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "ahdpack: error: out of memory\n");
     return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "ahdpack: internal error: %s\n", e.what());

@@ -1,0 +1,58 @@
+#include "cli/progress.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <memory>
+#include <string>
+
+namespace ahd::cli {
+namespace {
+
+std::atomic<bool> g_interrupted{false};
+
+void on_sigint(int) { g_interrupted.store(true); }
+
+// One stage's line, redrawn with '\r' and finished with '\n' when the next stage starts.
+struct TerminalProgress {
+  using Clock = std::chrono::steady_clock;
+  std::string stage;
+  Clock::time_point start;
+  double last_print = -1;
+
+  void operator()(const char* name, double fraction) {
+    const auto now = Clock::now();
+    if (stage != name) {
+      if (!stage.empty()) std::fputc('\n', stderr);
+      stage = name;
+      start = now;
+      last_print = -1;
+    }
+    const double elapsed = std::chrono::duration<double>(now - start).count();
+    if (fraction < 1 && elapsed - last_print < 0.1 && last_print >= 0) return;  // at most 10 redraws/s
+    last_print = elapsed;
+    char eta[32] = "";
+    if (fraction > 0.02 && fraction < 1) std::snprintf(eta, sizeof eta, "  ETA %.1f s", elapsed * (1 - fraction) / fraction);
+    std::fprintf(stderr, "\r\033[K%-8s %3.0f %%  %.1f s%s", stage.c_str(), fraction * 100, elapsed, eta);
+    if (stage == "write" && fraction >= 1) std::fputc('\n', stderr), stage.clear();
+    std::fflush(stderr);
+  }
+};
+
+}  // namespace
+
+const std::atomic<bool>* interrupt_flag() { return &g_interrupted; }
+
+void install_interrupt_handler() { std::signal(SIGINT, on_sigint); }
+
+void attach_terminal_progress(ConversionOptions* options, bool quiet) {
+  install_interrupt_handler();
+  options->cancel = interrupt_flag();
+  if (quiet || !isatty(STDERR_FILENO)) return;
+  auto p = std::make_shared<TerminalProgress>();
+  options->progress = [p](const char* stage, double fraction) { (*p)(stage, fraction); };
+}
+
+}  // namespace ahd::cli
