@@ -41,6 +41,7 @@ void add_bench_command(CLI::App& app) {
   };
   auto a = std::make_shared<Args>();
   CLI::App* b = app.add_subcommand("bench", "Benchmarks");
+  add_bench_convert_command(*b);
   CLI::App* c = b->add_subcommand("bc6h", "BC6H speed and error per quality level over a folder of EXRs");
   c->add_option("folder", a->folder, "Folder of EXR images (default: ../shared/data/bc6h)");
   c->add_option("--csv", a->csv, "Also write the table as CSV");

@@ -35,17 +35,25 @@ void unit_uv_to_dir(const float uv01[2], float d[3]) {
   for (int i = 0; i < 3; ++i) d[i] = float(dd[i]);
 }
 
-std::vector<AhdLobe> lobes_from_fit(const AhdImage& a) {
-  std::vector<AhdLobe> lobes(a.texels.size());
-  for (size_t i = 0; i < a.texels.size(); ++i) {
-    const AhdFit& f = a.texels[i];
-    for (int c = 0; c < 3; ++c) {
-      lobes[i].ca[c] = f.ca[c];
-      lobes[i].cd[c] = f.cd[c];
-      lobes[i].d[c] = f.d[c];
-    }
+// I_z alone: d = z, ratio = 1, so I(n) = I_z for every normal.
+AhdLobe ambient_only_lobe(const AhdFit& f) {
+  AhdLobe l;
+  for (int c = 0; c < 3; ++c) {
+    l.ca[c] = std::max(0.0f, f.iz[c]);
+    l.cd[c] = 0;
+    l.d[c] = c == 2 ? 1 : 0;
   }
-  return lobes;
+  return l;
+}
+
+AhdLobe lobe_of_fit(const AhdFit& f) {
+  AhdLobe l;
+  for (int c = 0; c < 3; ++c) {
+    l.ca[c] = f.ca[c];
+    l.cd[c] = f.cd[c];
+    l.d[c] = f.d[c];
+  }
+  return l;
 }
 
 }  // namespace
@@ -137,14 +145,17 @@ LevelPlanes quantise_level(const FittedLevel& lv, const Profile& profile, const 
   const size_t n = sh.texels();
   const int w = sh.width, h = sh.height;
   const bool ratio_rgb = opt.fit.ratio_form == RatioForm::Rgb;
-  ImageF uv(w, h, 2), izi(w, h, 3);
-  for (size_t i = 0; i < n; ++i) {
-    dir_to_unit_uv(fit.texels[i].d, &uv.data[i * 2]);
-    for (int c = 0; c < 3; ++c) izi.data[i * 3 + c] = fit.texels[i].iz[c];
-  }
   LevelPlanes out;
-  out.iz = encode_plane(profile.iz, izi, opt.codec, stats);
+  {  // I_z: its float copy lives only while it is encoded
+    ImageF izi(w, h, 3);
+    parallel_for(n, opt.threads, 4096, [&](size_t i) {
+      for (int c = 0; c < 3; ++c) izi.data[i * 3 + c] = fit.texels[i].iz[c];
+    });
+    out.iz = encode_plane(profile.iz, izi, opt.codec, stats);
+  }
   if (!directional) return out;
+  ImageF uv(w, h, 2);
+  parallel_for(n, opt.threads, 4096, [&](size_t i) { dir_to_unit_uv(fit.texels[i].d, &uv.data[i * 2]); });
   const ImageF iz_dec = decode_plane(profile.iz, out.iz);
   ImageF dir_dec;
   if (!profile.packed_dir_ratio) {
@@ -156,10 +167,13 @@ LevelPlanes quantise_level(const FittedLevel& lv, const Profile& profile, const 
     for (size_t i = 0; i < n * 2; ++i) dir_dec.data[i] = float(std::lround(uv.data[i] * 255.0f)) / 255.0f;
   }
   const int rch = ratio_rgb ? 3 : 1;
-  ImageF ratio_closed(w, h, rch), ratio_open(w, h, rch);
+  const bool open_too = opt.measure && opt.measure_open_loop;  // the open-loop plane, for the report only
+  ImageF ratio_closed(w, h, rch), ratio_open(open_too ? w : 0, open_too ? h : 0, rch);
   parallel_for(n, opt.threads, 1024, [&](size_t i) {
     const AhdFit& f = fit.texels[i];
-    for (int c = 0; c < rch; ++c) ratio_open.data[i * rch + c] = ratio_closed.data[i * rch + c] = f.ratio[c];
+    for (int c = 0; c < rch; ++c) ratio_closed.data[i * rch + c] = f.ratio[c];
+    if (open_too)
+      for (int c = 0; c < rch; ++c) ratio_open.data[i * rch + c] = f.ratio[c];
     if (!opt.closed_loop || !sh.coverage[i]) return;
     float dq[3];
     unit_uv_to_dir(&dir_dec.data[i * dir_dec.channels], dq);
@@ -184,10 +198,10 @@ LevelPlanes quantise_level(const FittedLevel& lv, const Profile& profile, const 
   };
   if (profile.packed_dir_ratio) {
     out.dirratio = packed(ratio_closed);
-    if (opt.measure && opt.measure_open_loop) out.dirratio_open = packed(ratio_open);
+    if (open_too) out.dirratio_open = packed(ratio_open);
   } else {
     out.ratio = encode_plane(profile.ratio, ratio_closed, opt.codec);
-    if (opt.measure && opt.measure_open_loop) out.ratio_open = encode_plane(profile.ratio, ratio_open, opt.codec);
+    if (open_too) out.ratio_open = encode_plane(profile.ratio, ratio_open, opt.codec);
   }
   return out;
 }
@@ -212,6 +226,15 @@ std::vector<Plane> planes_of(const Profile& profile, const std::vector<LevelPlan
   return planes;
 }
 
+// The decoded planes against the level's SH, each texel's lobe decoded as it is measured.
+ErrorReport measure_planes(const ShImage& sh, const DecodedPlanes& p, const ConvertOptions& opt) {
+  return measure_error(sh, [&](size_t i) {
+    AhdLobe l;
+    decode_colours(&p.iz[i * 3], &p.d[i * 3], &p.ratio[i * 3], opt.fit.dz_min, l.ca, l.cd, l.d);
+    return l;
+  }, opt.threads);
+}
+
 // Keep, drop, or (Auto) measure whether I_z alone is close enough to the SH.
 void decide_direction(const FittedLevel& level0, const ConvertOptions& opt, ConvertResult* r) {
   char why[160];
@@ -225,9 +248,17 @@ void decide_direction(const FittedLevel& level0, const ConvertOptions& opt, Conv
       r->direction_reason = "dropped (--direction drop)";
       return;
     case DirectionPlanes::Auto: {
-      const std::vector<AhdLobe> lobes = ambient_only_lobes(level0);
-      r->directional = relative_p99_exceeds(level0.sh, lobes, opt.ambient_threshold);
-      if (opt.measure) r->ambient_error = measure_error(level0.sh, lobes, opt.threads);
+      // No L1/L2 at all (plain lightmaps): I_z alone is exact, decided without evaluating anything.
+      // Otherwise the I_z-alone error over the fixed sample (every covered texel of images up to
+      // kErrorSampleSize of them), with the early exit; lobes made on the fly (no image of them).
+      if (sh_is_constant(level0.sh)) {
+        r->directional = false;
+      } else {
+        const AhdImage& a = level0.ahd;
+        r->directional = sampled_relative_p99_exceeds(
+            level0.sh, [&](size_t i) { return ambient_only_lobe(a.texels[i]); }, opt.ambient_threshold);
+      }
+      if (opt.measure) r->ambient_error = ambient_only_error(level0, opt.threads);
       std::snprintf(why, sizeof why, "%s: I_z alone differs from the SH by %s threshold %.3g (relative RMSE p99)",
                     r->directional ? "kept" : "dropped", r->directional ? "more than the" : "no more than the",
                     opt.ambient_threshold);
@@ -241,12 +272,7 @@ void decide_direction(const FittedLevel& level0, const ConvertOptions& opt, Conv
 
 std::vector<AhdLobe> ambient_only_lobes(const FittedLevel& level) {
   std::vector<AhdLobe> lobes(level.ahd.texels.size());
-  for (size_t i = 0; i < lobes.size(); ++i)
-    for (int c = 0; c < 3; ++c) {
-      lobes[i].ca[c] = std::max(0.0f, level.ahd.texels[i].iz[c]);
-      lobes[i].cd[c] = 0;
-      lobes[i].d[c] = c == 2 ? 1 : 0;
-    }
+  for (size_t i = 0; i < lobes.size(); ++i) lobes[i] = ambient_only_lobe(level.ahd.texels[i]);
   return lobes;
 }
 
@@ -255,30 +281,35 @@ ErrorReport ambient_only_error(const FittedLevel& level, int threads) {
 }
 
 std::vector<FittedLevel> fit_levels(const ShImage& sh, const ConvertOptions& opt, ConvertResult* r) {
+  return fit_levels(ShImage(sh), opt, r);
+}
+
+std::vector<FittedLevel> fit_levels(ShImage&& input, const ConvertOptions& opt, ConvertResult* r) {
   auto t0 = Clock::now();
   std::vector<FitStats> fit_stats;
   std::vector<FittedLevel> levels =
-      fit_mip_chain(sh, opt.fit, opt.max_levels, opt.threads, &fit_stats, &r->dilate_stats);
+      fit_mip_chain(std::move(input), opt.fit, opt.max_levels, opt.threads, &fit_stats, &r->dilate_stats);
   r->fit_stats = fit_stats[0];
   r->timings.push_back({"mips, fit, dilate", seconds_since(t0)});
   if (!opt.measure) return levels;
 
   t0 = Clock::now();
+  const ShImage& sh = levels[0].sh;
   const AhdImage& fit = levels[0].ahd;
-  r->fit_error = measure_error(sh, lobes_from_fit(fit), opt.threads);
+  // Lobes made texel by texel as they are measured: no image of them (72 bytes a texel).
+  r->fit_error = measure_error(sh, [&](size_t i) { return lobe_of_fit(fit.texels[i]); }, opt.threads);
   if (opt.measure_unconstrained) {
-    const size_t n = sh.texels();
-    std::vector<AhdLobe> lobes(n);
-    parallel_for(n, opt.threads, 1024, [&](size_t i) {
+    r->unconstrained_error = measure_error(sh, [&](size_t i) {
+      AhdLobe l;
       IrradiancePoly p[3];
       local_polys(sh, i, p);
       const double d[3] = {fit.texels[i].d[0], fit.texels[i].d[1], fit.texels[i].d[2]};
       for (int c = 0; c < 3; ++c) {
-        fit_channel_unconstrained(hemisphere_moments(p[c], d), &lobes[i].ca[c], &lobes[i].cd[c]);
-        lobes[i].d[c] = d[c];
+        fit_channel_unconstrained(hemisphere_moments(p[c], d), &l.ca[c], &l.cd[c]);
+        l.d[c] = d[c];
       }
-    });
-    r->unconstrained_error = measure_error(sh, lobes, opt.threads);
+      return l;
+    }, opt.threads);
   }
   r->timings.push_back({"measure fit", seconds_since(t0)});
   return levels;
@@ -310,13 +341,11 @@ void quantise_levels(const std::vector<FittedLevel>& levels, const Profile& prof
   t0 = Clock::now();
   r->level_error.clear();
   for (size_t l = 0; l < levels.size(); ++l)
-    r->level_error.push_back(measure_error(
-        levels[l].sh, lobes_from_planes(decode_planes(r->planes, ratio_rgb, int(l)), opt.fit.dz_min), opt.threads));
+    r->level_error.push_back(measure_planes(levels[l].sh, decode_planes(r->planes, ratio_rgb, int(l)), opt));
   r->final_error = r->level_error[0];
   if (opt.measure_open_loop && r->directional)
-    r->open_loop_error = measure_error(
-        levels[0].sh, lobes_from_planes(decode_planes(planes_of(profile, lv, r->directional, true), ratio_rgb, 0), opt.fit.dz_min),
-        opt.threads);
+    r->open_loop_error =
+        measure_planes(levels[0].sh, decode_planes(planes_of(profile, lv, r->directional, true), ratio_rgb, 0), opt);
   r->timings.push_back({"measure quantised", seconds_since(t0)});
 }
 
