@@ -183,6 +183,7 @@ std::string convert_case(const Case& c, const std::string& out_dir, int threads,
   const bool world = !sh.normals.empty();
   ConvertResult r;
   r.timings.push_back({"read", since(t0)});
+  const long read_peak_kb = status_kb("VmHWM") - baseline_kb;
   // The input becomes level 0 (no copy of the largest image): what `convert` should do too.
   const std::vector<FittedLevel> levels = fit_levels(std::move(sh), opt, &r);
   quantise_levels(levels, profile, opt, &r);
@@ -191,7 +192,7 @@ std::string convert_case(const Case& c, const std::string& out_dir, int threads,
   write_conversion(out, r, profile, opt.fit, world, false, nlohmann::json::object(), since(t_start));
   r.timings.push_back({"write", since(t0)});
   const double total = since(t_start);
-  o << "peak_rss_kb=" << (status_kb("VmHWM") - baseline_kb) << "\n";
+  o << "peak_rss_kb=" << (status_kb("VmHWM") - baseline_kb) << "\nread_peak_kb=" << read_peak_kb << "\n";
   o << "total=" << total << "\ncpu=" << cpu_seconds() - cpu0 << "\n";
   std::string stages;
   for (const StageCost& s : r.timings) stages += s.stage + ": " + fmt("%.2f", s.seconds) + " | ";
@@ -295,6 +296,8 @@ void add_bench_convert_command(CLI::App& bench) {
                   total, oiio, total / oiio, texels / 1e6 / total, peak / 1048576.0, peak / texels, peak / decoded, est,
                   100.0 * est / total);
       std::printf("    stages: %s\n", cv.at("stages").c_str());
+      std::printf("    peak while reading: %.1f B/texel (x%.2f input)\n", std::stod(cv.at("read_peak_kb")) * 1024.0 / texels,
+                  std::stod(cv.at("read_peak_kb")) * 1024.0 / decoded);
       std::printf("    CPU seconds (all threads, load-independent): conversion %.2f, OIIO read %.2f, ratio %.2f\n",
                   std::stod(cv.at("cpu")), std::stod(rd.at("cpu")), std::stod(cv.at("cpu")) / std::stod(rd.at("cpu")));
       std::printf("    OIIO read alone: peak %.1f MB above baseline (%.1f B/texel)\n",

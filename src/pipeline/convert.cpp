@@ -131,6 +131,18 @@ void check_profile(const Profile& profile, const ConvertOptions& opt) {
                 format_info(profile.ratio).name + ")");
 }
 
+// Rows [y0, y1) of a coded level as a level of its own (y0 a multiple of the block height): block
+// rows and texel rows are stored one after another, so the rows are one byte range.
+TextureLevel level_rows(PixelFormat f, const TextureLevel& lvl, int y0, int y1) {
+  const size_t begin = level_size_bytes(f, lvl.width, uint32_t(y0));
+  const size_t size = level_size_bytes(f, lvl.width, uint32_t(y1 - y0));
+  TextureLevel s;
+  s.width = lvl.width;
+  s.height = uint32_t(y1 - y0);
+  s.data.assign(lvl.data.begin() + std::ptrdiff_t(begin), lvl.data.begin() + std::ptrdiff_t(begin + size));
+  return s;
+}
+
 // Planes of one level, closed loop: direction first, then I_z, then the ratio refitted against
 // the DECODED direction and I_z (covered texels; uncovered ones keep their dilated ratio).
 struct LevelPlanes {
@@ -156,36 +168,46 @@ LevelPlanes quantise_level(const FittedLevel& lv, const Profile& profile, const 
   if (!directional) return out;
   ImageF uv(w, h, 2);
   parallel_for(n, opt.threads, 4096, [&](size_t i) { dir_to_unit_uv(fit.texels[i].d, &uv.data[i * 2]); });
-  const ImageF iz_dec = decode_plane(profile.iz, out.iz);
-  ImageF dir_dec;
-  if (!profile.packed_dir_ratio) {
-    out.dir = encode_plane(profile.dir, uv, opt.codec);
-    dir_dec = decode_plane(profile.dir, out.dir);
-  } else {
-    // The packed plane is RGBA8: the direction's decoded value is its 8-bit rounding.
-    dir_dec = ImageF(w, h, 2);
-    for (size_t i = 0; i < n * 2; ++i) dir_dec.data[i] = float(std::lround(uv.data[i] * 255.0f)) / 255.0f;
-  }
+  if (!profile.packed_dir_ratio) out.dir = encode_plane(profile.dir, uv, opt.codec);
   const int rch = ratio_rgb ? 3 : 1;
   const bool open_too = opt.measure && opt.measure_open_loop;  // the open-loop plane, for the report only
   ImageF ratio_closed(w, h, rch), ratio_open(open_too ? w : 0, open_too ? h : 0, rch);
-  parallel_for(n, opt.threads, 1024, [&](size_t i) {
+  parallel_for(n, opt.threads, 4096, [&](size_t i) {
     const AhdFit& f = fit.texels[i];
     for (int c = 0; c < rch; ++c) ratio_closed.data[i * rch + c] = f.ratio[c];
     if (open_too)
       for (int c = 0; c < rch; ++c) ratio_open.data[i * rch + c] = f.ratio[c];
-    if (!opt.closed_loop || !sh.coverage[i]) return;
-    float dq[3];
-    unit_uv_to_dir(&dir_dec.data[i * dir_dec.channels], dq);
-    double d[3] = {dq[0], dq[1], dq[2]};
-    tilt_above_horizon(d, opt.fit.dz_min);  // as the decoder will
-    double iz[3];
-    for (int c = 0; c < 3; ++c) iz[c] = std::max(0.0f, iz_dec.data[i * iz_dec.channels + c]);
-    IrradiancePoly p[3];
-    local_polys(sh, i, p);
-    const AhdFit g = fit_colours(p, d, iz, opt.fit);
-    for (int c = 0; c < rch; ++c) ratio_closed.data[i * rch + c] = g.ratio[c];
   });
+  // Closed loop: the coded direction and I_z are decoded a band of rows at a time (blocks decode on
+  // their own, so the values are those of whole-plane decoding) rather than as whole float images.
+  constexpr int kBandRows = 64;  // a multiple of every block height
+  for (int y0 = 0; opt.closed_loop && y0 < h; y0 += kBandRows) {
+    const int y1 = std::min(h, y0 + kBandRows);
+    const ImageF iz_dec = decode_plane(profile.iz, level_rows(profile.iz, out.iz, y0, y1));
+    ImageF dir_dec;
+    if (!profile.packed_dir_ratio) {
+      dir_dec = decode_plane(profile.dir, level_rows(profile.dir, out.dir, y0, y1));
+    } else {
+      // The packed plane is RGBA8: the direction's decoded value is its 8-bit rounding.
+      dir_dec = ImageF(w, y1 - y0, 2);
+      for (size_t j = 0; j < dir_dec.data.size(); ++j)
+        dir_dec.data[j] = float(std::lround(uv.data[size_t(y0) * w * 2 + j] * 255.0f)) / 255.0f;
+    }
+    parallel_for(size_t(y1 - y0) * w, opt.threads, 1024, [&](size_t j) {
+      const size_t i = size_t(y0) * w + j;
+      if (!sh.coverage[i]) return;
+      float dq[3];
+      unit_uv_to_dir(&dir_dec.data[j * dir_dec.channels], dq);
+      double d[3] = {dq[0], dq[1], dq[2]};
+      tilt_above_horizon(d, opt.fit.dz_min);  // as the decoder will
+      double iz[3];
+      for (int c = 0; c < 3; ++c) iz[c] = std::max(0.0f, iz_dec.data[j * iz_dec.channels + c]);
+      IrradiancePoly p[3];
+      local_polys(sh, i, p);
+      const AhdFit g = fit_colours(p, d, iz, opt.fit);
+      for (int c = 0; c < rch; ++c) ratio_closed.data[i * rch + c] = g.ratio[c];
+    });
+  }
   auto packed = [&](const ImageF& ratio) {
     ImageF img(w, h, 4);
     for (size_t i = 0; i < n; ++i) {
