@@ -113,6 +113,7 @@ void add_bench_command(CLI::App& app) {
   };
   auto a = std::make_shared<Args>();
   CLI::App* b = app.add_subcommand("bench", "Benchmarks");
+  add_bench_convert_command(*b);
   CLI::App* c = b->add_subcommand(
       "bc6h", "BC6H speed and error per quality level over a folder of EXRs; BC4/BC5 on x/(1+x) planes of the same images");
   c->add_option("folder", a->folder, "Folder of EXR images (default: ../shared/data/bc6h)");

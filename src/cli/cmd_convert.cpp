@@ -105,7 +105,7 @@ void run_convert(const ConvertArgs& a) {
   const auto t0 = std::chrono::steady_clock::now();
   ReadStats rs;
   std::string source;
-  const ShImage sh = read_input(a, &rs, &source);
+  ShImage sh = read_input(a, &rs, &source);
   const double read_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   PackageOptions pkg = ro.package;
@@ -115,7 +115,7 @@ void run_convert(const ConvertArgs& a) {
   std::function<void(const std::vector<FittedLevel>&)> on_fitted;
   if (a.keep_intermediate)
     on_fitted = [&](const std::vector<FittedLevel>& levels) { write_intermediate(out.sibling(".ahd.exr"), levels, ro.convert.fit); };
-  const ConversionRun run = run_conversion(sh, ro.profile, ro.convert, pkg,
+  const ConversionRun run = run_conversion(std::move(sh), ro.profile, ro.convert, pkg,
                                            {{a.input.empty() ? "bake sample" : "read", read_seconds}}, on_fitted);
   publish_conversion(out, run.output.files);
   if (!a.conv.quiet) print_conversion(source, out, run, ro.convert.closed_loop, rs.non_finite_texels);

@@ -11,6 +11,7 @@ void add_decode_command(CLI::App& app);      // cmd_decode.cpp
 void add_inspect_command(CLI::App& app);     // cmd_inspect.cpp
 void add_compress_commands(CLI::App& app);   // cmd_compress.cpp: compress + decompress
 void add_bench_command(CLI::App& app);       // cmd_bench.cpp
+void add_bench_convert_command(CLI::App& bench);  // cmd_bench_convert.cpp: `bench convert` under `bench`
 void add_sample_command(CLI::App& app);      // cmd_sample.cpp
 void add_report_command(CLI::App& app);      // cmd_report.cpp: hard-cases, eps, profiles
 void add_report_fit_command(CLI::App* report);  // cmd_report_fit.cpp: `report fit`, linear vs refined d

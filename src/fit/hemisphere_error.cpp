@@ -2,13 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include "core/parallel.h"
 
 namespace ahd {
 namespace {
 
-ErrorStat summarise(std::vector<double> v) {
+ErrorStat summarise(std::vector<double>& v) {  // sorts v
   ErrorStat s;
   if (v.empty()) return s;
   double sum = 0;
@@ -38,6 +39,70 @@ double texel_relative(double se, double mean_lum_sum, int directions) {
   return mean_lum > 0 ? rmse / mean_lum : 0.0;
 }
 
+// The figures of one texel (see ErrorReport).
+struct TexelError {
+  double rmse, rel, lg, nrel;
+  bool negative;
+};
+
+TexelError texel_error(const ShImage& sh, size_t i, const AhdLobe& l, const double* dirs, int directions) {
+  IrradiancePoly p[3];
+  local_polys(sh, i, p);
+  double se = 0, sl = 0, lum_sum = 0;
+  for (int k = 0; k < directions; ++k) {
+    double got[3], ref[3];
+    evaluate_both(p, l, &dirs[size_t(k) * 3], got, ref);
+    for (int c = 0; c < 3; ++c) {
+      se += (got[c] - ref[c]) * (got[c] - ref[c]);
+      const double dl = std::log2(1.0 + std::max(0.0, got[c])) - std::log2(1.0 + std::max(0.0, ref[c]));
+      sl += dl * dl;
+      lum_sum += kLuma[c] * ref[c];
+    }
+  }
+  TexelError e;
+  e.rmse = std::sqrt(se / (3.0 * directions));
+  e.rel = texel_relative(se, lum_sum, directions);
+  e.lg = std::sqrt(sl / (3.0 * directions));
+  const double z[3] = {0, 0, 1};
+  double ez_lum = 0, ez_err = 0;
+  for (int c = 0; c < 3; ++c) {
+    const double ref = std::max(0.0, eval_irradiance(p[c], z));
+    const double got = l.ca[c] + std::max(0.0, l.d[2]) * l.cd[c];
+    ez_lum += kLuma[c] * ref;
+    ez_err = std::max(ez_err, std::fabs(got - ref));
+  }
+  e.nrel = ez_lum > 0 ? ez_err / ez_lum : 0.0;
+  e.negative = false;
+  for (int c = 0; c < 3; ++c) e.negative |= (l.ca[c] < 0 || l.cd[c] < 0);
+  return e;
+}
+
+// The report over measured texels; `population` = the covered texels they stand for.
+ErrorReport summarise_texels(const std::vector<TexelError>& e, size_t population) {
+  ErrorReport r;
+  r.texels = e.size();
+  r.population = population;
+  std::vector<double> v(e.size());
+  auto stat = [&](double TexelError::*m) {
+    for (size_t i = 0; i < e.size(); ++i) v[i] = e[i].*m;
+    return summarise(v);
+  };
+  for (const TexelError& t : e) r.negative += t.negative;
+  r.rmse = stat(&TexelError::rmse);
+  r.relative = stat(&TexelError::rel);
+  r.log2 = stat(&TexelError::lg);
+  r.normal_rel = stat(&TexelError::nrel);
+  return r;
+}
+
+// splitmix64: a fixed hash for the sample's offsets within strata (no global random state).
+uint64_t mix(uint64_t x) {
+  x += 0x9e3779b97f4a7c15ull;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+  return x ^ (x >> 31);
+}
+
 }  // namespace
 
 std::vector<double> hemisphere_directions(int count) {
@@ -55,57 +120,22 @@ std::vector<double> hemisphere_directions(int count) {
 
 ErrorReport measure_error(const ShImage& sh, const std::vector<AhdLobe>& lobes, int threads,
                           int directions) {
+  return measure_error(sh, [&](size_t i) { return lobes[i]; }, threads, directions);
+}
+
+ErrorReport measure_error(const ShImage& sh, const LobeAt& lobe, int threads, int directions) {
   const std::vector<double> dirs = hemisphere_directions(directions);
   const size_t n = sh.texels();
-  std::vector<double> rmse(n, -1), rel(n, -1), lg(n, -1), nrel(n, -1);
-  std::vector<uint8_t> neg(n, 0);
+  // Covered texels only, in raster order (their rank is their slot).
+  std::vector<size_t> slot(n, 0);
+  size_t covered = 0;
+  for (size_t i = 0; i < n; ++i)
+    if (sh.coverage[i]) slot[i] = covered++;
+  std::vector<TexelError> e(covered);
   parallel_for(n, threads, 512, [&](size_t i) {
-    if (!sh.coverage[i]) return;
-    IrradiancePoly p[3];
-    local_polys(sh, i, p);
-    const AhdLobe& l = lobes[i];
-    double se = 0, sl = 0, lum_sum = 0;
-    for (int k = 0; k < directions; ++k) {
-      double got[3], ref[3];
-      evaluate_both(p, l, &dirs[size_t(k) * 3], got, ref);
-      for (int c = 0; c < 3; ++c) {
-        se += (got[c] - ref[c]) * (got[c] - ref[c]);
-        const double dl = std::log2(1.0 + std::max(0.0, got[c])) - std::log2(1.0 + std::max(0.0, ref[c]));
-        sl += dl * dl;
-        lum_sum += kLuma[c] * ref[c];
-      }
-    }
-    rmse[i] = std::sqrt(se / (3.0 * directions));
-    rel[i] = texel_relative(se, lum_sum, directions);
-    lg[i] = std::sqrt(sl / (3.0 * directions));
-    const double z[3] = {0, 0, 1};
-    double ez_lum = 0, ez_err = 0;
-    for (int c = 0; c < 3; ++c) {
-      const double ref = std::max(0.0, eval_irradiance(p[c], z));
-      const double got = l.ca[c] + std::max(0.0, l.d[2]) * l.cd[c];
-      ez_lum += kLuma[c] * ref;
-      ez_err = std::max(ez_err, std::fabs(got - ref));
-    }
-    nrel[i] = ez_lum > 0 ? ez_err / ez_lum : 0.0;
-    for (int c = 0; c < 3; ++c) neg[i] |= (l.ca[c] < 0 || l.cd[c] < 0);
+    if (sh.coverage[i]) e[slot[i]] = texel_error(sh, i, lobe(i), dirs.data(), directions);
   });
-  auto covered = [&](const std::vector<double>& v) {
-    std::vector<double> out;
-    out.reserve(n);
-    for (size_t i = 0; i < n; ++i)
-      if (sh.coverage[i]) out.push_back(v[i]);
-    return out;
-  };
-  ErrorReport r;
-  for (size_t i = 0; i < n; ++i) {
-    r.texels += sh.coverage[i] != 0;
-    r.negative += neg[i];
-  }
-  r.rmse = summarise(covered(rmse));
-  r.relative = summarise(covered(rel));
-  r.log2 = summarise(covered(lg));
-  r.normal_rel = summarise(covered(nrel));
-  return r;
+  return summarise_texels(e, covered);
 }
 
 bool relative_p99_exceeds(const ShImage& sh, const std::vector<AhdLobe>& lobes, double threshold, int directions) {
@@ -130,6 +160,73 @@ bool relative_p99_exceeds(const ShImage& sh, const std::vector<AhdLobe>& lobes, 
     if (texel_relative(se, lum_sum, directions) > threshold && ++above >= needed) return true;
   }
   return false;
+}
+
+std::vector<size_t> error_sample(const std::vector<uint8_t>& coverage, int sample) {
+  size_t covered = 0;
+  for (uint8_t c : coverage) covered += c != 0;
+  std::vector<size_t> out;
+  const size_t k = size_t(std::max(1, sample));
+  if (covered <= k) {
+    out.reserve(covered);
+    for (size_t i = 0; i < coverage.size(); ++i)
+      if (coverage[i]) out.push_back(i);
+    return out;
+  }
+  // Stratum s holds covered ranks [s·N/k, (s+1)·N/k); its pick is rank start + hash(s) mod length.
+  out.reserve(k);
+  size_t s = 0, rank = 0;
+  auto target = [&](size_t st) {
+    const size_t a = st * covered / k, b = (st + 1) * covered / k;
+    return a + size_t(mix(st) % uint64_t(b - a));
+  };
+  size_t want = target(0);
+  for (size_t i = 0; i < coverage.size() && s < k; ++i) {
+    if (!coverage[i]) continue;
+    if (rank++ != want) continue;
+    out.push_back(i);
+    if (++s < k) want = target(s);
+  }
+  return out;
+}
+
+ErrorReport estimate_error(const ShImage& sh, const LobeAt& lobe, int threads, int sample, int directions) {
+  const std::vector<double> dirs = hemisphere_directions(directions);
+  const std::vector<size_t> idx = error_sample(sh.coverage, sample);
+  size_t covered = 0;
+  for (uint8_t c : sh.coverage) covered += c != 0;
+  std::vector<TexelError> e(idx.size());
+  parallel_for(idx.size(), threads, 64,
+               [&](size_t j) { e[j] = texel_error(sh, idx[j], lobe(idx[j]), dirs.data(), directions); });
+  return summarise_texels(e, covered);
+}
+
+ErrorReport estimate_error(const ShImage& sh, const std::vector<AhdLobe>& lobes, int threads, int sample,
+                           int directions) {
+  return estimate_error(sh, [&](size_t i) { return lobes[i]; }, threads, sample, directions);
+}
+
+bool sampled_relative_p99_exceeds(const ShImage& sh, const LobeAt& lobe, double threshold, int sample,
+                                  int directions) {
+  const std::vector<size_t> idx = error_sample(sh.coverage, sample);
+  if (idx.empty()) return false;
+  const size_t needed = idx.size() - (size_t(std::ceil(0.99 * double(idx.size()))) - 1);
+  const std::vector<double> dirs = hemisphere_directions(directions);
+  size_t above = 0;
+  for (size_t i : idx)
+    if (texel_error(sh, i, lobe(i), dirs.data(), directions).rel > threshold && ++above >= needed) return true;
+  return false;
+}
+
+bool sh_is_constant(const ShImage& sh) {
+  const size_t per = size_t(sh.coeffs) * 3;
+  for (size_t i = 0; i < sh.texels(); ++i) {
+    if (!sh.coverage[i]) continue;
+    const float* t = sh.texel(i);
+    for (size_t k = 3; k < per; ++k)
+      if (t[k] != 0.0f) return false;
+  }
+  return true;
 }
 
 }  // namespace ahd

@@ -120,6 +120,33 @@ ImageF read_image(const std::string& path, ImageFileInfo* info_out, int part) {
   return img;
 }
 
+void read_image_rows(const std::string& path, int part, ImageFileInfo* info_out,
+                     const std::function<void(int y0, int y1, const float* rows)>& fn) {
+  if (info_out) *info_out = read_image_info(path, part);
+  auto in = open_input(path);
+  if (part != 0) seek_part(*in, path, part, part_names(*in).size());
+  const OIIO::ImageSpec spec = in->spec();
+  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) throw file_error(path, "image has no pixels");
+  if (spec.depth > 1) throw file_error(path, "volume images are not supported");
+  if (size_t(spec.width) * spec.height * spec.nchannels > (size_t(1) << 32)) throw file_error(path, "image too large");
+  const int band = spec.tile_height > 0 ? spec.tile_height : 64;
+  const size_t row = size_t(spec.width) * spec.nchannels;
+  std::vector<float> buf(row * size_t(std::min(band, spec.height)));
+  for (int y0 = 0; y0 < spec.height; y0 += band) {
+    const int y1 = std::min(spec.height, y0 + band);
+    const bool ok = spec.tile_width > 0
+                        ? in->read_tiles(part, 0, spec.x, spec.x + spec.width, spec.y + y0, spec.y + y1, spec.z,
+                                         spec.z + 1, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, buf.data())
+                        : in->read_scanlines(part, 0, spec.y + y0, spec.y + y1, spec.z, 0, spec.nchannels,
+                                             OIIO::TypeDesc::FLOAT, buf.data());
+    if (!ok) {
+      std::string why = in->geterror();
+      throw file_error(path, "cannot read pixels (" + why.substr(0, why.find('\n')) + ")");
+    }
+    fn(y0, y1, buf.data());
+  }
+}
+
 void write_image(const std::string& path, const ImageF& img, bool half_float,
                  const std::vector<std::string>& channel_names) {
   ensure_parent_dir(path);

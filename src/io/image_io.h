@@ -1,6 +1,7 @@
 // Image files in and out (OpenImageIO). The only place that touches image files.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,13 @@ ImageFileInfo read_image_info(const std::string& path, int part = 0);
 // Reads every channel of one part (subimage) / mip 0 as floats (8-bit data is scaled to [0,1]; no
 // colour conversion). Throws ahd::Error on failure.
 ImageF read_image(const std::string& path, ImageFileInfo* info = nullptr, int part = 0);
+
+// Reads every channel of one part / mip 0 as floats in bands of rows, never the whole image at once:
+// fn(y0, y1, rows) receives rows y0..y1−1 (0 = the top row of the data window), (y1−y0)·width·
+// channels floats. Bands follow the file's tiles (tiled files) or 64-row chunks (scanline files),
+// so memory is the caller's destination plus one band. Same values and errors as read_image.
+void read_image_rows(const std::string& path, int part, ImageFileInfo* info,
+                     const std::function<void(int y0, int y1, const float* rows)>& fn);
 
 // Writes a float image as EXR (half when `half_float`, else float), or PNG/TGA/HDR by extension
 // (8-bit formats clamp to [0,1] and round). Channel names default to R,G,B,A / Y. The file is

@@ -4,6 +4,7 @@
 #include <map>
 
 #include "core/error.h"
+#include "core/parallel.h"
 #include "io/image_io.h"
 
 namespace ahd {
@@ -16,23 +17,29 @@ std::string sh_channel(int k, int c) { return "sh" + std::to_string(k) + "." + k
 }  // namespace
 
 void sanitise_sh(ShImage& img, bool derive_coverage, ReadStats* stats) {
-  const size_t per = size_t(img.coeffs) * 3;
-  for (size_t i = 0; i < img.texels(); ++i) {
-    float* t = img.texel(i);
-    bool finite = true, zero = true;
-    for (size_t k = 0; k < per; ++k) {
-      finite &= std::isfinite(t[k]);
-      zero &= t[k] == 0.0f;
+  const size_t per = size_t(img.coeffs) * 3, w = size_t(img.width);
+  std::vector<size_t> non_finite(size_t(img.height), 0);  // per row, summed in order after
+  parallel_for(size_t(img.height), 0, 16, [&](size_t y) {
+    for (size_t i = y * w; i < (y + 1) * w; ++i) {
+      float* t = img.texel(i);
+      bool finite = true, zero = true;
+      for (size_t k = 0; k < per; ++k) {
+        finite &= std::isfinite(t[k]);
+        zero &= t[k] == 0.0f;
+      }
+      if (!finite) {
+        std::fill(t, t + per, 0.0f);
+        img.coverage[i] = 0;
+        non_finite[y]++;
+      } else if (derive_coverage && zero) {
+        img.coverage[i] = 0;
+      }
     }
-    if (!finite) {
-      std::fill(t, t + per, 0.0f);
-      img.coverage[i] = 0;
-      if (stats) stats->non_finite_texels++;
-    } else if (derive_coverage && zero) {
-      img.coverage[i] = 0;
-    }
+  });
+  if (stats) {
+    for (size_t n : non_finite) stats->non_finite_texels += n;
+    stats->coverage_derived = derive_coverage;
   }
-  if (stats) stats->coverage_derived = derive_coverage;
 }
 
 ShImage read_canonical_sh(const std::string& path, ReadStats* stats) {
@@ -50,25 +57,36 @@ ShImage read_canonical_sh(const std::string& path, ReadStats* stats) {
   if (coeffs == 4 && index.count(sh_channel(4, 0)))
     throw file_error(path, "incomplete L2 channel set (sh4..sh8 partly present)");
 
-  ImageF px = read_image(path);
-  ShImage img = make_sh_image(px.width, px.height, coeffs);
-  for (size_t i = 0; i < img.texels(); ++i) {
-    const float* src = px.data.data() + i * px.channels;
-    float* dst = img.texel(i);
-    for (int k = 0; k < coeffs; ++k)
-      for (int c = 0; c < 3; ++c) dst[k * 3 + c] = src[index[sh_channel(k, c)]];
-  }
+  // Rows arrive in bands straight from OpenImageIO into the SH image: the file is never held
+  // whole in a second buffer (or precision) beside it.
+  if (size_t(info.width) * size_t(info.height) * info.channel_names.size() > (size_t(1) << 32))
+    throw file_error(path, "image too large");
+  ShImage img = make_sh_image(info.width, info.height, coeffs);
+  int src_of[kShCoeffsL2 * 3];
+  for (int k = 0; k < coeffs; ++k)
+    for (int c = 0; c < 3; ++c) src_of[k * 3 + c] = index[sh_channel(k, c)];
   const bool has_coverage = index.count("coverage") != 0;
-  if (has_coverage) {
-    const int ci = index["coverage"];
-    for (size_t i = 0; i < img.texels(); ++i) img.coverage[i] = px.data[i * px.channels + ci] > 0.5f;
-  }
+  const int ci = has_coverage ? index["coverage"] : -1;
   const bool has_normals = index.count("normal.X") && index.count("normal.Y") && index.count("normal.Z");
-  if (has_normals) {
-    img.normals.resize(img.texels() * 3);
-    const int nx = index["normal.X"], ny = index["normal.Y"], nz = index["normal.Z"];
-    for (size_t i = 0; i < img.texels(); ++i) {
-      const float* src = px.data.data() + i * px.channels;
+  const int nx = has_normals ? index["normal.X"] : 0, ny = has_normals ? index["normal.Y"] : 0,
+            nz = has_normals ? index["normal.Z"] : 0;
+  if (has_normals) img.normals.resize(img.texels() * 3);
+  const int nv = coeffs * 3, w = img.width;
+  read_image_rows(path, 0, nullptr, [&](int y0, int y1, const float* rows) {
+    const int channels = int(info.channel_names.size());
+    parallel_for(size_t(y1 - y0), 0, 4, [&](size_t r) {
+      const size_t first = (size_t(y0) + r) * w;
+      const float* row = rows + r * size_t(w) * channels;
+      for (int x = 0; x < w; ++x) {
+        const float* src = row + size_t(x) * channels;
+        float* dst = img.texel(first + x);
+        for (int v = 0; v < nv; ++v) dst[v] = src[src_of[v]];
+        if (has_coverage) img.coverage[first + x] = src[ci] > 0.5f;
+      }
+    });
+    if (!has_normals) return;
+    for (size_t i = size_t(y0) * w; i < size_t(y1) * w; ++i) {  // in order: the first bad normal is named
+      const float* src = rows + (i - size_t(y0) * w) * channels;
       double n[3] = {src[nx], src[ny], src[nz]};
       const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
       if (!(len > 1e-6) || !std::isfinite(len)) {
@@ -81,7 +99,7 @@ ShImage read_canonical_sh(const std::string& path, ReadStats* stats) {
       }
       for (int a = 0; a < 3; ++a) img.normals[i * 3 + a] = float(n[a]);
     }
-  }
+  });
   ReadStats local;
   sanitise_sh(img, !has_coverage, stats ? stats : &local);
   return img;

@@ -77,4 +77,10 @@ std::vector<FittedLevel> fit_mip_chain(const ShImage& level0, const FitOptions& 
                                        std::vector<DilateStats>* dilate_stats = nullptr,
                                        NormalRule rule = NormalRule::RotateThenAverage);
 
+// The same, taking level 0 over (moved into the result's level 0): no copy of the largest level.
+std::vector<FittedLevel> fit_mip_chain(ShImage&& level0, const FitOptions& opt, int max_levels, int threads,
+                                       std::vector<FitStats>* stats = nullptr,
+                                       std::vector<DilateStats>* dilate_stats = nullptr,
+                                       NormalRule rule = NormalRule::RotateThenAverage);
+
 }  // namespace ahd

@@ -153,15 +153,21 @@ std::vector<ShImage> build_sh_mips(const ShImage& level0, int max_levels, int th
   return chain;
 }
 
-std::vector<FittedLevel> fit_mip_chain(const ShImage& level0, const FitOptions& opt, int max_levels, int threads,
+std::vector<FittedLevel> fit_mip_chain(ShImage&& level0, const FitOptions& opt, int max_levels, int threads,
                                        std::vector<FitStats>* stats, std::vector<DilateStats>* dilate_stats,
                                        NormalRule rule) {
-  std::vector<ShImage> sh = build_sh_mips(level0, max_levels, threads, rule);
+  check_image(level0);
+  if (max_levels < 0) throw Error("SH mips: max_levels must be ≥ 0");
+  const int full = mip_level_count(level0.width, level0.height);
+  const int levels = max_levels == 0 ? full : std::min(full, max_levels);
   std::vector<FittedLevel> out;
-  out.reserve(sh.size());
+  out.reserve(size_t(levels));
   if (stats) stats->clear();
   if (dilate_stats) dilate_stats->clear();
-  for (ShImage& s : sh) {
+  // Level by level, each SH level filtered from the previous one (the same chain build_sh_mips
+  // makes), without a second copy of level 0 or a separate list of SH levels.
+  for (int l = 0; l < levels; ++l) {
+    ShImage s = l == 0 ? std::move(level0) : downsample_sh(out.back().sh, threads, rule);
     FitStats fs;
     DilateStats ds;
     AhdImage a = fit_image(s, opt, threads, &fs);
@@ -171,6 +177,12 @@ std::vector<FittedLevel> fit_mip_chain(const ShImage& level0, const FitOptions& 
     out.push_back({std::move(s), std::move(a)});
   }
   return out;
+}
+
+std::vector<FittedLevel> fit_mip_chain(const ShImage& level0, const FitOptions& opt, int max_levels, int threads,
+                                       std::vector<FitStats>* stats, std::vector<DilateStats>* dilate_stats,
+                                       NormalRule rule) {
+  return fit_mip_chain(ShImage(level0), opt, max_levels, threads, stats, dilate_stats, rule);
 }
 
 }  // namespace ahd

@@ -35,17 +35,25 @@ void unit_uv_to_dir(const float uv01[2], float d[3]) {
   for (int i = 0; i < 3; ++i) d[i] = float(dd[i]);
 }
 
-std::vector<AhdLobe> lobes_from_fit(const AhdImage& a) {
-  std::vector<AhdLobe> lobes(a.texels.size());
-  for (size_t i = 0; i < a.texels.size(); ++i) {
-    const AhdFit& f = a.texels[i];
-    for (int c = 0; c < 3; ++c) {
-      lobes[i].ca[c] = f.ca[c];
-      lobes[i].cd[c] = f.cd[c];
-      lobes[i].d[c] = f.d[c];
-    }
+// I_z alone: d = z, ratio = 1, so I(n) = I_z for every normal.
+AhdLobe ambient_only_lobe(const AhdFit& f) {
+  AhdLobe l;
+  for (int c = 0; c < 3; ++c) {
+    l.ca[c] = std::max(0.0f, f.iz[c]);
+    l.cd[c] = 0;
+    l.d[c] = c == 2 ? 1 : 0;
   }
-  return lobes;
+  return l;
+}
+
+AhdLobe lobe_of_fit(const AhdFit& f) {
+  AhdLobe l;
+  for (int c = 0; c < 3; ++c) {
+    l.ca[c] = f.ca[c];
+    l.cd[c] = f.cd[c];
+    l.d[c] = f.d[c];
+  }
+  return l;
 }
 
 }  // namespace
@@ -123,6 +131,18 @@ void check_profile(const Profile& profile, const ConvertOptions& opt) {
 
 namespace {
 
+// Rows [y0, y1) of a coded level as a level of its own (y0 a multiple of the block height): block
+// rows and texel rows are stored one after another, so the rows are one byte range.
+TextureLevel level_rows(PixelFormat f, const TextureLevel& lvl, int y0, int y1) {
+  const size_t begin = level_size_bytes(f, lvl.width, uint32_t(y0));
+  const size_t size = level_size_bytes(f, lvl.width, uint32_t(y1 - y0));
+  TextureLevel s;
+  s.width = lvl.width;
+  s.height = uint32_t(y1 - y0);
+  s.data.assign(lvl.data.begin() + std::ptrdiff_t(begin), lvl.data.begin() + std::ptrdiff_t(begin + size));
+  return s;
+}
+
 // Planes of one level, closed loop: direction first, then I_z, then the ratio refitted against
 // the DECODED direction and I_z (covered texels; uncovered ones keep their dilated ratio).
 struct LevelPlanes {
@@ -139,41 +159,57 @@ LevelPlanes quantise_level(const FittedLevel& lv, const Profile& profile, const 
   const bool ratio_rgb = opt.fit.ratio_form == RatioForm::Rgb;
   PlaneCodecOptions codec = opt.codec;
   codec.threads = opt.threads;
-  ImageF uv(w, h, 2), izi(w, h, 3);
-  for (size_t i = 0; i < n; ++i) {
-    dir_to_unit_uv(fit.texels[i].d, &uv.data[i * 2]);
-    for (int c = 0; c < 3; ++c) izi.data[i * 3 + c] = fit.texels[i].iz[c];
-  }
   LevelPlanes out;
-  out.iz = encode_plane(profile.iz, izi, codec, stats);
-  if (!directional) return out;
-  const ImageF iz_dec = decode_plane(profile.iz, out.iz);
-  ImageF dir_dec;
-  if (!profile.packed_dir_ratio) {
-    out.dir = encode_plane(profile.dir, uv, codec);
-    dir_dec = decode_plane(profile.dir, out.dir);
-  } else {
-    // The packed plane is RGBA8: the direction's decoded value is its 8-bit rounding.
-    dir_dec = ImageF(w, h, 2);
-    for (size_t i = 0; i < n * 2; ++i) dir_dec.data[i] = float(std::lround(uv.data[i] * 255.0f)) / 255.0f;
+  {  // I_z: its float copy lives only while it is encoded
+    ImageF izi(w, h, 3);
+    parallel_for(n, opt.threads, 4096, [&](size_t i) {
+      for (int c = 0; c < 3; ++c) izi.data[i * 3 + c] = fit.texels[i].iz[c];
+    });
+    out.iz = encode_plane(profile.iz, izi, codec, stats);
   }
+  if (!directional) return out;
+  ImageF uv(w, h, 2);
+  parallel_for(n, opt.threads, 4096, [&](size_t i) { dir_to_unit_uv(fit.texels[i].d, &uv.data[i * 2]); });
+  if (!profile.packed_dir_ratio) out.dir = encode_plane(profile.dir, uv, codec);
   const int rch = ratio_rgb ? 3 : 1;
-  ImageF ratio_closed(w, h, rch), ratio_open(w, h, rch);
-  parallel_for(n, opt.threads, 1024, [&](size_t i) {
+  const bool open_too = opt.measuring_baselines();  // the open-loop plane, for the report only
+  ImageF ratio_closed(w, h, rch), ratio_open(open_too ? w : 0, open_too ? h : 0, rch);
+  parallel_for(n, opt.threads, 4096, [&](size_t i) {
     const AhdFit& f = fit.texels[i];
-    for (int c = 0; c < rch; ++c) ratio_open.data[i * rch + c] = ratio_closed.data[i * rch + c] = f.ratio[c];
-    if (!opt.closed_loop || !sh.coverage[i]) return;
-    float dq[3];
-    unit_uv_to_dir(&dir_dec.data[i * dir_dec.channels], dq);
-    double d[3] = {dq[0], dq[1], dq[2]};
-    tilt_above_horizon(d, opt.fit.dz_min);  // as the decoder will
-    double iz[3];
-    for (int c = 0; c < 3; ++c) iz[c] = std::max(0.0f, iz_dec.data[i * iz_dec.channels + c]);
-    IrradiancePoly p[3];
-    local_polys(sh, i, p);
-    const AhdFit g = fit_colours(p, d, iz, opt.fit);
-    for (int c = 0; c < rch; ++c) ratio_closed.data[i * rch + c] = g.ratio[c];
+    for (int c = 0; c < rch; ++c) ratio_closed.data[i * rch + c] = f.ratio[c];
+    if (open_too)
+      for (int c = 0; c < rch; ++c) ratio_open.data[i * rch + c] = f.ratio[c];
   });
+  // Closed loop: the coded direction and I_z are decoded a band of rows at a time (blocks decode on
+  // their own, so the values are those of whole-plane decoding) rather than as whole float images.
+  constexpr int kBandRows = 64;  // a multiple of every block height
+  for (int y0 = 0; opt.closed_loop && y0 < h; y0 += kBandRows) {
+    const int y1 = std::min(h, y0 + kBandRows);
+    const ImageF iz_dec = decode_plane(profile.iz, level_rows(profile.iz, out.iz, y0, y1));
+    ImageF dir_dec;
+    if (!profile.packed_dir_ratio) {
+      dir_dec = decode_plane(profile.dir, level_rows(profile.dir, out.dir, y0, y1));
+    } else {
+      // The packed plane is RGBA8: the direction's decoded value is its 8-bit rounding.
+      dir_dec = ImageF(w, y1 - y0, 2);
+      for (size_t j = 0; j < dir_dec.data.size(); ++j)
+        dir_dec.data[j] = float(std::lround(uv.data[size_t(y0) * w * 2 + j] * 255.0f)) / 255.0f;
+    }
+    parallel_for(size_t(y1 - y0) * w, opt.threads, 1024, [&](size_t j) {
+      const size_t i = size_t(y0) * w + j;
+      if (!sh.coverage[i]) return;
+      float dq[3];
+      unit_uv_to_dir(&dir_dec.data[j * dir_dec.channels], dq);
+      double d[3] = {dq[0], dq[1], dq[2]};
+      tilt_above_horizon(d, opt.fit.dz_min);  // as the decoder will
+      double iz[3];
+      for (int c = 0; c < 3; ++c) iz[c] = std::max(0.0f, iz_dec.data[j * iz_dec.channels + c]);
+      IrradiancePoly p[3];
+      local_polys(sh, i, p);
+      const AhdFit g = fit_colours(p, d, iz, opt.fit);
+      for (int c = 0; c < rch; ++c) ratio_closed.data[i * rch + c] = g.ratio[c];
+    });
+  }
   auto packed = [&](const ImageF& ratio) {
     ImageF img(w, h, 4);
     for (size_t i = 0; i < n; ++i) {
@@ -186,10 +222,10 @@ LevelPlanes quantise_level(const FittedLevel& lv, const Profile& profile, const 
   };
   if (profile.packed_dir_ratio) {
     out.dirratio = packed(ratio_closed);
-    if (opt.measuring_baselines()) out.dirratio_open = packed(ratio_open);
+    if (open_too) out.dirratio_open = packed(ratio_open);
   } else {
     out.ratio = encode_plane(profile.ratio, ratio_closed, codec);
-    if (opt.measuring_baselines()) out.ratio_open = encode_plane(profile.ratio, ratio_open, codec);
+    if (open_too) out.ratio_open = encode_plane(profile.ratio, ratio_open, codec);
   }
   return out;
 }
@@ -214,6 +250,20 @@ std::vector<Plane> planes_of(const Profile& profile, const std::vector<LevelPlan
   return planes;
 }
 
+// Lobes against the SH as the options ask: every covered texel (Full) or the fixed sample (Estimate).
+ErrorReport measure_lobes(const ShImage& sh, const LobeAt& lobe, const ConvertOptions& opt) {
+  return opt.measure == Measure::Full ? measure_error(sh, lobe, opt.threads) : estimate_error(sh, lobe, opt.threads);
+}
+
+// The decoded planes against the level's SH, each texel's lobe decoded as it is measured.
+ErrorReport measure_planes(const ShImage& sh, const DecodedPlanes& p, const ConvertOptions& opt) {
+  return measure_lobes(sh, [&](size_t i) {
+    AhdLobe l;
+    decode_colours(&p.iz[i * 3], &p.d[i * 3], &p.ratio[i * 3], opt.fit.dz_min, l.ca, l.cd, l.d);
+    return l;
+  }, opt);
+}
+
 // Keep, drop, or (Auto) measure whether I_z alone is close enough to the SH.
 void decide_direction(const FittedLevel& level0, const ConvertOptions& opt, ConvertResult* r) {
   char why[160];
@@ -227,9 +277,18 @@ void decide_direction(const FittedLevel& level0, const ConvertOptions& opt, Conv
       r->direction_reason = "dropped (--direction drop)";
       return;
     case DirectionPlanes::Auto: {
-      const std::vector<AhdLobe> lobes = ambient_only_lobes(level0);
-      r->directional = relative_p99_exceeds(level0.sh, lobes, opt.ambient_threshold);
-      if (opt.measuring()) r->ambient_error = measure_error(level0.sh, lobes, opt.threads);
+      // No L1/L2 at all (plain lightmaps): I_z alone is exact, decided without evaluating anything.
+      // Otherwise the I_z-alone error over the fixed sample (every covered texel of images up to
+      // kErrorSampleSize of them), with the early exit; lobes made on the fly (no image of them).
+      if (sh_is_constant(level0.sh)) {
+        r->directional = false;
+      } else {
+        const AhdImage& a = level0.ahd;
+        r->directional = sampled_relative_p99_exceeds(
+            level0.sh, [&](size_t i) { return ambient_only_lobe(a.texels[i]); }, opt.ambient_threshold);
+      }
+      if (opt.measuring())
+        r->ambient_error = measure_lobes(level0.sh, [&](size_t i) { return ambient_only_lobe(level0.ahd.texels[i]); }, opt);
       std::snprintf(why, sizeof why, "%s: I_z alone differs from the SH by %s threshold %.3g (relative RMSE p99)",
                     r->directional ? "kept" : "dropped", r->directional ? "more than the" : "no more than the",
                     opt.ambient_threshold);
@@ -243,12 +302,7 @@ void decide_direction(const FittedLevel& level0, const ConvertOptions& opt, Conv
 
 std::vector<AhdLobe> ambient_only_lobes(const FittedLevel& level) {
   std::vector<AhdLobe> lobes(level.ahd.texels.size());
-  for (size_t i = 0; i < lobes.size(); ++i)
-    for (int c = 0; c < 3; ++c) {
-      lobes[i].ca[c] = std::max(0.0f, level.ahd.texels[i].iz[c]);
-      lobes[i].cd[c] = 0;
-      lobes[i].d[c] = c == 2 ? 1 : 0;
-    }
+  for (size_t i = 0; i < lobes.size(); ++i) lobes[i] = ambient_only_lobe(level.ahd.texels[i]);
   return lobes;
 }
 
@@ -257,32 +311,37 @@ ErrorReport ambient_only_error(const FittedLevel& level, int threads) {
 }
 
 std::vector<FittedLevel> fit_levels(const ShImage& sh, const ConvertOptions& opt, ConvertResult* r) {
+  return fit_levels(ShImage(sh), opt, r);
+}
+
+std::vector<FittedLevel> fit_levels(ShImage&& input, const ConvertOptions& opt, ConvertResult* r) {
   opt.step("fit", 0);
   auto t0 = Clock::now();
   std::vector<FitStats> fit_stats;
   std::vector<FittedLevel> levels =
-      fit_mip_chain(sh, opt.fit, opt.max_levels, opt.threads, &fit_stats, &r->dilate_stats);
+      fit_mip_chain(std::move(input), opt.fit, opt.max_levels, opt.threads, &fit_stats, &r->dilate_stats);
   r->fit_stats = fit_stats[0];
   r->timings.push_back({"mips, fit, dilate", seconds_since(t0)});
   opt.step("fit", 1);
   if (!opt.measuring()) return levels;
 
   t0 = Clock::now();
+  const ShImage& sh = levels[0].sh;
   const AhdImage& fit = levels[0].ahd;
-  r->fit_error = measure_error(sh, lobes_from_fit(fit), opt.threads);
+  // Lobes made texel by texel as they are measured: no image of them (72 bytes a texel).
+  r->fit_error = measure_lobes(sh, [&](size_t i) { return lobe_of_fit(fit.texels[i]); }, opt);
   if (opt.measuring_baselines()) {
-    const size_t n = sh.texels();
-    std::vector<AhdLobe> lobes(n);
-    parallel_for(n, opt.threads, 1024, [&](size_t i) {
+    r->unconstrained_error = measure_error(sh, [&](size_t i) {
+      AhdLobe l;
       IrradiancePoly p[3];
       local_polys(sh, i, p);
       const double d[3] = {fit.texels[i].d[0], fit.texels[i].d[1], fit.texels[i].d[2]};
       for (int c = 0; c < 3; ++c) {
-        fit_channel_unconstrained(hemisphere_moments(p[c], d), &lobes[i].ca[c], &lobes[i].cd[c]);
-        lobes[i].d[c] = d[c];
+        fit_channel_unconstrained(hemisphere_moments(p[c], d), &l.ca[c], &l.cd[c]);
+        l.d[c] = d[c];
       }
-    });
-    r->unconstrained_error = measure_error(sh, lobes, opt.threads);
+      return l;
+    }, opt.threads);
   }
   r->timings.push_back({"measure fit", seconds_since(t0)});
   return levels;
@@ -321,14 +380,14 @@ void quantise_levels(const std::vector<FittedLevel>& levels, const Profile& prof
 
   t0 = Clock::now();
   r->level_error.clear();
-  for (size_t l = 0; l < levels.size(); ++l)
-    r->level_error.push_back(measure_error(
-        levels[l].sh, lobes_from_planes(decode_planes(r->planes, ratio_rgb, int(l)), opt.fit.dz_min), opt.threads));
+  for (size_t l = 0; l < levels.size(); ++l) {
+    opt.step("measure", double(l) / double(levels.size()));
+    r->level_error.push_back(measure_planes(levels[l].sh, decode_planes(r->planes, ratio_rgb, int(l)), opt));
+  }
   r->final_error = r->level_error[0];
   if (opt.measuring_baselines() && r->directional)
-    r->open_loop_error = measure_error(
-        levels[0].sh, lobes_from_planes(decode_planes(planes_of(profile, lv, r->directional, true), ratio_rgb, 0), opt.fit.dz_min),
-        opt.threads);
+    r->open_loop_error =
+        measure_planes(levels[0].sh, decode_planes(planes_of(profile, lv, r->directional, true), ratio_rgb, 0), opt);
   r->timings.push_back({"measure quantised", seconds_since(t0)});
 }
 

@@ -88,6 +88,9 @@ ConvertResult convert(const ShImage& sh, const Profile& profile, const ConvertOp
 // Fit stage: the SH mip chain, the AHD fit of every level, dilation of uncovered texels.
 // Fills r->fit_stats, r->fit_error and r->unconstrained_error (level 0) and timings.
 std::vector<FittedLevel> fit_levels(const ShImage& sh, const ConvertOptions& opt, ConvertResult* r);
+// The same, taking the input over (it becomes level 0): no copy of the largest image. Callers
+// that no longer need their ShImage pass std::move(sh).
+std::vector<FittedLevel> fit_levels(ShImage&& sh, const ConvertOptions& opt, ConvertResult* r);
 
 // Quantise stage: planes of every level for the profile (closed loop per level), measured against
 // each level's SH. Also what `transcode` runs on a stored intermediate.

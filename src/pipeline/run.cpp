@@ -30,7 +30,7 @@ double sum_seconds(const std::vector<StageCost>& stages) {
 
 }  // namespace
 
-ConversionRun run_conversion(const ShImage& sh, const Profile& profile, const ConvertOptions& opt,
+ConversionRun run_conversion(ShImage sh, const Profile& profile, const ConvertOptions& opt,
                              const PackageOptions& pkg, std::vector<StageCost> prior,
                              const std::function<void(const std::vector<FittedLevel>&)>& on_fitted) {
   check_profile(profile, opt);
@@ -38,7 +38,7 @@ ConversionRun run_conversion(const ShImage& sh, const Profile& profile, const Co
   const double prior_seconds = sum_seconds(prior);
   ConversionRun run;
   run.result.timings = std::move(prior);
-  const std::vector<FittedLevel> levels = fit_levels(sh, opt, &run.result);
+  const std::vector<FittedLevel> levels = fit_levels(std::move(sh), opt, &run.result);
   if (on_fitted) {
     const auto t = Clock::now();
     on_fitted(levels);

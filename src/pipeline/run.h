@@ -15,10 +15,11 @@ struct ConversionRun {
   double seconds = 0;         // total, including the `prior` stages the caller timed
 };
 
-// SH → files. `prior` are stages the caller already timed (e.g. reading the input); they lead the
+// SH → files. `sh` is taken by value: move the input in and it becomes mip level 0 without a copy
+// (a 4096² L2 image is 1.8 GB). `prior` are stages the caller already timed (e.g. reading the input); they lead the
 // report's timings and count in its total. `on_fitted` (optional) sees the fitted levels before
 // quantisation (the CLI writes the lossless intermediate there).
-ConversionRun run_conversion(const ShImage& sh, const Profile& profile, const ConvertOptions& opt,
+ConversionRun run_conversion(ShImage sh, const Profile& profile, const ConvertOptions& opt,
                              const PackageOptions& pkg, std::vector<StageCost> prior = {},
                              const std::function<void(const std::vector<FittedLevel>&)>& on_fitted = {});
 

@@ -1,0 +1,304 @@
+// ahdpack bench convert: the whole pipeline (read → mips, fit, dilate → direction decision →
+// quantise + encode → write), pc-bc, default options, full mip chain, on generated L2 inputs and a
+// plain lightmap written as EXR files first; beside it, the time OpenImageIO alone takes to read the
+// same file, and the conversion's peak resident memory above the process's idle baseline.
+//
+// How memory is measured: each conversion (and each OIIO-only read) runs in a fresh process, this
+// same binary re-executed (`--child`; a plain fork() would inherit OpenEXR's thread pool without its
+// threads). The child resets its high-water mark (/proc/self/clear_refs "5"), reads VmRSS as its idle
+// baseline (libraries loaded, nothing read), runs, and prints VmHWM − baseline. So nothing a
+// previous case allocated or freed can hide or inflate a figure.
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <sstream>
+
+#include "cli/commands.h"
+#include "api/options.h"
+#include "cli/output.h"
+#include "core/error.h"
+#include "core/parallel.h"
+#include "fit/hemisphere_error.h"
+#include "io/baker_layout.h"
+#include "io/image_io.h"
+#include "io/sh_exr.h"
+#include "pipeline/run.h"
+#include "sample/analytic_baker.h"
+
+namespace ahd::cli {
+namespace {
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// kB from a "Name:   123 kB" line of /proc/self/status (0 when absent).
+long status_kb(const char* name) {
+  std::ifstream f("/proc/self/status");
+  std::string line;
+  const size_t n = std::strlen(name);
+  while (std::getline(f, line))
+    if (line.compare(0, n, name) == 0 && line.size() > n && line[n] == ':') return std::atol(line.c_str() + n + 1);
+  return 0;
+}
+
+// CPU seconds (user + system, every thread) this process has used so far: unlike wall time, not
+// inflated by other processes sharing the machine.
+double cpu_seconds() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+void reset_peak_rss() {
+  std::ofstream f("/proc/self/clear_refs");
+  if (f) f << "5";
+}
+
+// Runs `ahdpack bench convert --child MODE FILE OUTDIR --threads N [--full-measure]` and parses the
+// "key=value" lines it prints.
+std::map<std::string, std::string> run_child(const std::vector<std::string>& args) {
+  std::fflush(stdout);
+  int fd[2];
+  if (pipe(fd) != 0) throw Error("bench convert: pipe() failed");
+  std::vector<std::string> argv_s = {"ahdpack", "bench", "convert"};
+  argv_s.insert(argv_s.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (std::string& a : argv_s) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  const pid_t pid = fork();
+  if (pid < 0) throw Error("bench convert: fork() failed");
+  if (pid == 0) {
+    dup2(fd[1], 1);
+    close(fd[0]);
+    close(fd[1]);
+    execv("/proc/self/exe", argv.data());
+    _exit(127);
+  }
+  close(fd[1]);
+  std::string text;
+  char buf[4096];
+  for (ssize_t r; (r = read(fd[0], buf, sizeof buf)) > 0;) text.append(buf, size_t(r));
+  close(fd[0]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  std::map<std::string, std::string> kv;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) {
+    const size_t eq = line.find('=');
+    if (eq != std::string::npos) kv[line.substr(0, eq)] = line.substr(eq + 1);
+  }
+  if (kv.count("error")) throw Error("bench convert: " + kv["error"]);
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || !kv.count("peak_rss_kb"))
+    throw Error("bench convert: the measuring child process failed (killed or out of memory?)");
+  return kv;
+}
+
+// A generated L2 input of any size: the analytic scene baked at up to 256² (its charts, shadows and
+// coloured lights), bilinearly enlarged (SH is linear, so every texel is still a valid SH) with
+// nearest-texel coverage. Baking 4096² directly would take longer than what it measures.
+ShImage generated_l2(int size, int threads) {
+  BakerOptions bo;
+  bo.width = bo.height = std::min(size, 256);
+  bo.coeffs = 9;
+  bo.threads = threads;
+  const ShImage src = bake_analytic_scene(bo);
+  if (src.width == size) return src;
+  ShImage dst = make_sh_image(size, size, 9);
+  const int nv = 27;
+  const double scale = double(src.width) / size;
+  parallel_for(size_t(size), threads, 1, [&](size_t y) {
+    const double v = (double(y) + 0.5) * scale - 0.5;
+    const int y0 = std::clamp(int(std::floor(v)), 0, src.height - 1), y1 = std::min(y0 + 1, src.height - 1);
+    const double fy = std::clamp(v - y0, 0.0, 1.0);
+    const int yn = std::min(src.height - 1, int((double(y) + 0.5) * scale));
+    for (int x = 0; x < size; ++x) {
+      const double u = (double(x) + 0.5) * scale - 0.5;
+      const int x0 = std::clamp(int(std::floor(u)), 0, src.width - 1), x1 = std::min(x0 + 1, src.width - 1);
+      const double fx = std::clamp(u - x0, 0.0, 1.0);
+      const int xn = std::min(src.width - 1, int((double(x) + 0.5) * scale));
+      const size_t o = size_t(y) * size + x;
+      dst.coverage[o] = src.coverage[size_t(yn) * src.width + xn];
+      float* t = dst.texel(o);
+      const float *a = src.texel(size_t(y0) * src.width + x0), *b = src.texel(size_t(y0) * src.width + x1),
+                  *c = src.texel(size_t(y1) * src.width + x0), *d = src.texel(size_t(y1) * src.width + x1);
+      for (int k = 0; k < nv; ++k)
+        t[k] = dst.coverage[o] ? float((a[k] * (1 - fx) + b[k] * fx) * (1 - fy) + (c[k] * (1 - fx) + d[k] * fx) * fy)
+                               : 0.0f;
+    }
+  });
+  return dst;
+}
+
+// A plain lightmap (3 half channels, E/π along the normal, 0 outside the charts) of the same scene.
+void write_plain(const std::string& path, const ShImage& sh) {
+  ImageF img(sh.width, sh.height, 3);
+  const double z[3] = {0, 0, 1};
+  for (size_t i = 0; i < sh.texels(); ++i) {
+    if (!sh.coverage[i]) continue;
+    IrradiancePoly p[3];
+    local_polys(sh, i, p);
+    for (int c = 0; c < 3; ++c) img.data[i * 3 + c] = float(std::max(0.0, eval_irradiance(p[c], z)) / kPi);
+  }
+  write_image(path, img, true, {"R", "G", "B"});
+}
+
+struct Case {
+  std::string label;
+  std::string file;  // what OIIO reads
+  std::string base;  // what ahdpack reads (the file, or the layout's base path)
+  bool plain = false;
+  int size = 0;
+};
+
+std::string fmt(const char* f, double v) {
+  char b[64];
+  std::snprintf(b, sizeof b, f, v);
+  return b;
+}
+
+// The conversion of one case, in the child: what `ahdpack convert IN -o OUT --profile pc-bc` runs.
+std::string convert_case(const Case& c, const std::string& out_dir, int threads, bool full_measure) {
+  reset_peak_rss();
+  const long baseline_kb = status_kb("VmRSS");
+  std::ostringstream o;
+  const double cpu0 = cpu_seconds();
+  // Exactly what `ahdpack convert IN -o OUT.ktx2 --profile pc-bc` runs: the library's options and
+  // run, with the input moved in (it becomes mip level 0, no copy).
+  ConversionOptions co;
+  co.profile = "pc-bc";
+  co.threads = threads;
+  co.measure = full_measure ? Measure::Full : Measure::Estimate;
+  const OutputPaths out = output_paths(out_dir + "/" + fs::path(c.file).stem().string() + ".ktx2");
+  ResolvedOptions ro = resolve_options(co, out.name);
+  auto t_start = Clock::now();
+  auto t0 = Clock::now();
+  ReadStats rs;
+  ShImage sh = c.plain ? read_layout(load_layout("plain"), c.base, std::string(), &rs) : read_canonical_sh(c.base, &rs);
+  ro.package.world_frame = !sh.normals.empty();
+  const double read_s = since(t0);
+  const long read_peak_kb = status_kb("VmHWM") - baseline_kb;
+  ConversionRun run = run_conversion(std::move(sh), ro.profile, ro.convert, ro.package, {{"read", read_s}});
+  t0 = Clock::now();
+  publish_conversion(out, run.output.files);
+  run.result.timings.push_back({"write", since(t0)});
+  const double total = since(t_start);
+  o << "peak_rss_kb=" << (status_kb("VmHWM") - baseline_kb) << "\nread_peak_kb=" << read_peak_kb << "\n";
+  o << "total=" << total << "\ncpu=" << cpu_seconds() - cpu0 << "\n";
+  std::string stages;
+  double estimate = 0;  // the error estimate's stages (with --full-measure: the full measurement)
+  for (const StageCost& st : run.result.timings) {
+    stages += st.stage + ": " + fmt("%.2f", st.seconds) + " | ";
+    if (st.stage.rfind("measure", 0) == 0) estimate += st.seconds;
+  }
+  o << "stages=" << stages.substr(0, stages.size() - 3) << "\n";
+  o << "estimate=" << estimate << "\n";
+  return o.str();
+}
+
+std::string oiio_read_case(const Case& c) {
+  reset_peak_rss();
+  const long baseline_kb = status_kb("VmRSS");
+  const auto t0 = Clock::now();
+  const double cpu0 = cpu_seconds();
+  const ImageF img = read_image(c.file);
+  const double s = since(t0);
+  std::ostringstream o;
+  o << "cpu=" << cpu_seconds() - cpu0 << "\nseconds=" << s << "\npeak_rss_kb=" << (status_kb("VmHWM") - baseline_kb) << "\nchannels=" << img.channels << "\n";
+  return o.str();
+}
+
+}  // namespace
+
+void add_bench_convert_command(CLI::App& bench) {
+  struct Args {
+    std::vector<int> sizes = {1024, 2048};
+    std::vector<int> plain = {2048};
+    int threads = 0;
+    std::string dir;
+    bool full_measure = false;
+    std::string child;  // internal: "read", "l2" or "plain" — measure one case in this process
+    std::string child_file, child_out;
+  };
+  auto a = std::make_shared<Args>();
+  CLI::App* c = bench.add_subcommand("convert", "Whole-pipeline time, OIIO read time and peak memory on generated inputs");
+  c->add_option("--sizes", a->sizes, "Sizes of the generated L2 inputs (default 1024 2048; add 4096, slow)")
+      ->check(CLI::Range(4, 16384));
+  c->add_option("--plain", a->plain, "Sizes of the generated plain lightmaps (default 2048; 0 = none)")
+      ->check(CLI::Range(0, 16384));
+  c->add_option("--threads", a->threads, "Worker threads (0 = all)");
+  c->add_option("--dir", a->dir, "Folder for the generated inputs and outputs (default: a fresh temp folder, removed after)");
+  c->add_flag("--full-measure", a->full_measure, "Measure every texel (--measure full) instead of the default estimate");
+  c->add_option("--child", a->child)->group("");  // hidden: the measuring child process
+  c->add_option("--child-file", a->child_file)->group("");
+  c->add_option("--child-out", a->child_out)->group("");
+  c->callback([a]() {
+    if (!a->child.empty()) {
+      Case cs{"", a->child_file, a->child_file, a->child == "plain", 0};
+      if (cs.plain) cs.base = cs.file.substr(0, cs.file.size() - 4);  // the layout's base: FILE without ".exr"
+      try {
+        std::fputs((a->child == "read" ? oiio_read_case(cs)
+                                       : convert_case(cs, a->child_out, resolve_threads(a->threads), a->full_measure))
+                       .c_str(),
+                   stdout);
+      } catch (const std::exception& e) {
+        std::printf("error=%s\n", e.what());
+      }
+      return;
+    }
+    const bool own_dir = a->dir.empty();
+    const fs::path dir = own_dir ? fs::temp_directory_path() / ("ahdpack-bench-convert-" + std::to_string(getpid()))
+                                 : fs::path(a->dir);
+    fs::create_directories(dir);
+    const int threads = resolve_threads(a->threads);
+    std::vector<Case> cases;
+    for (int s : a->sizes) {
+      const std::string f = (dir / ("l2_" + std::to_string(s) + ".exr")).string();
+      write_canonical_sh(f, generated_l2(s, threads));
+      cases.push_back({"L2 " + std::to_string(s) + "²", f, f, false, s});
+    }
+    for (int s : a->plain) {
+      if (s == 0) continue;
+      const std::string base = (dir / ("plain_" + std::to_string(s))).string();
+      write_plain(base + ".exr", generated_l2(s, threads));
+      cases.push_back({"plain " + std::to_string(s) + "²", base + ".exr", base, true, s});
+    }
+    std::printf("ahdpack bench convert: pc-bc, default options, full mips, %d thread(s)%s\n", threads,
+                a->full_measure ? ", full error measurement" : ", error estimate (the default)");
+    std::printf("%-12s %8s %9s %9s %7s %9s %10s %8s %9s %10s\n", "input", "MTexels", "total s", "OIIO s", "ratio",
+                "MTexel/s", "peak MB", "B/texel", "x input", "estimate");
+    for (const Case& cs : cases) {
+      const auto rd = run_child({"--child", "read", "--child-file", cs.file});
+      std::vector<std::string> args = {"--child", cs.plain ? "plain" : "l2", "--child-file", cs.file, "--child-out",
+                                       (dir / "out").string(), "--threads", std::to_string(threads)};
+      if (a->full_measure) args.push_back("--full-measure");
+      const auto cv = run_child(args);
+      const double texels = double(cs.size) * cs.size, total = std::stod(cv.at("total"));
+      const double oiio = std::stod(rd.at("seconds")), est = std::stod(cv.at("estimate"));
+      const double peak = std::stod(cv.at("peak_rss_kb")) * 1024.0;
+      const double decoded = texels * (cs.plain ? 3 : 27) * 4.0;  // the input as float: RGB, or 27 SH coefficients
+      std::printf("%-12s %8.2f %9.2f %9.2f %7.2f %9.2f %10.1f %8.1f %9.2f %5.2fs %.1f%%\n", cs.label.c_str(), texels / 1e6,
+                  total, oiio, total / oiio, texels / 1e6 / total, peak / 1048576.0, peak / texels, peak / decoded, est,
+                  100.0 * est / total);
+      std::printf("    stages: %s\n", cv.at("stages").c_str());
+      std::printf("    peak while reading: %.1f B/texel (x%.2f input)\n", std::stod(cv.at("read_peak_kb")) * 1024.0 / texels,
+                  std::stod(cv.at("read_peak_kb")) * 1024.0 / decoded);
+      std::printf("    CPU seconds (all threads, load-independent): conversion %.2f, OIIO read %.2f, ratio %.2f\n",
+                  std::stod(cv.at("cpu")), std::stod(rd.at("cpu")), std::stod(cv.at("cpu")) / std::stod(rd.at("cpu")));
+      std::printf("    OIIO read alone: peak %.1f MB above baseline (%.1f B/texel)\n",
+                  std::stod(rd.at("peak_rss_kb")) / 1024.0, std::stod(rd.at("peak_rss_kb")) * 1024.0 / texels);
+    }
+    if (own_dir) fs::remove_all(dir);
+  });
+}
+
+}  // namespace ahd::cli
