@@ -1,4 +1,5 @@
 // ahdpack convert [IN.exr] [-o OUT.ktx2|OUT.dds]: SH lightmap → AHD planes + manifest + report.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -10,10 +11,13 @@
 #include "core/error.h"
 #include "io/image_io.h"
 #include "io/baker_layout.h"
+#include "io/layout_detect.h"
+#include "io/layout_pages.h"
 #include "io/mesh_io.h"
 #include "io/sh_exr.h"
 #include "pipeline/convert.h"
 #include "pipeline/manifest.h"
+#include "pipeline/pages.h"
 #include "sample/analytic_baker.h"
 
 namespace ahd::cli {
@@ -28,6 +32,7 @@ struct ConvertArgs {
   std::string normals;  // lightmap-space normals for world-space layouts
   std::string mesh;     // or: the mesh, rasterised in its lightmap UVs (normals and coverage)
   int uv_set = -1;      // the mesh's lightmap UV set (−1 = the default rule of io/mesh_io.h)
+  int pages = 0;        // atlas pages of a paged layout (0 = as recorded by the baker)
   std::string profile = "uncompressed";
   std::string ratio;  // empty: the profile's ratio form
   double dz_min = 0.05;
@@ -44,9 +49,26 @@ struct ConvertArgs {
   DirectionArgs direction;
 };
 
+// --layout auto, and the default for an input that is not the canonical EXR: the baker's set is
+// detected from the files present and their contents, and what was found is printed with why.
+// Without --layout, an input nothing recognises goes to the canonical reader (its errors).
+void resolve_auto_layout(ConvertArgs* a) {
+  if (a->input.empty() || (!a->layout.empty() && a->layout != "auto")) return;
+  if (a->layout.empty() && is_canonical_sh_file(a->input)) return;
+  std::optional<LayoutDetection> d;
+  if (a->layout == "auto") d = detect_layout(a->input);
+  else d = try_detect_layout(a->input);
+  if (!d) return;
+  a->layout = d->preset == "canonical" ? "" : d->preset;
+  a->input = d->base;
+  if (a->quiet) return;
+  std::printf("layout auto: %s (base %s)\n", d->preset.c_str(), d->base.c_str());
+  for (const std::string& r : d->reasons) std::printf("  because %s\n", r.c_str());
+  for (const std::string& n : d->notes) std::printf("  note: %s\n", n.c_str());
+}
+
 // The baker's files through a layout preset, with normals/coverage from --normals or --mesh.
-ShImage read_layout_input(const ConvertArgs& a, ReadStats* rs, std::string* source) {
-  const LayoutPreset layout = load_layout(a.layout);
+ShImage read_layout_input(const ConvertArgs& a, const LayoutPreset& layout, ReadStats* rs, std::string* source) {
   std::string from_mesh;
   ShImage sh;
   if (!a.mesh.empty()) {
@@ -91,14 +113,31 @@ ShImage read_input(const ConvertArgs& a, ReadStats* rs, std::string* source) {
               (bo.coeffs == 9 ? " L2" : " L1") + ", seed " + std::to_string(a.seed) + ")";
     return bake_analytic_scene(bo);
   }
-  if (!a.layout.empty()) return read_layout_input(a, rs, source);
+  if (!a.layout.empty()) return read_layout_input(a, load_layout(a.layout), rs, source);
   ShImage sh = read_canonical_sh(a.input, rs);
   *source = a.input + " (" + std::to_string(sh.width) + "x" + std::to_string(sh.height) + (sh.coeffs == 9 ? " L2" : " L1") +
             (sh.normals.empty() ? ", tangent space)" : ", world space + normals)");
   return sh;
 }
 
-void run_convert(const ConvertArgs& a) {
+// The input's atlas pages: one, unless a paged layout (Godot) holds several — then every page, in
+// order, with the count's origin printed and appended to *source.
+std::vector<ShImage> read_input_pages(const ConvertArgs& a, ReadStats* rs, std::string* source) {
+  if (a.layout.empty() || a.input.empty()) {
+    if (a.pages > 1) throw Error("--pages needs a paged layout (Godot's stacked atlas)");
+    return {read_input(a, rs, source)};
+  }
+  const LayoutPreset layout = load_layout(a.layout);
+  const LayoutPages lp = layout_pages(layout, a.input, a.pages);
+  if (!lp.why.empty() && !a.quiet) std::printf("atlas: %s\n", lp.why.c_str());
+  std::vector<ShImage> pages;
+  for (int p = 0; p < lp.pages; ++p) pages.push_back(read_layout_input(a, layout_page(layout, p, lp.pages), rs, source));
+  if (lp.pages > 1) *source += ", " + std::to_string(lp.pages) + " atlas pages -> array layers";
+  return pages;
+}
+
+void run_convert(ConvertArgs a) {
+  resolve_auto_layout(&a);
   using Clock = std::chrono::steady_clock;
   const auto t_start = Clock::now();
   std::string out_path = a.output;
@@ -130,18 +169,25 @@ void run_convert(const ConvertArgs& a) {
   auto t0 = Clock::now();
   ReadStats rs;
   std::string source;
-  const ShImage sh = read_input(a, &rs, &source);
+  const std::vector<ShImage> pages = read_input_pages(a, &rs, &source);
+  const ShImage& sh = pages[0];
   const double read_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
 
   ConvertResult r;
-  r.timings.push_back({a.input.empty() ? "bake sample" : "read", read_seconds});
-  const std::vector<FittedLevel> levels = fit_levels(sh, opt, &r);
-  if (a.keep_intermediate) {
-    t0 = Clock::now();
-    write_intermediate(out.sibling(".ahd.exr"), levels, opt.fit);
-    r.timings.push_back({"intermediate", std::chrono::duration<double>(Clock::now() - t0).count()});
+  if (pages.size() > 1) {  // an atlas: every page converted alone, planes stacked as array layers
+    if (a.keep_intermediate) throw Error("--keep-intermediate holds one page: not available for a multi-page atlas");
+    r = convert_pages(pages, profile, opt);
+    r.timings.insert(r.timings.begin(), {"read", read_seconds});
+  } else {
+    r.timings.push_back({a.input.empty() ? "bake sample" : "read", read_seconds});
+    const std::vector<FittedLevel> levels = fit_levels(sh, opt, &r);
+    if (a.keep_intermediate) {
+      t0 = Clock::now();
+      write_intermediate(out.sibling(".ahd.exr"), levels, opt.fit);
+      r.timings.push_back({"intermediate", std::chrono::duration<double>(Clock::now() - t0).count()});
+    }
+    quantise_levels(levels, profile, opt, &r);
   }
-  quantise_levels(levels, profile, opt, &r);
 
   t0 = Clock::now();
   const double total = std::chrono::duration<double>(Clock::now() - t_start).count();
@@ -158,9 +204,12 @@ void run_convert(const ConvertArgs& a) {
 void add_layouts_command(CLI::App& app) {
   CLI::App* c = app.add_subcommand("layouts", "List the baker layout presets (formats/bakers)");
   c->callback([]() {
+    const std::vector<std::string> detected = auto_detected_layouts();
+    std::printf("%-18s %-5s %s\n", "preset", "auto", "description (auto: --layout auto recognises its files)");
     for (const std::string& n : list_layouts()) {
       const LayoutPreset p = load_layout(n);
-      std::printf("%-18s %s\n", n.c_str(), p.description.c_str());
+      const bool a = std::find(detected.begin(), detected.end(), n) != detected.end();
+      std::printf("%-18s %-5s %s\n", n.c_str(), a ? "yes" : "no", p.description.c_str());
     }
   });
 }
@@ -170,7 +219,12 @@ void add_convert_command(CLI::App& app) {
   CLI::App* c = app.add_subcommand("convert", "Convert an SH lightmap (or, with no input, the built-in sample) to AHD planes");
   c->add_option("input", a->input, "Canonical SH EXR (sh0.R … sh8.B); omit for the built-in sample");
   c->add_option("-o,--output", a->output, "OUT.ktx2 or OUT.dds: writes OUT.<plane>.<ext>, OUT.json, OUT.report.json");
-  c->add_option("--layout", a->layout, "Baker layout preset (ahdpack layouts) or FILE.json; the input is then the base path");
+  c->add_option("--layout", a->layout,
+                "Baker layout preset (ahdpack layouts), FILE.json, or auto (the default for an input that is not the "
+                "canonical EXR): the input is then any file of the baker's set, or its base path");
+  c->add_option("--pages", a->pages,
+                "Atlas pages of a stacked layout (Godot: slices/vertical / 4), when NAME.exr.import is not beside it")
+      ->check(CLI::PositiveNumber);
   c->add_option("--normals", a->normals, "Lightmap-space normal EXR, for world-space layouts");
   c->add_option("--mesh", a->mesh,
                 "Mesh (.gltf, .glb, .obj) rasterised in its lightmap UVs: the normals (world-space layouts) and the "
