@@ -4,6 +4,7 @@
 // unknown; --layout auto over the presets' own file sets.
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <fstream>
 
 #include "containers/container.h"
@@ -277,4 +278,48 @@ TEST(Atlas, GodotRecordsAreRead) {
   const auto names = godot_resource_names((kVermilion / "world.lmbake").string());
   EXPECT_NE(std::find(names.begin(), names.end(), "uses_spherical_harmonics"), names.end());
   EXPECT_EQ(std::find(names.begin(), names.end(), "_uses_packed_directional"), names.end());
+}
+
+// Array textures in both containers: KTX2 keeps each level's layers together (layerCount), DDS each
+// layer's mip chain together (DX10 arraySize, also for formats that otherwise get a legacy header).
+TEST(Atlas, ArrayTexturesRoundTripInBothContainersWithTheSpecsLayout) {
+  std::mt19937 rng(3);
+  for (PixelFormat f : {PixelFormat::BC4_UNORM, PixelFormat::RGBA8_UNORM, PixelFormat::RGBA16_SFLOAT}) {
+    std::vector<Texture> pages(3);
+    for (Texture& t : pages) {
+      t.format = f;
+      for (uint32_t l = 0; l < 3; ++l) {
+        TextureLevel lv{std::max(1u, 12u >> l), std::max(1u, 8u >> l), {}};
+        lv.data.resize(level_size_bytes(f, lv.width, lv.height));
+        for (auto& b : lv.data) b = uint8_t(rng());
+        t.levels.push_back(lv);
+      }
+    }
+    const Texture array = stack_layers(pages);
+    for (ContainerKind kind : {ContainerKind::KTX2, ContainerKind::DDS}) {
+      const std::vector<uint8_t> bytes = encode_container(kind, array);
+      const Texture back = decode_container(kind, bytes.data(), bytes.size(), "mem");
+      ASSERT_EQ(back.layers, 3u);
+      for (uint32_t p = 0; p < 3; ++p)
+        for (size_t l = 0; l < 3; ++l) EXPECT_EQ(texture_layer(back, p).levels[l].data, pages[p].levels[l].data);
+      if (kind == ContainerKind::DDS) {
+        uint32_t fourcc, array_size;
+        std::memcpy(&fourcc, &bytes[84], 4);
+        std::memcpy(&array_size, &bytes[140], 4);
+        EXPECT_EQ(fourcc, 0x30315844u);  // "DX10"
+        EXPECT_EQ(array_size, 3u);
+        // Layer 1's level 0 follows layer 0's whole chain.
+        size_t chain = 0;
+        for (const auto& lv : pages[0].levels) chain += lv.data.size();
+        EXPECT_TRUE(std::equal(pages[1].levels[0].data.begin(), pages[1].levels[0].data.end(), bytes.begin() + 148 + chain));
+      } else {
+        uint32_t layer_count;
+        std::memcpy(&layer_count, &bytes[32], 4);
+        EXPECT_EQ(layer_count, 3u);
+      }
+      // Truncated arrays are refused like any other file.
+      expect_error([&] { decode_container(kind, bytes.data(), bytes.size() - 1, "mem"); }, "mem");
+    }
+    expect_error([&] { texture_layer(array, 3); }, "layer 3 does not exist");
+  }
 }
