@@ -14,6 +14,7 @@
 #include "io/layout_detect.h"
 #include "io/layout_pages.h"
 #include "io/mesh_io.h"
+#include "io/placement_io.h"
 #include "io/sh_exr.h"
 #include "pipeline/convert.h"
 #include "pipeline/manifest.h"
@@ -33,6 +34,7 @@ struct ConvertArgs {
   std::string mesh;     // or: the mesh, rasterised in its lightmap UVs (normals and coverage)
   int uv_set = -1;      // the mesh's lightmap UV set (−1 = the default rule of io/mesh_io.h)
   int pages = 0;        // atlas pages of a paged layout (0 = as recorded by the baker)
+  std::string placement;  // per-instance atlas placement of the mesh (JSON or Unity scene)
   std::string profile = "uncompressed";
   std::string ratio;  // empty: the profile's ratio form
   double dz_min = 0.05;
@@ -68,7 +70,23 @@ void resolve_auto_layout(ConvertArgs* a) {
 }
 
 // The baker's files through a layout preset, with normals/coverage from --normals or --mesh.
-ShImage read_layout_input(const ConvertArgs& a, const LayoutPreset& layout, ReadStats* rs, std::string* source) {
+// The mesh's triangles for atlas page `page`: as stored, or each instance moved into its atlas
+// rectangle by --placement (overlaps printed; *note says what was placed).
+MeshTriangles page_mesh(const ConvertArgs& a, int page, MeshReadInfo* mi, std::string* note) {
+  if (a.placement.empty()) return read_mesh_lightmap(a.mesh, a.uv_set, mi);
+  const MeshInstances scene = read_mesh_instances(a.mesh, a.uv_set, mi);
+  PlacedMesh pm = place_instances(scene, read_placements(a.placement), page, a.placement);
+  *note = ", " + std::to_string(pm.placed.size()) + " instance(s) placed by " + a.placement +
+          (pm.unplaced.empty() ? "" : " (" + std::to_string(pm.unplaced.size()) + " without placement left out)");
+  for (const std::string& o : pm.overlaps) {
+    *note += ", overlap: " + o;
+    if (!a.quiet) std::printf("placement: page %d: instances %s overlap in the atlas\n", page, o.c_str());
+  }
+  return std::move(pm.mesh);
+}
+
+ShImage read_layout_input(const ConvertArgs& a, const LayoutPreset& layout, ReadStats* rs, std::string* source,
+                          int page = 0) {
   std::string from_mesh;
   ShImage sh;
   if (!a.mesh.empty()) {
@@ -78,7 +96,8 @@ ShImage read_layout_input(const ConvertArgs& a, const LayoutPreset& layout, Read
     int w = 0, h = 0;
     layout_size(layout, a.input, &w, &h);
     MeshReadInfo mi;
-    const MeshTriangles mesh = read_mesh_lightmap(a.mesh, a.uv_set, &mi);
+    std::string placed;
+    const MeshTriangles mesh = page_mesh(a, page, &mi, &placed);
     RasterisedNormals rn = rasterise_lightmap_normals(mesh, w, h);
     mesh_normals_to_layout_axes(layout, &rn.normals);  // glTF's axes → the baker's world
     size_t covered = 0;
@@ -91,7 +110,7 @@ ShImage read_layout_input(const ConvertArgs& a, const LayoutPreset& layout, Read
     sh = read_layout(layout, a.input, &ln, rs);
     from_mesh = ", " + std::string(layout.world_space ? "normals and coverage" : "coverage") + " from " + a.mesh + " (" +
                 std::to_string(mi.triangles) + " triangles, UV set " + std::to_string(mi.uv_set) + ", " +
-                std::to_string(covered) + " texels covered)";
+                std::to_string(covered) + " texels covered" + placed + ")";
   } else {
     sh = read_layout(layout, a.input, a.normals, rs);
   }
@@ -131,7 +150,7 @@ std::vector<ShImage> read_input_pages(const ConvertArgs& a, ReadStats* rs, std::
   const LayoutPages lp = layout_pages(layout, a.input, a.pages);
   if (!lp.why.empty() && !a.quiet) std::printf("atlas: %s\n", lp.why.c_str());
   std::vector<ShImage> pages;
-  for (int p = 0; p < lp.pages; ++p) pages.push_back(read_layout_input(a, layout_page(layout, p, lp.pages), rs, source));
+  for (int p = 0; p < lp.pages; ++p) pages.push_back(read_layout_input(a, layout_page(layout, p, lp.pages), rs, source, p));
   if (lp.pages > 1) *source += ", " + std::to_string(lp.pages) + " atlas pages -> array layers";
   return pages;
 }
@@ -164,6 +183,7 @@ void run_convert(ConvertArgs a) {
   if (!a.mesh.empty() && !a.normals.empty()) throw Error("--mesh and --normals both give the normals: use one");
   if (!a.mesh.empty() && a.layout.empty()) throw Error("--mesh needs --layout (a baker's files to pair it with)");
   if (a.uv_set >= 0 && a.mesh.empty()) throw Error("--uv-set needs --mesh");
+  if (!a.placement.empty() && a.mesh.empty()) throw Error("--placement needs --mesh (the instances it places)");
 
   // Input.
   auto t0 = Clock::now();
@@ -233,6 +253,9 @@ void add_convert_command(CLI::App& app) {
                 "The mesh's lightmap UV set (glTF TEXCOORD_n); default: the second set when the meshes have 2 or "
                 "more, else the first")
       ->check(CLI::NonNegativeNumber);
+  c->add_option("--placement", a->placement,
+                "Atlas placement of the mesh's instances (node name -> page, scale, offset): ahdpack's JSON or a Unity "
+                "scene (.unity: m_LightmapIndex, m_LightmapTilingOffset); each instance's UVs become uv*scale+offset");
   c->add_option("--profile", a->profile, "Output profile name or .json file (formats/profiles)");
   c->add_option("--ratio", a->ratio, "Ratio form: luminance (one channel) or rgb (default: the profile's)");
   c->add_option("--eps", a->dz_min, "Smallest stored d_z (the horizon rule)");

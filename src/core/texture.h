@@ -18,9 +18,9 @@ struct TextureLevel {
 struct Texture {
   PixelFormat format = PixelFormat::RGBA16_SFLOAT;
   std::vector<TextureLevel> levels;  // levels[0] is the full-size image, then each mip
-  uint32_t layers = 1;  // array layers (an atlas of several pages); every level holds all of them
   // Key/value metadata, written in this order (KTX2 sorts keys on write as its spec requires).
   std::vector<std::pair<std::string, std::string>> metadata;
+  uint32_t layers = 1;  // array layers (an atlas of several pages); every level holds all of them
 };
 
 // Throws ahd::Error("<what>: …") unless the texture has 1..full_mip_count levels of the chain's

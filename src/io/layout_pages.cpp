@@ -72,7 +72,9 @@ LayoutPages layout_pages(const LayoutPreset& layout, const std::string& input, i
     return {recorded, n_str(recorded) + " page(s) from " + import_file + " (slices/vertical=" +
                           n_str(gi.slices_vertical) + " = " + n_str(slices) + " x pages)"};
   }
-  if (rows % slices == 0 && rows / slices == info.width)
+  if (rows % slices != 0)
+    throw file_error(path, "height " + n_str(rows) + " does not divide into " + n_str(slices) + " stacked layers");
+  if (rows / slices == info.width)
     return {1, "1 page assumed: no " + import_file + " and no --pages, and " + n_str(slices) + " square layers fill the image"};
   throw file_error(path, "page count unknown: " + n_str(info.width) + "x" + n_str(rows) + " holds " + n_str(slices) +
                              " layers per atlas page but how many pages is not recorded (no " + import_file +

@@ -16,8 +16,8 @@ struct ManifestPlane {
   std::string file;  // relative to the manifest's folder
   PixelFormat format = PixelFormat::RGBA16_SFLOAT;
   uint32_t width = 0, height = 0, levels = 1;
-  uint32_t layers = 1;  // array layers (atlas pages); written only when > 1
   uint64_t bytes = 0;
+  uint32_t layers = 1;  // array layers (atlas pages); written only when > 1 (last: aggregate order kept)
 };
 
 struct Manifest {
