@@ -9,6 +9,7 @@
 #include "cli/output.h"
 #include "io/ahd_intermediate.h"
 #include "core/error.h"
+#include "io/colour_space.h"
 #include "io/image_io.h"
 #include "io/baker_layout.h"
 #include "io/layout_detect.h"
@@ -213,6 +214,7 @@ void run_convert(ConvertArgs a) {
   const double total = std::chrono::duration<double>(Clock::now() - t_start).count();
   const nlohmann::json extra = {
       {"source", source},
+      {"working_space", kWorkingSpace},
       {"read", {{"non_finite_texels", rs.non_finite_texels}, {"coverage_derived", rs.coverage_derived}}}};
   const Manifest m = write_conversion(out, r, profile, opt.fit, !sh.normals.empty(), a.zstd, extra, total);
   r.timings.push_back({"write", std::chrono::duration<double>(Clock::now() - t0).count()});

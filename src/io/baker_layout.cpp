@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "core/paths.h"
+#include "io/colour_space.h"
 #include "io/image_io.h"
 #include "io/layout_pages.h"
 
@@ -197,6 +198,7 @@ SetImage open_image(const LayoutFile& lf, const std::string& base, const std::st
   ImageFileInfo info = read_image_info(s.path);
   s.part = resolve_part(lf, s.path, info);
   if (s.part != 0) info = read_image_info(s.path, s.part);
+  check_working_space(info, s.path);  // float data must be linear Rec.709 as declared
   if (lf.needs_float && !info.is_float)
     throw file_error(s.path, "8-bit data where layout " + layout + " needs float (HDR) values");
   if (info.height % lf.slices != 0)

@@ -5,6 +5,9 @@
 
 #include <functional>
 
+#include <OpenImageIO/imageio.h>
+
+#include "io/colour_space.h"
 #include "io/sh_exr.h"
 #include "layout_test_scene.h"
 
@@ -115,4 +118,33 @@ TEST(BakerFiles, BaseNameStillWinsAndMissingFilesAreNamed) {
   EXPECT_EQ(layout_base(godot, b.file(".exr")), b.base());
   // A missing file is reported under the name the set needs, not "World.exr.exr".
   expect_error([&] { read_layout(load_layout("bakery-sh"), b.file("_L0.hdr"), b.normals); }, "lm_L0.hdr: file not found");
+}
+
+// Colour spaces as the files declare them: linear Rec.709 is read, other primaries or a
+// non-linear transfer declared by a float input are refused with one line naming the declaration.
+TEST(BakerFiles, DeclaredColourSpacesOtherThanLinearRec709AreRefused) {
+  const WorldBake b("files_colour");
+  const ImageF img = coefficient_image(b.w.tangent, 0);
+  auto write = [&](const std::string& name, const std::vector<float>& chroma, const std::string& space) {
+    OIIO::ImageSpec spec(img.width, img.height, 3, OIIO::TypeDesc::HALF);
+    if (!chroma.empty()) spec.attribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8), chroma.data());
+    if (!space.empty()) spec.attribute("oiio:ColorSpace", space);
+    auto out = OIIO::ImageOutput::create(name);
+    ASSERT_TRUE(out && out->open(name, spec));
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, img.data.data()));
+    out->close();
+  };
+  const LayoutPreset plain = load_layout("plain");
+  const std::string dir = b.dir.string();
+  write(dir + "/rec709.exr", {0.64f, 0.33f, 0.30f, 0.60f, 0.15f, 0.06f, 0.3127f, 0.3290f}, "");
+  EXPECT_EQ(read_layout(plain, dir + "/rec709.exr", "").width, N);
+  write(dir + "/p3.exr", {0.68f, 0.32f, 0.265f, 0.69f, 0.15f, 0.06f, 0.3127f, 0.3290f}, "");
+  expect_error([&] { read_layout(plain, dir + "/p3.exr", ""); }, "declares chromaticities R(0.68, 0.32)");
+  // A non-linear oiio:ColorSpace on float data (OpenEXR files always read back as "Linear").
+  ImageFileInfo info;
+  info.is_float = true;
+  info.color_space = "sRGB";
+  expect_error([&] { check_working_space(info, "x.tif"); }, "x.tif: declares colour space 'sRGB'");
+  info.color_space = "Linear";
+  check_working_space(info, "x.tif");
 }
