@@ -36,6 +36,9 @@ struct ConvertArgs {
   int uv_set = -1;      // the mesh's lightmap UV set (−1 = the default rule of io/mesh_io.h)
   int pages = 0;        // atlas pages of a paged layout (0 = as recorded by the baker)
   std::string placement;  // per-instance atlas placement of the mesh (JSON or Unity scene)
+  // What reading found (detection, pages, overlaps), printed once the input has been read, so that
+  // a failure prints its one error line and nothing else.
+  mutable std::string notes;
   std::string profile = "uncompressed";
   std::string ratio;  // empty: the profile's ratio form
   double dz_min = 0.05;
@@ -64,10 +67,9 @@ void resolve_auto_layout(ConvertArgs* a) {
   if (!d) return;
   a->layout = d->preset == "canonical" ? "" : d->preset;
   a->input = d->base;
-  if (a->quiet) return;
-  std::printf("layout auto: %s (base %s)\n", d->preset.c_str(), d->base.c_str());
-  for (const std::string& r : d->reasons) std::printf("  because %s\n", r.c_str());
-  for (const std::string& n : d->notes) std::printf("  note: %s\n", n.c_str());
+  a->notes += "layout auto: " + d->preset + " (base " + d->base + ")\n";
+  for (const std::string& r : d->reasons) a->notes += "  because " + r + "\n";
+  for (const std::string& n : d->notes) a->notes += "  note: " + n + "\n";
 }
 
 // The baker's files through a layout preset, with normals/coverage from --normals or --mesh.
@@ -81,7 +83,7 @@ MeshTriangles page_mesh(const ConvertArgs& a, int page, MeshReadInfo* mi, std::s
           (pm.unplaced.empty() ? "" : " (" + std::to_string(pm.unplaced.size()) + " without placement left out)");
   for (const std::string& o : pm.overlaps) {
     *note += ", overlap: " + o;
-    if (!a.quiet) std::printf("placement: page %d: instances %s overlap in the atlas\n", page, o.c_str());
+    a.notes += "placement: page " + std::to_string(page) + ": instances " + o + " overlap in the atlas\n";
   }
   return std::move(pm.mesh);
 }
@@ -149,7 +151,7 @@ std::vector<ShImage> read_input_pages(const ConvertArgs& a, ReadStats* rs, std::
   }
   const LayoutPreset layout = load_layout(a.layout);
   const LayoutPages lp = layout_pages(layout, a.input, a.pages);
-  if (!lp.why.empty() && !a.quiet) std::printf("atlas: %s\n", lp.why.c_str());
+  if (!lp.why.empty()) a.notes += "atlas: " + lp.why + "\n";
   std::vector<ShImage> pages;
   for (int p = 0; p < lp.pages; ++p) pages.push_back(read_layout_input(a, layout_page(layout, p, lp.pages), rs, source, p));
   if (lp.pages > 1) *source += ", " + std::to_string(lp.pages) + " atlas pages -> array layers";
@@ -191,6 +193,7 @@ void run_convert(ConvertArgs a) {
   ReadStats rs;
   std::string source;
   const std::vector<ShImage> pages = read_input_pages(a, &rs, &source);
+  if (!a.quiet) std::fputs(a.notes.c_str(), stdout);
   const ShImage& sh = pages[0];
   const double read_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
 
