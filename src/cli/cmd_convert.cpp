@@ -1,6 +1,7 @@
 // ahdpack convert [IN.exr] [-o OUT.ktx2|OUT.dds]: SH lightmap → AHD planes + manifest + report.
 #include <ahd/sample.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -13,8 +14,12 @@
 #include "core/error.h"
 #include "io/ahd_intermediate.h"
 #include "io/baker_layout.h"
+#include "io/colour_space.h"
 #include "io/image_io.h"
+#include "io/layout_detect.h"
+#include "io/layout_pages.h"
 #include "io/mesh_io.h"
+#include "io/placement_io.h"
 #include "io/profile_file.h"
 #include "io/sh_exr.h"
 #include "pipeline/run.h"
@@ -31,6 +36,11 @@ struct ConvertArgs {
   std::string normals;  // lightmap-space normals for world-space layouts
   std::string mesh;     // or: the mesh, rasterised in its lightmap UVs (normals and coverage)
   int uv_set = -1;      // the mesh's lightmap UV set (−1 = the default rule of io/mesh_io.h)
+  int pages = 0;        // atlas pages of a paged layout (0 = as recorded by the baker)
+  std::string placement;  // per-instance atlas placement of the mesh (JSON or Unity scene)
+  // What reading found (detection, pages, overlaps), printed once the input has been read, so that
+  // a failure prints its one error line and nothing else.
+  mutable std::string notes;
   int sample_size = 256;
   int sample_order = 2;
   unsigned seed = 0;
@@ -38,9 +48,41 @@ struct ConvertArgs {
   ConversionArgs conv;
 };
 
+// --layout auto, and the default for an input that is not the canonical EXR: the baker's set is
+// detected from the files present and their contents, and what was found is printed with why.
+// Without --layout, an input nothing recognises goes to the canonical reader (its errors).
+void resolve_auto_layout(ConvertArgs* a) {
+  if (a->input.empty() || (!a->layout.empty() && a->layout != "auto")) return;
+  if (a->layout.empty() && is_canonical_sh_file(a->input)) return;
+  std::optional<LayoutDetection> d;
+  if (a->layout == "auto") d = detect_layout(a->input);
+  else d = try_detect_layout(a->input);
+  if (!d) return;
+  a->layout = d->preset == "canonical" ? "" : d->preset;
+  a->input = d->base;
+  a->notes += "layout auto: " + d->preset + " (base " + d->base + ")\n";
+  for (const std::string& r : d->reasons) a->notes += "  because " + r + "\n";
+  for (const std::string& n : d->notes) a->notes += "  note: " + n + "\n";
+}
+
 // The baker's files through a layout preset, with normals/coverage from --normals or --mesh.
-ShImage read_layout_input(const ConvertArgs& a, ReadStats* rs, std::string* source) {
-  const LayoutPreset layout = load_layout(a.layout);
+// The mesh's triangles for atlas page `page`: as stored, or each instance moved into its atlas
+// rectangle by --placement (overlaps printed; *note says what was placed).
+MeshTriangles page_mesh(const ConvertArgs& a, int page, MeshReadInfo* mi, std::string* note) {
+  if (a.placement.empty()) return read_mesh_lightmap(a.mesh, a.uv_set, mi);
+  const MeshInstances scene = read_mesh_instances(a.mesh, a.uv_set, mi);
+  PlacedMesh pm = place_instances(scene, read_placements(a.placement), page, a.placement);
+  *note = ", " + std::to_string(pm.placed.size()) + " instance(s) placed by " + a.placement +
+          (pm.unplaced.empty() ? "" : " (" + std::to_string(pm.unplaced.size()) + " without placement left out)");
+  for (const std::string& o : pm.overlaps) {
+    *note += ", overlap: " + o;
+    a.notes += "placement: page " + std::to_string(page) + ": instances " + o + " overlap in the atlas\n";
+  }
+  return std::move(pm.mesh);
+}
+
+ShImage read_layout_input(const ConvertArgs& a, const LayoutPreset& layout, ReadStats* rs, std::string* source,
+                          int page = 0) {
   std::string from_mesh;
   ShImage sh;
   if (!a.mesh.empty()) {
@@ -50,7 +92,8 @@ ShImage read_layout_input(const ConvertArgs& a, ReadStats* rs, std::string* sour
     int w = 0, h = 0;
     layout_size(layout, a.input, &w, &h);
     MeshReadInfo mi;
-    const MeshTriangles mesh = read_mesh_lightmap(a.mesh, a.uv_set, &mi);
+    std::string placed;
+    const MeshTriangles mesh = page_mesh(a, page, &mi, &placed);
     RasterisedNormals rn = rasterise_lightmap_normals(mesh, w, h);
     mesh_normals_to_layout_axes(layout, &rn.normals);  // glTF's axes → the baker's world
     size_t covered = 0;
@@ -63,7 +106,7 @@ ShImage read_layout_input(const ConvertArgs& a, ReadStats* rs, std::string* sour
     sh = read_layout(layout, a.input, &ln, rs);
     from_mesh = ", " + std::string(layout.world_space ? "normals and coverage" : "coverage") + " from " + a.mesh + " (" +
                 std::to_string(mi.triangles) + " triangles, UV set " + std::to_string(mi.uv_set) + ", " +
-                std::to_string(covered) + " texels covered)";
+                std::to_string(covered) + " texels covered" + placed + ")";
   } else {
     sh = read_layout(layout, a.input, a.normals, rs);
   }
@@ -80,14 +123,31 @@ ShImage read_input(const ConvertArgs& a, ReadStats* rs, std::string* source) {
               (a.sample_order == 2 ? " L2" : " L1") + ", seed " + std::to_string(a.seed) + ")";
     return bake_sample(a.sample_size, a.sample_order, a.seed, a.conv.options.threads);
   }
-  if (!a.layout.empty()) return read_layout_input(a, rs, source);
+  if (!a.layout.empty()) return read_layout_input(a, load_layout(a.layout), rs, source);
   ShImage sh = read_canonical_sh(a.input, rs);
   *source = a.input + " (" + std::to_string(sh.width) + "x" + std::to_string(sh.height) + (sh.coeffs == 9 ? " L2" : " L1") +
             (sh.normals.empty() ? ", tangent space)" : ", world space + normals)");
   return sh;
 }
 
-void run_convert(const ConvertArgs& a) {
+// The input's atlas pages: one, unless a paged layout (Godot) holds several — then every page, in
+// order, with the count's origin printed and appended to *source.
+std::vector<ShImage> read_input_pages(const ConvertArgs& a, ReadStats* rs, std::string* source) {
+  if (a.layout.empty() || a.input.empty()) {
+    if (a.pages > 1) throw Error("--pages needs a paged layout (Godot's stacked atlas)");
+    return {read_input(a, rs, source)};
+  }
+  const LayoutPreset layout = load_layout(a.layout);
+  const LayoutPages lp = layout_pages(layout, a.input, a.pages);
+  if (!lp.why.empty()) a.notes += "atlas: " + lp.why + "\n";
+  std::vector<ShImage> pages;
+  for (int p = 0; p < lp.pages; ++p) pages.push_back(read_layout_input(a, layout_page(layout, p, lp.pages), rs, source, p));
+  if (lp.pages > 1) *source += ", " + std::to_string(lp.pages) + " atlas pages -> array layers";
+  return pages;
+}
+
+void run_convert(ConvertArgs a) {
+  resolve_auto_layout(&a);
   std::string out_path = a.output;
   if (out_path.empty())
     out_path = "ahdpack-out/" + (a.input.empty() ? std::string("sample") : fs::path(a.input).stem().string()) + ".ktx2";
@@ -101,22 +161,31 @@ void run_convert(const ConvertArgs& a) {
   if (!a.mesh.empty() && !a.normals.empty()) throw Error("--mesh and --normals both give the normals: use one");
   if (!a.mesh.empty() && a.layout.empty()) throw Error("--mesh needs --layout (a baker's files to pair it with)");
   if (a.uv_set >= 0 && a.mesh.empty()) throw Error("--uv-set needs --mesh");
+  if (!a.placement.empty() && a.mesh.empty()) throw Error("--placement needs --mesh (the instances it places)");
 
   const auto t0 = std::chrono::steady_clock::now();
   ReadStats rs;
   std::string source;
-  ShImage sh = read_input(a, &rs, &source);
+  std::vector<ShImage> pages = read_input_pages(a, &rs, &source);
+  if (!a.conv.quiet) std::fputs(a.notes.c_str(), stdout);
   const double read_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   PackageOptions pkg = ro.package;
-  pkg.world_frame = !sh.normals.empty();
+  pkg.world_frame = !pages[0].normals.empty();
   pkg.report_extra = {{"source", source},
+                      {"working_space", kWorkingSpace},
                       {"read", {{"non_finite_texels", rs.non_finite_texels}, {"coverage_derived", rs.coverage_derived}}}};
-  std::function<void(const std::vector<FittedLevel>&)> on_fitted;
-  if (a.keep_intermediate)
-    on_fitted = [&](const std::vector<FittedLevel>& levels) { write_intermediate(out.sibling(".ahd.exr"), levels, ro.convert.fit); };
-  const ConversionRun run = run_conversion(std::move(sh), ro.profile, ro.convert, pkg,
-                                           {{a.input.empty() ? "bake sample" : "read", read_seconds}}, on_fitted);
+  const std::vector<StageCost> read_stage = {{a.input.empty() ? "bake sample" : "read", read_seconds}};
+  ConversionRun run;
+  if (pages.size() > 1) {  // an atlas: every page converted alone, planes stacked as array layers
+    if (a.keep_intermediate) throw Error("--keep-intermediate holds one page: not available for a multi-page atlas");
+    run = run_pages(pages, ro.profile, ro.convert, pkg, read_stage);
+  } else {
+    std::function<void(const std::vector<FittedLevel>&)> on_fitted;
+    if (a.keep_intermediate)
+      on_fitted = [&](const std::vector<FittedLevel>& levels) { write_intermediate(out.sibling(".ahd.exr"), levels, ro.convert.fit); };
+    run = run_conversion(std::move(pages[0]), ro.profile, ro.convert, pkg, read_stage, on_fitted);
+  }
   publish_conversion(out, run.output.files);
   if (!a.conv.quiet) print_conversion(source, out, run, ro.convert.closed_loop, rs.non_finite_texels);
 }
@@ -126,9 +195,12 @@ void run_convert(const ConvertArgs& a) {
 void add_layouts_command(CLI::App& app) {
   CLI::App* c = app.add_subcommand("layouts", "List the baker layout presets (formats/bakers)");
   c->callback([]() {
+    const std::vector<std::string> detected = auto_detected_layouts();
+    std::printf("%-18s %-5s %s\n", "preset", "auto", "description (auto: --layout auto recognises its files)");
     for (const std::string& n : list_layouts()) {
       const LayoutPreset p = load_layout(n);
-      std::printf("%-18s %s\n", n.c_str(), p.description.c_str());
+      const bool a = std::find(detected.begin(), detected.end(), n) != detected.end();
+      std::printf("%-18s %-5s %s\n", n.c_str(), a ? "yes" : "no", p.description.c_str());
     }
   });
 }
@@ -138,7 +210,12 @@ void add_convert_command(CLI::App& app) {
   CLI::App* c = app.add_subcommand("convert", "Convert an SH lightmap (or, with no input, the built-in sample) to AHD planes");
   c->add_option("input", a->input, "Canonical SH EXR (sh0.R … sh8.B); omit for the built-in sample");
   c->add_option("-o,--output", a->output, "OUT.ktx2 or OUT.dds: writes OUT.<plane>.<ext>, OUT.json, OUT.report.json");
-  c->add_option("--layout", a->layout, "Baker layout preset (ahdpack layouts) or FILE.json; the input is then the base path");
+  c->add_option("--layout", a->layout,
+                "Baker layout preset (ahdpack layouts), FILE.json, or auto (the default for an input that is not the "
+                "canonical EXR): the input is then any file of the baker's set, or its base path");
+  c->add_option("--pages", a->pages,
+                "Atlas pages of a stacked layout (Godot: slices/vertical / 4), when NAME.exr.import is not beside it")
+      ->check(CLI::PositiveNumber);
   c->add_option("--normals", a->normals, "Lightmap-space normal EXR, for world-space layouts");
   c->add_option("--mesh", a->mesh,
                 "Mesh (.gltf, .glb, .obj) rasterised in its lightmap UVs: the normals (world-space layouts) and the "
@@ -147,6 +224,9 @@ void add_convert_command(CLI::App& app) {
                 "The mesh's lightmap UV set (glTF TEXCOORD_n); default: the second set when the meshes have 2 or "
                 "more, else the first")
       ->check(CLI::NonNegativeNumber);
+  c->add_option("--placement", a->placement,
+                "Atlas placement of the mesh's instances (node name -> page, scale, offset): ahdpack's JSON or a Unity "
+                "scene (.unity: m_LightmapIndex, m_LightmapTilingOffset); each instance's UVs become uv*scale+offset");
   add_conversion_options(c, &a->conv, true);
   c->add_flag("--keep-intermediate", a->keep_intermediate, "Also write OUT.ahd.exr, the lossless fitted planes for transcode");
   c->add_option("--sample-size", a->sample_size, "Built-in sample: width and height")->check(CLI::Range(1, 8192));

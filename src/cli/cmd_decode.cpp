@@ -1,4 +1,4 @@
-// ahdpack decode NAME.json -o OUT.exr [--level L] [--normals N.exr]: irradiance from the planes.
+// ahdpack decode NAME.json -o OUT.exr [--level L] [--layer P] [--normals N.exr]: irradiance from the planes.
 #include <cmath>
 #include <filesystem>
 #include <string>
@@ -21,6 +21,7 @@ struct DecodeArgs {
   std::string output;
   std::string normals;
   int level = 0;
+  int layer = 0;
 };
 
 void run_decode(const DecodeArgs& a) {
@@ -34,8 +35,14 @@ void run_decode(const DecodeArgs& a) {
     if (t.format != mp.format)
       throw file_error(path, std::string("holds ") + format_info(t.format).name + " but the manifest says " +
                                  format_info(mp.format).name);
+    if (t.layers != mp.layers)
+      throw file_error(path, "holds " + std::to_string(t.layers) + " layer(s), the manifest says " + std::to_string(mp.layers));
     planes.push_back({mp.name, std::move(t)});
   }
+  if (a.layer < 0 || uint32_t(a.layer) >= m.layers)
+    throw file_error(a.manifest, "has " + std::to_string(m.layers) + " layer(s) (atlas pages); --layer " +
+                                     std::to_string(a.layer) + " does not exist");
+  for (Plane& pl : planes) pl.texture = texture_layer(pl.texture, uint32_t(a.layer));
   if (a.level < 0 || uint32_t(a.level) >= m.levels)
     throw file_error(a.manifest, "has " + std::to_string(m.levels) + " mip level(s); --level " + std::to_string(a.level) +
                                      " does not exist");
@@ -64,7 +71,8 @@ void run_decode(const DecodeArgs& a) {
     for (int c = 0; c < 3; ++c) out.data[i * 3 + c] = float(e[c]);
   }
   write_image(a.output, out, false, {"R", "G", "B"});
-  std::printf("ahdpack decode: level %d (%dx%d) -> %s\n", a.level, p.width, p.height, a.output.c_str());
+  std::printf("ahdpack decode: level %d%s (%dx%d) -> %s\n", a.level,
+              m.layers > 1 ? (", layer " + std::to_string(a.layer)).c_str() : "", p.width, p.height, a.output.c_str());
 }
 
 }  // namespace
@@ -75,6 +83,7 @@ void add_decode_command(CLI::App& app) {
   c->add_option("manifest", a->manifest, "NAME.json written by convert")->required();
   c->add_option("-o,--output", a->output, "Output EXR")->required();
   c->add_option("--level", a->level, "Mip level");
+  c->add_option("--layer", a->layer, "Array layer (atlas page) of a multi-page conversion");
   c->add_option("--normals", a->normals, "Tangent-space normal map (EXR, XYZ in [-1,1]); default: the surface normal");
   c->callback([a]() { run_decode(*a); });
 }

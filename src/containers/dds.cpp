@@ -16,6 +16,7 @@ constexpr uint32_t DDPF_ALPHAPIXELS = 0x1, DDPF_FOURCC = 0x4, DDPF_RGB = 0x40;
 constexpr uint32_t DDSCAPS_COMPLEX = 0x8, DDSCAPS_TEXTURE = 0x1000, DDSCAPS_MIPMAP = 0x400000;
 constexpr uint32_t kResourceTexture2D = 3;
 constexpr uint32_t kMaxDimension = 1u << 16;
+constexpr uint32_t kMaxLayers = 2048;  // D3D11's array limit
 
 constexpr uint32_t fourcc(char a, char b, char c, char d) {
   return uint32_t(uint8_t(a)) | uint32_t(uint8_t(b)) << 8 | uint32_t(uint8_t(c)) << 16 | uint32_t(uint8_t(d)) << 24;
@@ -49,8 +50,9 @@ std::vector<uint8_t> write_dds(const Texture& tex) {
   for (int i = 0; i < 11; ++i) put32(b, 0);
   // Like DirectXTex, a legacy pixel format where one describes the format exactly (more readers
   // understand it, OpenImageIO among them), the DX10 extension for everything else.
-  const bool legacy_bc = tex.format == PixelFormat::BC4_UNORM || tex.format == PixelFormat::BC5_UNORM;
-  const bool legacy_rgba8 = tex.format == PixelFormat::RGBA8_UNORM;
+  // Arrays need the DX10 header (its arraySize) whatever the format.
+  const bool legacy_bc = tex.layers == 1 && (tex.format == PixelFormat::BC4_UNORM || tex.format == PixelFormat::BC5_UNORM);
+  const bool legacy_rgba8 = tex.layers == 1 && tex.format == PixelFormat::RGBA8_UNORM;
   put32(b, kPixelFormatSize);
   if (legacy_rgba8) {
     put32(b, DDPF_RGB | DDPF_ALPHAPIXELS);
@@ -72,10 +74,15 @@ std::vector<uint8_t> write_dds(const Texture& tex) {
     put32(b, fi.dxgi_format);
     put32(b, kResourceTexture2D);
     put32(b, 0);  // miscFlag
-    put32(b, 1);  // arraySize
+    put32(b, tex.layers);  // arraySize
     put32(b, 0);  // miscFlags2: alpha mode unknown
   }
-  for (const TextureLevel& lv : tex.levels) b.insert(b.end(), lv.data.begin(), lv.data.end());
+  // DDS stores each array layer's whole mip chain in turn.
+  for (uint32_t layer = 0; layer < tex.layers; ++layer)
+    for (const TextureLevel& lv : tex.levels) {
+      const size_t n = lv.data.size() / tex.layers;
+      b.insert(b.end(), lv.data.begin() + std::ptrdiff_t(n * layer), lv.data.begin() + std::ptrdiff_t(n * (layer + 1)));
+    }
   return b;
 }
 
@@ -104,7 +111,8 @@ Texture read_dds(const uint8_t* data, size_t size, const std::string& path) {
     if (!format_from_dxgi(dxgi, &tex.format)) r.fail("unsupported DXGI format " + std::to_string(dxgi));
     if (dim != kResourceTexture2D) r.fail("only 2D textures are supported");
     if (misc & 0x4) r.fail("cube maps are not supported");
-    if (array > 1) r.fail("texture arrays are not supported");
+    if (array == 0 || array > kMaxLayers) r.fail("unsupported array size " + std::to_string(array));
+    tex.layers = array;
     data_at += 20;
   } else if (cc == fourcc('A', 'T', 'I', '1') || cc == fourcc('B', 'C', '4', 'U')) {
     tex.format = PixelFormat::BC4_UNORM;
@@ -115,18 +123,19 @@ Texture read_dds(const uint8_t* data, size_t size, const std::string& path) {
   }
   uint64_t total = 0;
   for (uint32_t l = 0; l < levels; ++l) total += level_size_bytes(tex.format, std::max(1u, w >> l), std::max(1u, h >> l));
-  r.need(data_at, total, "level data");
+  r.need(data_at, total * tex.layers, "level data");
   tex.levels.resize(levels);
   size_t at = data_at;
-  for (uint32_t l = 0; l < levels; ++l) {
-    TextureLevel& lv = tex.levels[l];
-    lv.width = std::max(1u, w >> l);
-    lv.height = std::max(1u, h >> l);
-    const size_t n = level_size_bytes(tex.format, lv.width, lv.height);
-    const uint8_t* src = r.at(at, n, "level data");
-    lv.data.assign(src, src + n);
-    at += n;
-  }
+  for (uint32_t layer = 0; layer < tex.layers; ++layer)  // layer by layer, each its mip chain
+    for (uint32_t l = 0; l < levels; ++l) {
+      TextureLevel& lv = tex.levels[l];
+      lv.width = std::max(1u, w >> l);
+      lv.height = std::max(1u, h >> l);
+      const size_t n = level_size_bytes(tex.format, lv.width, lv.height);
+      const uint8_t* src = r.at(at, n, "level data");
+      lv.data.insert(lv.data.end(), src, src + n);
+      at += n;
+    }
   return tex;
 }
 

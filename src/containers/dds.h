@@ -1,5 +1,5 @@
 // DDS writer and reader (DX10 extended header) for the formats in core/pixel_format.h:
-// 2D, array size 1, full or partial mip chain. DDS has no key/value store: metadata is not written
+// 2D or 2D array (DX10 arraySize; arrays always take the DX10 header), full or partial mip chain. DDS has no key/value store: metadata is not written
 // (the JSON manifest carries it) and read_dds returns none.
 #pragma once
 #include <cstddef>

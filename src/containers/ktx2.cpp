@@ -15,6 +15,7 @@ constexpr uint8_t kIdentifier[12] = {0xAB, 0x4B, 0x54, 0x58, 0x20, 0x32, 0x30, 0
 constexpr uint32_t kSchemeNone = 0, kSchemeZstd = 2;
 constexpr size_t kHeaderBytes = 80, kLevelIndexEntry = 24;
 constexpr uint32_t kMaxDimension = 1u << 16;
+constexpr uint32_t kMaxLayers = 2048;  // D3D11's array limit, and plenty for lightmap atlas pages
 
 uint32_t type_size(PixelFormat f) {
   switch (f) {
@@ -41,7 +42,7 @@ std::vector<uint8_t> write_ktx2(const Texture& tex, const Ktx2WriteOptions& opt)
   put32(b, w);
   put32(b, h);
   put32(b, 0);  // pixelDepth: 2D
-  put32(b, 0);  // layerCount: not an array
+  put32(b, tex.layers > 1 ? tex.layers : 0);  // layerCount: 0 = not an array
   put32(b, 1);  // faceCount
   put32(b, levels);
   put32(b, opt.zstd ? kSchemeZstd : kSchemeNone);
@@ -108,7 +109,9 @@ Texture read_ktx2(const uint8_t* data, size_t size, const std::string& path) {
   if (tsize != type_size(tex.format)) r.fail("typeSize " + std::to_string(tsize) + " does not match the format");
   if (w == 0 || h == 0 || w > kMaxDimension || h > kMaxDimension)
     r.fail("unsupported size " + std::to_string(w) + "x" + std::to_string(h));
-  if (depth != 0 || layers > 1 || faces != 1) r.fail("only 2D textures with one layer and one face are supported");
+  if (depth != 0 || faces != 1) r.fail("only 2D textures (arrays included) with one face are supported");
+  if (layers > kMaxLayers) r.fail("unsupported layer count " + std::to_string(layers));
+  tex.layers = std::max(1u, layers);
   if (levels == 0 || levels > full_mip_count(w, h)) r.fail("invalid level count " + std::to_string(levels));
   if (scheme != kSchemeNone && scheme != kSchemeZstd) r.fail("unsupported supercompression scheme " + std::to_string(scheme));
   r.need(kHeaderBytes, uint64_t(kLevelIndexEntry) * levels, "level index");
@@ -147,7 +150,7 @@ Texture read_ktx2(const uint8_t* data, size_t size, const std::string& path) {
     TextureLevel& lv = tex.levels[l];
     lv.width = std::max(1u, w >> l);
     lv.height = std::max(1u, h >> l);
-    const size_t expect = level_size_bytes(tex.format, lv.width, lv.height);
+    const size_t expect = size_t(tex.layers) * level_size_bytes(tex.format, lv.width, lv.height);
     if (ulen != expect) r.fail("level " + std::to_string(l) + " has " + std::to_string(ulen) + " bytes, expected " + std::to_string(expect));
     const uint8_t* src = r.at(off, len, "level data");
     if (scheme == kSchemeNone) {

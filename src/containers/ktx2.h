@@ -1,4 +1,4 @@
-// KTX 2.0 (Khronos) writer and reader for the formats in core/pixel_format.h: 2D, one layer, one
+// KTX 2.0 (Khronos) writer and reader for the formats in core/pixel_format.h: 2D or 2D array (layerCount), one
 // face, a full or partial mip chain, complete basic Data Format Descriptor, sorted key/value data,
 // optional Zstandard supercompression (scheme 2).
 #pragma once

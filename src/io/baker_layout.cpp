@@ -9,7 +9,9 @@
 
 #include "core/error.h"
 #include "io/paths.h"
+#include "io/colour_space.h"
 #include "io/image_io.h"
+#include "io/layout_pages.h"
 
 namespace ahd {
 namespace fs = std::filesystem;
@@ -46,6 +48,7 @@ LayoutFile parse_file(const std::string& path, const json& jf) {
   lf.needs_float = jf.value("float", false);
   lf.part = jf.value("part", 0);
   lf.part_name = jf.value("part_name", "");
+  lf.per_page = jf.value("per_page", false);
   if (lf.slices < 1) throw file_error(path, "slices must be ≥ 1");
   if (lf.part < 0) throw file_error(path, "part must be ≥ 0");
   return lf;
@@ -195,6 +198,7 @@ SetImage open_image(const LayoutFile& lf, const std::string& base, const std::st
   ImageFileInfo info = read_image_info(s.path);
   s.part = resolve_part(lf, s.path, info);
   if (s.part != 0) info = read_image_info(s.path, s.part);
+  check_working_space(info, s.path);  // float data must be linear Rec.709 as declared
   if (lf.needs_float && !info.is_float)
     throw file_error(s.path, "8-bit data where layout " + layout + " needs float (HDR) values");
   if (info.height % lf.slices != 0)
@@ -329,6 +333,21 @@ void attach_world_normals(ShImage& sh, const LayoutNormals& normals) {
 
 }  // namespace
 
+std::string layout_base(const LayoutPreset& layout, const std::string& input) {
+  if (layout.canonical || layout.files.empty()) return input;
+  if (fs::exists(expand_pattern(layout.files[0].pattern, input))) return input;
+  // The longest matching suffix first, so "_L1x.tga" is not mistaken for a shorter one.
+  std::string best;
+  for (const LayoutFile& lf : layout.files) {
+    if (lf.pattern.rfind("{base}", 0) != 0) continue;
+    const std::string suffix = lf.pattern.substr(6);
+    if (suffix.size() > best.size() && input.size() > suffix.size() &&
+        input.compare(input.size() - suffix.size(), suffix.size(), suffix) == 0)
+      best = suffix;
+  }
+  return best.empty() ? input : input.substr(0, input.size() - best.size());
+}
+
 ShImage read_layout(const LayoutPreset& layout, const std::string& base, const std::string& normals_path,
                     ReadStats* stats) {
   if (layout.canonical || normals_path.empty()) return read_layout(layout, base, nullptr, stats);
@@ -344,7 +363,14 @@ ShImage read_layout(const LayoutPreset& layout, const std::string& base, const s
 ShImage read_layout(const LayoutPreset& layout, const std::string& base, const LayoutNormals* normals,
                     ReadStats* stats) {
   if (layout.canonical) return read_canonical_sh(base, stats);
-  std::vector<SetImage> set = open_set(layout, base);
+  // A paged layout read without choosing a page must hold exactly one (never mix pages' layers).
+  if (layout.page_count == 0 && layout_is_paged(layout)) {
+    const LayoutPages lp = layout_pages(layout, base, 0);  // throws when the count is unknown
+    if (lp.pages != 1)
+      throw file_error(layout_base(layout, base), "holds " + std::to_string(lp.pages) + " atlas pages (" + lp.why +
+                                                      "): read one page at a time (layout_page)");
+  }
+  std::vector<SetImage> set = open_set(layout, layout_base(layout, base));
   if (layout.world_space) check_normals(layout, base, normals, set[0]);
   for (SetImage& s : set) s.img = read_image(s.path, nullptr, s.part);
   ShImage sh = to_canonical(layout, set);
@@ -363,7 +389,7 @@ void layout_size(const LayoutPreset& layout, const std::string& base, int* width
     *width = info.width, *height = info.height;
     return;
   }
-  const SetImage first = open_image(layout.files.at(0), base, layout.name);  // header checks only
+  const SetImage first = open_image(layout.files.at(0), layout_base(layout, base), layout.name);  // header checks only
   *width = first.width, *height = first.slice_height;
 }
 

@@ -18,6 +18,7 @@ struct LayoutFile {
   bool needs_float = false;
   int part = 0;           // part index, used when part_name is empty
   std::string part_name;  // the part's name (EXR "name" attribute)
+  bool per_page = false;  // `slices` is per atlas page: the image stacks pages × slices layers, page-major
 };
 
 // Where one stored number comes from: an image of the set, its vertical layer, a channel name
@@ -63,6 +64,7 @@ struct LayoutPreset {
   LayoutForm form = LayoutForm::Radiance;
   std::vector<LayoutFile> files;
   std::vector<LayoutCoefficient> coefficients;  // canonical order 0..n−1 (missing ones are 0)
+  int page_count = 0;  // set by layout_page (io/layout_pages.h); 0: not chosen, read_layout checks for one page
 };
 
 // Loads a preset by name (formats/bakers/NAME.json) or from a .json path. Throws ahd::Error naming
@@ -71,6 +73,13 @@ LayoutPreset load_layout(const std::string& name_or_path);
 
 // Names of the presets in formats/bakers/, sorted.
 std::vector<std::string> list_layouts();
+
+// The base path of a set given either as its base ("/bakes/room") or as any file of the set, the
+// name users see ("/bakes/room_L1x.tga", "World.exr", "Lightmap-0_comp_light.exr"): when the first
+// file of the set does not exist for `input` taken as a base but `input` ends with one of the
+// preset's file suffixes, the longest such suffix is removed. Otherwise `input` is returned
+// unchanged (the reader's checks then name what is missing). read_layout and layout_size apply it.
+std::string layout_base(const LayoutPreset& layout, const std::string& input);
 
 // Reads a baker's files for `base` (e.g. "/bakes/room" → "/bakes/room_L0.hdr" …). World-space
 // layouts need `normals_path`: a normal EXR in lightmap space (XYZ, unit, world axes of the baker).

@@ -99,6 +99,11 @@ ImageFileInfo read_image_info(const std::string& path, int part) {
   }
   // RGBE .hdr files are float data stored in 8-bit mantissas; OIIO reports them as float.
   info.color_space = spec.get_string_attribute("oiio:ColorSpace");
+  if (const OIIO::ParamValue* c = spec.find_attribute("chromaticities"))
+    if (c->type().basetype == OIIO::TypeDesc::FLOAT && c->type().size() == 8 * sizeof(float)) {
+      const float* v = static_cast<const float*>(c->data());
+      info.chromaticities.assign(v, v + 8);
+    }
   return info;
 }
 

@@ -16,6 +16,7 @@ struct ImageFileInfo {
   std::vector<std::string> channel_names;
   bool is_float = false;   // every channel is half or float
   std::string color_space; // OIIO's "oiio:ColorSpace" (may be empty)
+  std::vector<float> chromaticities;  // EXR "chromaticities" when declared: R, G, B, white (x, y) each
   std::vector<std::string> parts;  // every part (OIIO subimage) of the file by name, "" if unnamed
 };
 

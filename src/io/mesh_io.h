@@ -2,6 +2,7 @@
 // mesh/lightmap_raster. The only place that touches mesh files.
 #pragma once
 #include <string>
+#include <vector>
 
 #include "mesh/lightmap_raster.h"
 
@@ -29,5 +30,28 @@ struct MeshReadInfo {
 // are). Indices are validated. The parsing itself is Assimp's: fine for a user's own assets, not
 // hardened against deliberately hostile files.
 MeshTriangles read_mesh_lightmap(const std::string& path, int uv_set, MeshReadInfo* info = nullptr);
+
+}  // namespace ahd
+
+namespace ahd {
+
+// One placed copy of a mesh in the scene (a node holding a mesh): its vertices and triangles
+// inside MeshInstances::mesh, for per-instance lightmap placement (mesh/placement.h).
+struct MeshInstance {
+  std::string node;             // the node's name (glTF node name, Unity GameObject name on export)
+  size_t first_vertex = 0, vertices = 0;
+  size_t first_index = 0, indices = 0;
+};
+
+struct MeshInstances {
+  MeshTriangles mesh;  // every instance's triangles, node transforms applied (as read_mesh_lightmap)
+  std::vector<MeshInstance> instances;
+};
+
+// Like read_mesh_lightmap, but keeps the scene's instances apart: every node that holds meshes is
+// one instance (its meshes merged), transformed by its accumulated node matrix (normals by the
+// inverse transpose, renormalised), so instances that share a mesh get their own vertices and can
+// be placed in the atlas one by one. UV sets and errors as read_mesh_lightmap.
+MeshInstances read_mesh_instances(const std::string& path, int uv_set, MeshReadInfo* info = nullptr);
 
 }  // namespace ahd

@@ -27,10 +27,15 @@ std::string manifest_to_json(const Manifest& m) {
   j["width"] = m.width;
   j["height"] = m.height;
   j["levels"] = m.levels;
+  if (m.layers > 1) {
+    j["layers"] = m.layers;
+    j["layer_content"] = "array layer p holds atlas page p";
+  }
   json planes = json::array();
   for (const auto& p : m.planes) {
     planes.push_back({{"name", p.name}, {"file", p.file}, {"format", format_info(p.format).name},
                       {"width", p.width}, {"height", p.height}, {"levels", p.levels}, {"bytes", p.bytes}});
+    if (p.layers > 1) planes.back()["layers"] = p.layers;
   }
   j["planes"] = planes;
   j["directional"] = m.directional;
@@ -68,6 +73,8 @@ Manifest manifest_from_json(const std::string& text, const std::string& path) {
     m.width = j.at("width").get<uint32_t>();
     m.height = j.at("height").get<uint32_t>();
     m.levels = j.at("levels").get<uint32_t>();
+    m.layers = j.value("layers", 1u);
+    if (m.layers < 1) throw file_error(path, "layers must be at least 1");
     for (const auto& p : j.at("planes")) {
       ManifestPlane mp;
       mp.name = p.at("name").get<std::string>();
@@ -80,6 +87,8 @@ Manifest manifest_from_json(const std::string& text, const std::string& path) {
       mp.height = p.at("height").get<uint32_t>();
       mp.levels = p.at("levels").get<uint32_t>();
       mp.bytes = p.at("bytes").get<uint64_t>();
+      mp.layers = p.value("layers", 1u);
+      if (mp.layers != m.layers) throw file_error(path, "plane " + mp.name + " has a layer count other than the manifest's");
       m.planes.push_back(mp);
     }
     m.directional = j.value("directional", true);

@@ -17,6 +17,7 @@ struct ManifestPlane {
   PixelFormat format = PixelFormat::RGBA16_SFLOAT;
   uint32_t width = 0, height = 0, levels = 1;
   uint64_t bytes = 0;
+  uint32_t layers = 1;  // array layers (atlas pages); written only when > 1 (last: aggregate order kept)
 };
 
 struct Manifest {
@@ -24,6 +25,7 @@ struct Manifest {
   std::string profile;
   std::string container;  // ktx2 | dds
   uint32_t width = 0, height = 0, levels = 1;
+  uint32_t layers = 1;  // atlas pages, one array layer each (layer p = page p); written only when > 1
   std::vector<ManifestPlane> planes;
   RatioForm ratio_form = RatioForm::Luminance;
   double dz_min = 0.05;

@@ -17,6 +17,7 @@ PackagedConversion package_conversion(ConvertResult& r, const Profile& profile, 
   m.width = r.planes.at(0).texture.levels.at(0).width;
   m.height = r.planes.at(0).texture.levels.at(0).height;
   m.levels = uint32_t(r.planes.at(0).texture.levels.size());
+  m.layers = r.planes.at(0).texture.layers;  // atlas pages (pipeline/pages.h)
   m.ratio_form = fit.ratio_form;
   m.dz_min = fit.dz_min;
   for (int i = 0; i < 3; ++i) m.luma[i] = fit.luma[i];
@@ -34,6 +35,7 @@ PackagedConversion package_conversion(ConvertResult& r, const Profile& profile, 
     mp.width = p.texture.levels[0].width;
     mp.height = p.texture.levels[0].height;
     mp.levels = uint32_t(p.texture.levels.size());
+    mp.layers = p.texture.layers;
     mp.bytes = out.files.back().bytes.size();
     m.planes.push_back(mp);
   }

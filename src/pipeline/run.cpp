@@ -2,15 +2,16 @@
 
 #include <chrono>
 
+#include "pipeline/pages.h"
+
 namespace ahd {
 namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// Quantise the fitted levels and package the result; `r` already holds the earlier stages.
-ConversionRun finish(ConversionRun run, const std::vector<FittedLevel>& levels, const Profile& profile,
-                     const ConvertOptions& opt, const PackageOptions& pkg, double prior_seconds, Clock::time_point t0) {
-  quantise_levels(levels, profile, opt, &run.result);
+// Package run.result (its planes complete) and total the seconds.
+ConversionRun package(ConversionRun run, const Profile& profile, const ConvertOptions& opt, const PackageOptions& pkg,
+                      double prior_seconds, Clock::time_point t0) {
   opt.step("write", 0);
   const auto t_pack = Clock::now();
   const double before_pack = prior_seconds + std::chrono::duration<double>(t_pack - t0).count();
@@ -20,6 +21,13 @@ ConversionRun finish(ConversionRun run, const std::vector<FittedLevel>& levels, 
   run.seconds = before_pack + pack;
   opt.step("write", 1);
   return run;
+}
+
+// Quantise the fitted levels and package the result; `run` already holds the earlier stages.
+ConversionRun finish(ConversionRun run, const std::vector<FittedLevel>& levels, const Profile& profile,
+                     const ConvertOptions& opt, const PackageOptions& pkg, double prior_seconds, Clock::time_point t0) {
+  quantise_levels(levels, profile, opt, &run.result);
+  return package(std::move(run), profile, opt, pkg, prior_seconds, t0);
 }
 
 double sum_seconds(const std::vector<StageCost>& stages) {
@@ -45,6 +53,17 @@ ConversionRun run_conversion(ShImage sh, const Profile& profile, const ConvertOp
     run.result.timings.push_back({"intermediate", std::chrono::duration<double>(Clock::now() - t).count()});
   }
   return finish(std::move(run), levels, profile, opt, pkg, prior_seconds, t0);
+}
+
+ConversionRun run_pages(const std::vector<ShImage>& pages, const Profile& profile, const ConvertOptions& opt,
+                        const PackageOptions& pkg, std::vector<StageCost> prior) {
+  check_profile(profile, opt);
+  const auto t0 = Clock::now();
+  const double prior_seconds = sum_seconds(prior);
+  ConversionRun run;
+  run.result = convert_pages(pages, profile, opt);
+  run.result.timings.insert(run.result.timings.begin(), prior.begin(), prior.end());
+  return package(std::move(run), profile, opt, pkg, prior_seconds, t0);
 }
 
 ConversionRun run_transcode(const std::vector<FittedLevel>& levels, const Profile& profile, const ConvertOptions& opt,

@@ -23,6 +23,11 @@ ConversionRun run_conversion(ShImage sh, const Profile& profile, const ConvertOp
                              const PackageOptions& pkg, std::vector<StageCost> prior = {},
                              const std::function<void(const std::vector<FittedLevel>&)>& on_fitted = {});
 
+// The pages of an atlas → files whose planes are array textures, layer p = page p
+// (pipeline/pages.h: every layer equals that page converted alone).
+ConversionRun run_pages(const std::vector<ShImage>& pages, const Profile& profile, const ConvertOptions& opt,
+                        const PackageOptions& pkg, std::vector<StageCost> prior = {});
+
 // Fitted levels (a stored intermediate) → files: quantise and package only.
 ConversionRun run_transcode(const std::vector<FittedLevel>& levels, const Profile& profile, const ConvertOptions& opt,
                             const PackageOptions& pkg, std::vector<StageCost> prior = {});

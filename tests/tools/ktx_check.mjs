@@ -17,7 +17,7 @@ eq('typeSize', ktx.typeSize, want.typeSize);
 eq('pixelWidth', ktx.pixelWidth, want.width);
 eq('pixelHeight', ktx.pixelHeight, want.height);
 eq('pixelDepth', ktx.pixelDepth, 0);
-eq('layerCount', ktx.layerCount, 0);
+eq('layerCount', ktx.layerCount, want.layerCount ?? 0);
 eq('faceCount', ktx.faceCount, 1);
 eq('levelCount', ktx.levelCount, want.levels.length);
 eq('supercompressionScheme', ktx.supercompressionScheme, want.supercompression);

@@ -1,5 +1,6 @@
 // Independent judge for our KTX2 files: ktx-parse (npm registry, a reader we did not write) must
-// find the header, levels, DFD and key/values we meant, for every format, with and without zstd.
+// find the header, levels, DFD and key/values we meant, for every format, with and without zstd,
+// single textures and arrays (atlas pages as layers).
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -24,17 +25,20 @@ TEST(KtxParse, ReadsEveryFormatWeWrite) {
   int checked = 0;
   for (int fi = 0; fi <= int(PixelFormat::BC6H_SFLOAT); ++fi) {
     const PixelFormat f = PixelFormat(fi);
-    for (bool zstd : {false, true}) {
+    for (int variant = 0; variant < 4; ++variant) {  // zstd or not × one layer or an array of 3 (atlas pages)
+      const bool zstd = variant & 1;
+      const uint32_t layers = variant & 2 ? 3 : 1;
       Texture t;
       t.format = f;
+      t.layers = layers;
       for (uint32_t l = 0; l < 4; ++l) {
         TextureLevel lv{std::max(1u, 13u >> l), std::max(1u, 9u >> l), {}};
-        lv.data.resize(level_size_bytes(f, lv.width, lv.height));
+        lv.data.resize(layers * level_size_bytes(f, lv.width, lv.height));
         for (auto& b : lv.data) b = uint8_t(rng());
         t.levels.push_back(lv);
       }
       t.metadata = {{"ahd.plane", "dir"}, {"ahd.profile", "uncompressed"}};
-      const std::string stem = std::string(format_info(f).name) + (zstd ? "_zstd" : "");
+      const std::string stem = std::string(format_info(f).name) + (zstd ? "_zstd" : "") + (layers > 1 ? "_array" : "");
       const fs::path file = dir / (stem + ".ktx2");
       write_file_atomic(file.string(), write_ktx2(t, {zstd, 9}));
 
@@ -51,6 +55,7 @@ TEST(KtxParse, ReadsEveryFormatWeWrite) {
       want["width"] = 13;
       want["height"] = 9;
       want["supercompression"] = zstd ? 2 : 0;
+      want["layerCount"] = layers > 1 ? layers : 0;
       want["levels"] = nlohmann::json::array();
       for (size_t l = 0; l < t.levels.size(); ++l) {
         const fs::path raw = dir / (stem + ".level" + std::to_string(l) + ".bin");
@@ -80,6 +85,6 @@ TEST(KtxParse, ReadsEveryFormatWeWrite) {
       ++checked;
     }
   }
-  EXPECT_EQ(checked, 22);
+  EXPECT_EQ(checked, 44);
   fs::remove_all(dir);
 }

@@ -1,0 +1,20 @@
+// Atlas pages → array planes: each page of a multi-page lightmap atlas is converted on its own
+// (the same `convert` as a one-page lightmap) and each plane's pages are stacked into one array
+// texture, layer p = page p — how an engine binds a lightmap atlas (Godot: a texture array).
+#pragma once
+#include <vector>
+
+#include "pipeline/convert.h"
+
+namespace ahd {
+
+// Converts every page and stacks the planes. All pages get the same plane set: when
+// DirectionPlanes::Auto keeps the direction for some pages and drops it for others, the pages that
+// dropped it are converted again with Keep. The result's statistics and errors are page 0's (the
+// per-page results go to *per_page when given); its planes are the stacked arrays, and every
+// layer's bytes equal that page's own conversion (with the common plane set). Throws ahd::Error
+// when pages is empty or the pages differ in size.
+ConvertResult convert_pages(const std::vector<ShImage>& pages, const Profile& profile, const ConvertOptions& opt,
+                            std::vector<ConvertResult>* per_page = nullptr);
+
+}  // namespace ahd
