@@ -24,18 +24,10 @@ struct DecodeArgs {
 };
 
 void run_decode(const DecodeArgs& a) {
-  const std::vector<uint8_t> bytes = read_file_bytes(a.manifest, size_t(1) << 24);
-  const Manifest m = manifest_from_json(std::string(bytes.begin(), bytes.end()), a.manifest);
-  const fs::path dir = fs::path(a.manifest).parent_path();
+  const Manifest m = read_manifest_file(a.manifest);
   std::vector<Plane> planes;
-  for (const auto& mp : m.planes) {
-    const std::string path = (dir / mp.file).string();
-    Texture t = read_container_file(path);
-    if (t.format != mp.format)
-      throw file_error(path, std::string("holds ") + format_info(t.format).name + " but the manifest says " +
-                                 format_info(mp.format).name);
-    planes.push_back({mp.name, std::move(t)});
-  }
+  // Each plane's size and SHA-256 are checked against the manifest before it is decoded.
+  for (const auto& mp : m.planes) planes.push_back({mp.name, read_manifest_plane(a.manifest, mp)});
   if (a.level < 0 || uint32_t(a.level) >= m.levels)
     throw file_error(a.manifest, "has " + std::to_string(m.levels) + " mip level(s); --level " + std::to_string(a.level) +
                                      " does not exist");

@@ -1,6 +1,7 @@
 // ahdpack: SH lightmaps in, AHD directional lightmaps out. A thin shell over the library.
 #include <cstdio>
 #include <exception>
+#include <new>
 
 #include "cli/commands.h"
 #include "core/error.h"
@@ -23,6 +24,10 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const ahd::Error& e) {
     std::fprintf(stderr, "ahdpack: error: %s\n", e.what());
+    return 1;
+  } catch (const std::bad_alloc&) {
+    // Readers bound every allocation by the file and the size limit; this is a machine short of memory.
+    std::fprintf(stderr, "ahdpack: error: out of memory\n");
     return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "ahdpack: internal error: %s\n", e.what());

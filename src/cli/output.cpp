@@ -3,7 +3,9 @@
 #include <cstdio>
 
 #include "cli/report.h"
+#include "containers/sha256.h"
 #include "io/image_io.h"
+#include "io/output_set.h"
 
 namespace ahd::cli {
 namespace fs = std::filesystem;
@@ -30,11 +32,13 @@ Manifest write_conversion(const OutputPaths& out, ConvertResult& r, const Profil
   for (int i = 0; i < 3; ++i) m.luma[i] = fit.luma[i];
   m.direction_frame = world_frame ? "normal-frame" : "tangent";
   m.directional = r.directional;
-  std::vector<std::pair<std::string, std::vector<uint8_t>>> files;
+  std::vector<OutputFile> files;
   for (Plane& p : r.planes) {
-    const std::string file = out.name + "." + p.name + "." + out.ext;
     p.texture.metadata = plane_metadata(m, p.name);
-    files.emplace_back((out.dir / file).string(), encode_container(out.kind, p.texture, zstd));
+    std::vector<uint8_t> bytes = encode_container(out.kind, p.texture, zstd);
+    // Content-addressed names: a new set never overwrites the planes the old manifest names.
+    const std::string file = plane_file_name(out.name, p.name, out.ext, bytes);
+    files.push_back({(out.dir / file).string(), std::move(bytes)});
     ManifestPlane mp;
     mp.name = p.name;
     mp.file = file;
@@ -42,7 +46,8 @@ Manifest write_conversion(const OutputPaths& out, ConvertResult& r, const Profil
     mp.width = p.texture.levels[0].width;
     mp.height = p.texture.levels[0].height;
     mp.levels = uint32_t(p.texture.levels.size());
-    mp.bytes = files.back().second.size();
+    mp.bytes = files.back().bytes.size();
+    mp.sha256 = sha256_hex(files.back().bytes.data(), files.back().bytes.size());
     m.planes.push_back(mp);
   }
   const std::string manifest_text = manifest_to_json(m);
@@ -50,19 +55,10 @@ Manifest write_conversion(const OutputPaths& out, ConvertResult& r, const Profil
   report["profile"] = profile.name;
   for (auto it = report_extra.begin(); it != report_extra.end(); ++it) report[it.key()] = *it;
   const std::string report_text = report.dump(2) + "\n";
-  files.emplace_back(out.sibling(".json"), std::vector<uint8_t>(manifest_text.begin(), manifest_text.end()));
-  files.emplace_back(out.sibling(".report.json"), std::vector<uint8_t>(report_text.begin(), report_text.end()));
-
-  std::vector<std::string> written;
-  try {
-    for (const auto& [path, bytes] : files) {
-      write_file_atomic(path, bytes);
-      written.push_back(path);
-    }
-  } catch (...) {
-    for (const auto& p : written) fs::remove(p);
-    throw;
-  }
+  // The manifest last: renaming it publishes the set (io/output_set.h).
+  files.push_back({out.sibling(".report.json"), std::vector<uint8_t>(report_text.begin(), report_text.end())});
+  files.push_back({out.sibling(".json"), std::vector<uint8_t>(manifest_text.begin(), manifest_text.end())});
+  publish_output_set(files, superseded_planes(out.dir.string(), out.name, files));
   return m;
 }
 

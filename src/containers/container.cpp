@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <new>
 
 #include "containers/dds.h"
 #include "containers/ktx2.h"
@@ -34,7 +35,12 @@ Texture read_container_file(const std::string& path) {
   const bool ktx = bytes.size() >= 4 && bytes[0] == 0xAB && bytes[1] == 'K' && bytes[2] == 'T' && bytes[3] == 'X';
   const bool dds = bytes.size() >= 4 && bytes[0] == 'D' && bytes[1] == 'D' && bytes[2] == 'S' && bytes[3] == ' ';
   if (!ktx && !dds) throw file_error(path, "neither a KTX2 nor a DDS file");
-  return decode_container(ktx ? ContainerKind::KTX2 : ContainerKind::DDS, bytes.data(), bytes.size(), path);
+  try {
+    return decode_container(ktx ? ContainerKind::KTX2 : ContainerKind::DDS, bytes.data(), bytes.size(), path);
+  } catch (const std::bad_alloc&) {
+    // Sizes were validated against the limit before allocating; the machine is short of memory.
+    throw file_error(path, "out of memory decoding the file");
+  }
 }
 
 void write_container_file(const std::string& path, const Texture& tex, bool zstd) {
