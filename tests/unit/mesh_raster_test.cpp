@@ -620,7 +620,7 @@ TEST(MeshRaster, ConvertWithMeshEqualsConvertWithTheNormalMap) {
     if (mesh) args.insert(args.end(), {"--mesh", (d / "m.obj").string()});
     const auto res = ahd_test::run_cli(args);
     ASSERT_EQ(res.exit_code, 0) << res.output;
-    const Texture cov = read_container_file((d / "plain" / "p.coverage.ktx2").string());
+    const Texture cov = read_container_file(ahd_test::plane_file((d / "plain" / "p.json").string(), "coverage"));
     ASSERT_EQ(cov.levels[0].data.size(), size_t(kN * kN));
     for (size_t i = 0; i < r.coverage.size(); ++i)
       EXPECT_EQ(cov.levels[0].data[i], mesh ? r.coverage[i] * 255 : 255) << i;
