@@ -28,7 +28,8 @@ seed blocks golden/expected/*.iz.*
 # The intermediate EXR of a golden input; small meshes (byte 0 picks .obj / .gltf / .glb).
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
-ASAN_OPTIONS=detect_leaks=0 "$B/ahdpack" convert golden/inputs/scene13_l1_seed3.exr -o "$tmp/x.ktx2" --keep-intermediate -q
+A="$B/ahdpack"; [ -x "$A" ] || A=build/ahdpack
+ASAN_OPTIONS=detect_leaks=0 "$A" convert golden/inputs/scene13_l1_seed3.exr -o "$tmp/x.ktx2" --keep-intermediate -q
 seed intermediate "$tmp/x.ahd.exr"
 mkdir -p "$corpus/mesh"
 printf '\000v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvt 1 1\nvn 0 0 1\nf 1/1/1 2/2/1 3/3/1\nf 2/2/1 4/4/1 3/3/1\n' >"$corpus/mesh/quad.obj"
