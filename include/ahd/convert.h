@@ -59,9 +59,10 @@ struct OutputFile {
 };
 
 struct Conversion {
-  // The plane containers (NAME.iz.<ext>, NAME.dir.<ext>, …), then NAME.json (the manifest: which file
-  // holds which plane and how to decode it) and NAME.report.json (rules fired, errors, seconds).
-  // A caller that writes them should publish the manifest last.
+  // The plane containers (NAME.<plane>.<hash>.<ext>: iz, dir, ratio…, named by the first 12 hex
+  // digits of their SHA-256 so a new set never overwrites the planes an older manifest names), then
+  // NAME.report.json (rules fired, errors, seconds), then NAME.json (the manifest: which file holds
+  // which plane, its size and SHA-256, and how to decode it). Write the manifest last.
   std::vector<OutputFile> files;
   bool directional = true;  // false: only the iz plane was written (see DirectionPlanes)
 };

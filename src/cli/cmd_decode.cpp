@@ -25,18 +25,14 @@ struct DecodeArgs {
 };
 
 void run_decode(const DecodeArgs& a) {
-  const std::vector<uint8_t> bytes = read_file_bytes(a.manifest, size_t(1) << 24);
-  const Manifest m = manifest_from_json(std::string(bytes.begin(), bytes.end()), a.manifest);
-  const fs::path dir = fs::path(a.manifest).parent_path();
+  const Manifest m = read_manifest_file(a.manifest);
   std::vector<Plane> planes;
+  // Each plane's size and SHA-256 are checked against the manifest before it is decoded.
   for (const auto& mp : m.planes) {
-    const std::string path = (dir / mp.file).string();
-    Texture t = read_container_file(path);
-    if (t.format != mp.format)
-      throw file_error(path, std::string("holds ") + format_info(t.format).name + " but the manifest says " +
-                                 format_info(mp.format).name);
+    Texture t = read_manifest_plane(a.manifest, mp);
     if (t.layers != mp.layers)
-      throw file_error(path, "holds " + std::to_string(t.layers) + " layer(s), the manifest says " + std::to_string(mp.layers));
+      throw file_error((std::filesystem::path(a.manifest).parent_path() / mp.file).string(),
+                       "holds " + std::to_string(t.layers) + " layer(s), the manifest says " + std::to_string(mp.layers));
     planes.push_back({mp.name, std::move(t)});
   }
   if (a.layer < 0 || uint32_t(a.layer) >= m.layers)

@@ -25,13 +25,15 @@ void inspect_texture(const std::string& path) {
 
 void run_inspect(const std::string& path) {
   if (fs::path(path).extension() == ".json") {
-    const std::vector<uint8_t> bytes = read_file_bytes(path, size_t(1) << 24);
-    const Manifest m = manifest_from_json(std::string(bytes.begin(), bytes.end()), path);
+    const Manifest m = read_manifest_file(path);
     std::printf("%s: manifest v%d, profile %s, %ux%u, %u level(s), ratio %s, dz_min %g, direction %s (%s)\n",
                 path.c_str(), m.version, m.profile.c_str(), m.width, m.height, m.levels,
                 m.ratio_form == RatioForm::Rgb ? "rgb" : "luminance", m.dz_min, m.direction_encoding.c_str(),
                 m.direction_frame.c_str());
-    for (const auto& p : m.planes) inspect_texture((fs::path(path).parent_path() / p.file).string());
+    for (const auto& p : m.planes) {
+      read_manifest_plane(path, p);  // size and SHA-256 as the manifest records them
+      inspect_texture((fs::path(path).parent_path() / p.file).string());
+    }
     return;
   }
   inspect_texture(path);

@@ -4,6 +4,7 @@
 #include <new>
 
 #include "cli/commands.h"
+#include "cli/environment.h"
 #include "core/error.h"
 
 int main(int argc, char** argv) {
@@ -19,6 +20,7 @@ int main(int argc, char** argv) {
   ahd::cli::add_report_command(app);
   ahd::cli::add_transcode_command(app);
   try {
+    ahd::cli::apply_size_limit_from_environment();
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
@@ -29,6 +31,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "ahdpack: error: %s\n", e.what());
     return 1;
   } catch (const std::bad_alloc&) {
+    // Readers bound every allocation by the file and the size limit; this is a machine short of memory.
     std::fprintf(stderr, "ahdpack: error: out of memory\n");
     return 1;
   } catch (const std::exception& e) {

@@ -5,6 +5,7 @@
 #include "cli/report.h"
 #include "containers/container.h"
 #include "io/image_io.h"
+#include "io/output_set.h"
 
 namespace ahd::cli {
 namespace fs = std::filesystem;
@@ -17,18 +18,10 @@ OutputPaths output_paths(const std::string& out) {
   return p;
 }
 
-void publish_conversion(const OutputPaths& out, const std::vector<OutputFile>& files) {
-  std::vector<std::string> written;
-  try {
-    for (const OutputFile& f : files) {
-      const std::string path = (out.dir / f.name).string();
-      write_file_atomic(path, f.bytes);
-      written.push_back(path);
-    }
-  } catch (...) {
-    for (const auto& p : written) fs::remove(p);
-    throw;
-  }
+void publish_conversion(const OutputPaths& out, std::vector<OutputFile> files) {
+  std::vector<FileToPublish> set;
+  for (OutputFile& f : files) set.push_back({(out.dir / f.name).string(), std::move(f.bytes)});
+  publish_output_set(set, superseded_planes(out.dir.string(), out.name, set));
 }
 
 void print_conversion(const std::string& source, const OutputPaths& out, const ConversionRun& run, bool closed_loop,

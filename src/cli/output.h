@@ -18,9 +18,10 @@ struct OutputPaths {
 // Throws ahd::Error("<out>: …") for an extension other than .ktx2/.dds.
 OutputPaths output_paths(const std::string& out);
 
-// Writes the files of a conversion into out.dir (the manifest last). Throws ahd::Error; on failure
-// removes what it wrote.
-void publish_conversion(const OutputPaths& out, const std::vector<OutputFile>& files);
+// Publishes the files of a conversion in out.dir as one set (io/output_set.h: temporaries, fsync,
+// planes, then the manifest; the previous set's planes removed once the new manifest is in place).
+// Throws ahd::Error naming the file; on failure the previous set stays intact.
+void publish_conversion(const OutputPaths& out, std::vector<OutputFile> files);
 
 // The terminal summary of a conversion.
 void print_conversion(const std::string& source, const OutputPaths& out, const ConversionRun& run, bool closed_loop,

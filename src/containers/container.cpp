@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <new>
 
 #include "containers/dds.h"
 #include "containers/ktx2.h"
@@ -32,7 +33,12 @@ Texture decode_container_auto(const uint8_t* data, size_t size, const std::strin
   const bool ktx = size >= 4 && data[0] == 0xAB && data[1] == 'K' && data[2] == 'T' && data[3] == 'X';
   const bool dds = size >= 4 && data[0] == 'D' && data[1] == 'D' && data[2] == 'S' && data[3] == ' ';
   if (!ktx && !dds) throw file_error(path, "neither a KTX2 nor a DDS file");
-  return decode_container(ktx ? ContainerKind::KTX2 : ContainerKind::DDS, data, size, path);
+  try {
+    return decode_container(ktx ? ContainerKind::KTX2 : ContainerKind::DDS, data, size, path);
+  } catch (const std::bad_alloc&) {
+    // Sizes were validated against the limit before allocating; the machine is short of memory.
+    throw file_error(path, "out of memory decoding the file");
+  }
 }
 
 }  // namespace ahd

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "containers/byte_io.h"
+#include "containers/limits.h"
 #include "core/error.h"
 
 namespace ahd {
@@ -95,6 +96,7 @@ Texture read_dds(const uint8_t* data, size_t size, const std::string& path) {
   const uint32_t pf_flags = r.u32(80), cc = r.u32(84);
   if (w == 0 || h == 0 || w > kMaxDimension || h > kMaxDimension)
     r.fail("unsupported size " + std::to_string(w) + "x" + std::to_string(h));
+  check_image_size(path, w, h);
   if (depth > 1) r.fail("volume textures are not supported");
   if (levels == 0) levels = 1;
   if (levels > full_mip_count(w, h)) r.fail("invalid mip count " + std::to_string(levels));
@@ -112,6 +114,7 @@ Texture read_dds(const uint8_t* data, size_t size, const std::string& path) {
     if (dim != kResourceTexture2D) r.fail("only 2D textures are supported");
     if (misc & 0x4) r.fail("cube maps are not supported");
     if (array == 0 || array > kMaxLayers) r.fail("unsupported array size " + std::to_string(array));
+    check_layered_size(path, w, h, array);
     tex.layers = array;
     data_at += 20;
   } else if (cc == fourcc('A', 'T', 'I', '1') || cc == fourcc('B', 'C', '4', 'U')) {

@@ -6,6 +6,7 @@
 #include <numeric>
 
 #include "containers/byte_io.h"
+#include "containers/limits.h"
 #include "core/error.h"
 
 namespace ahd {
@@ -99,6 +100,41 @@ std::vector<uint8_t> write_ktx2(const Texture& tex, const Ktx2WriteOptions& opt)
   return b;
 }
 
+namespace {
+
+// Inflates one zstd level of `expect` bytes (already validated against the size limit). Streams
+// into memory that grows with what the frame really produces, never past `expect`: a tiny frame
+// that merely claims a large content size fails after producing what it holds, without the
+// full-size buffer ever being allocated and zeroed (the 2 GiB allocation bomb of issue 15).
+void inflate_level(const bytes::Reader& r, uint32_t l, const uint8_t* src, size_t len, size_t expect,
+                   std::vector<uint8_t>* out) {
+  struct DCtx {
+    ZSTD_DCtx* p = ZSTD_createDCtx();
+    ~DCtx() { ZSTD_freeDCtx(p); }
+  } ctx;
+  if (!ctx.p) r.fail("level " + std::to_string(l) + ": cannot create a zstd decoder");
+  // The window (zstd's own allocation) stays at zstd's default limit of 2^27 bytes.
+  ZSTD_DCtx_setParameter(ctx.p, ZSTD_d_windowLogMax, 27);
+  ZSTD_inBuffer in{src, len, 0};
+  std::vector<uint8_t> chunk(std::min<size_t>(expect, size_t(1) << 17) + 1);
+  out->clear();
+  for (;;) {
+    ZSTD_outBuffer o{chunk.data(), chunk.size(), 0};
+    const size_t rc = ZSTD_decompressStream(ctx.p, &o, &in);
+    if (ZSTD_isError(rc)) r.fail("level " + std::to_string(l) + ": corrupt zstd data (" + ZSTD_getErrorName(rc) + ")");
+    if (out->size() + o.pos > expect) r.fail("level " + std::to_string(l) + ": zstd data inflates past the level size");
+    if (out->size() + o.pos > out->capacity())
+      out->reserve(std::min(expect, std::max(out->capacity() * 2, out->size() + o.pos)));
+    out->insert(out->end(), chunk.data(), chunk.data() + o.pos);
+    if (rc == 0) break;  // frame complete
+    if (in.pos == in.size && o.pos < o.size) r.fail("level " + std::to_string(l) + ": truncated zstd data");
+  }
+  if (out->size() != expect) r.fail("level " + std::to_string(l) + ": zstd data holds fewer bytes than the level");
+  if (in.pos != in.size) r.fail("level " + std::to_string(l) + ": bytes after the zstd frame");
+}
+
+}  // namespace
+
 Texture read_ktx2(const uint8_t* data, size_t size, const std::string& path) {
   bytes::Reader r(data, size, path);
   if (size < kHeaderBytes || !std::equal(kIdentifier, kIdentifier + 12, data)) r.fail("not a KTX2 file (bad identifier)");
@@ -112,6 +148,7 @@ Texture read_ktx2(const uint8_t* data, size_t size, const std::string& path) {
   if (depth != 0 || faces != 1) r.fail("only 2D textures (arrays included) with one face are supported");
   if (layers > kMaxLayers) r.fail("unsupported layer count " + std::to_string(layers));
   tex.layers = std::max(1u, layers);
+  check_layered_size(path, w, h, tex.layers);
   if (levels == 0 || levels > full_mip_count(w, h)) r.fail("invalid level count " + std::to_string(levels));
   if (scheme != kSchemeNone && scheme != kSchemeZstd) r.fail("unsupported supercompression scheme " + std::to_string(scheme));
   r.need(kHeaderBytes, uint64_t(kLevelIndexEntry) * levels, "level index");
@@ -159,9 +196,7 @@ Texture read_ktx2(const uint8_t* data, size_t size, const std::string& path) {
     } else {
       const unsigned long long content = ZSTD_getFrameContentSize(src, len);
       if (content != expect) r.fail("level " + std::to_string(l) + ": zstd frame size does not match the level");
-      lv.data.resize(expect);
-      const size_t n = ZSTD_decompress(lv.data.data(), expect, src, len);
-      if (ZSTD_isError(n) || n != expect) r.fail("level " + std::to_string(l) + ": corrupt zstd data");
+      inflate_level(r, l, src, size_t(len), expect, &lv.data);
     }
   }
   return tex;

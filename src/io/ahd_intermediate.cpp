@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <map>
 
+#include "containers/limits.h"
 #include "core/error.h"
 #include "fit/ahd_decode.h"
 #include "fit/direction_refine.h"
@@ -136,6 +137,10 @@ std::vector<FittedLevel> read_intermediate(const std::string& path, FitOptions* 
   std::vector<FittedLevel> levels;
   for (int mip = 0; in->seek_subimage(0, mip); ++mip) {
     const OIIO::ImageSpec& spec = in->spec();
+    if (levels.empty()) {  // the size limit before anything is allocated (issue 15)
+      if (spec.width <= 0 || spec.height <= 0) throw file_error(path, "empty or inverted data window");
+      check_image_size(path, uint64_t(spec.width), uint64_t(spec.height));
+    }
     const int expect_w = levels.empty() ? spec.width : std::max(1, levels.back().sh.width / 2);
     const int expect_h = levels.empty() ? spec.height : std::max(1, levels.back().sh.height / 2);
     if (spec.width != expect_w || spec.height != expect_h || spec.nchannels != spec0.nchannels)

@@ -8,6 +8,9 @@
 #include <fstream>
 #include <random>
 
+#include <unistd.h>
+
+#include "containers/limits.h"
 #include "core/error.h"
 
 namespace ahd {
@@ -37,8 +40,11 @@ std::unique_ptr<OIIO::ImageInput> open_input(const std::string& path) {
 std::string temp_path_for(const std::string& path) {
   static thread_local std::mt19937_64 rng{std::random_device{}()};
   fs::path p(path);
-  char tag[32];
-  std::snprintf(tag, sizeof tag, ".tmp%08x", unsigned(rng()));
+  // ".<name>.ahdtmp-<pid>-<random><ext>": hidden, recognisable (remove_stale_temporaries in
+  // io/output_set.h removes those whose process is gone), and ending in the final extension so
+  // OpenImageIO picks the right writer.
+  char tag[48];
+  std::snprintf(tag, sizeof tag, ".ahdtmp-%ld-%08x", long(::getpid()), unsigned(rng()));
   return (p.parent_path() / ("." + p.filename().string() + tag + p.extension().string())).string();
 }
 
@@ -87,6 +93,12 @@ ImageFileInfo read_image_info(const std::string& path, int part) {
   info.parts = part_names(*in);
   seek_part(*in, path, part, info.parts.size());
   const OIIO::ImageSpec& spec = in->spec();
+  // Refuse at the header, before any pixel is read or the pipeline runs (a 100000x1 EXR used to be
+  // fitted for 18 s and then refused by the container writer without a file name).
+  if (spec.width <= 0 || spec.height <= 0)
+    throw file_error(path, "empty or inverted data window (" + std::to_string(spec.width) + "x" +
+                               std::to_string(spec.height) + ")");
+  check_image_size(path, uint64_t(spec.width), uint64_t(spec.height));
   info.width = spec.width;
   info.height = spec.height;
   info.channel_names = spec.channelnames;
@@ -115,14 +127,18 @@ ImageF read_image(const std::string& path, ImageFileInfo* info_out, int part) {
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
     throw file_error(path, "image has no pixels");
   if (spec.depth > 1) throw file_error(path, "volume images are not supported");
-  if (size_t(spec.width) * spec.height * spec.nchannels > (size_t(1) << 32))
-    throw file_error(path, "image too large");
-  ImageF img(spec.width, spec.height, spec.nchannels);
-  if (!in->read_image(part, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, img.data.data())) {
-    std::string why = in->geterror();
-    throw file_error(path, "cannot read pixels (" + why.substr(0, why.find('\n')) + ")");
+  check_image_size(path, uint64_t(spec.width), uint64_t(spec.height));
+  if (spec.nchannels > 64) throw file_error(path, std::to_string(spec.nchannels) + " channels (at most 64 are read)");
+  try {
+    ImageF img(spec.width, spec.height, spec.nchannels);
+    if (!in->read_image(part, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, img.data.data())) {
+      std::string why = in->geterror();
+      throw file_error(path, "cannot read pixels (" + why.substr(0, why.find('\n')) + ")");
+    }
+    return img;
+  } catch (const std::bad_alloc&) {
+    throw file_error(path, "out of memory reading the pixels");
   }
-  return img;
 }
 
 void read_image_rows(const std::string& path, int part, ImageFileInfo* info_out,

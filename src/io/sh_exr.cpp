@@ -101,7 +101,11 @@ ShImage read_canonical_sh(const std::string& path, ReadStats* stats) {
     }
   });
   ReadStats local;
-  sanitise_sh(img, !has_coverage, stats ? stats : &local);
+  ReadStats& st = stats ? *stats : local;
+  const size_t before = st.non_finite_texels;
+  sanitise_sh(img, !has_coverage, &st);
+  // A NaN/Inf flood is a broken file, not a lightmap to convert to black (issue 15).
+  if (st.non_finite_texels - before == img.texels()) throw file_error(path, "no finite texel (NaN or Inf everywhere)");
   return img;
 }
 

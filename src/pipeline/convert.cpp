@@ -9,6 +9,7 @@
 #include "core/parallel.h"
 #include "fit/ahd_decode.h"
 #include "mips/mips.h"
+#include "pipeline/manifest.h"
 
 namespace ahd {
 namespace {
@@ -67,6 +68,24 @@ DecodedPlanes decode_planes(const std::vector<Plane>& planes, bool ratio_rgb, in
     if (p.name == "dirratio") dirratio = &p;
   }
   if (!iz) throw Error("conversion has no iz plane");
+  // Everything is validated before any texel is decoded (issue 15: an R8 "iz" plane from a hostile
+  // manifest was read past its end): each format must fit its role, and every plane must have the
+  // same mip chain, each level of the chain's size.
+  const RatioForm form = ratio_rgb ? RatioForm::Rgb : RatioForm::Luminance;
+  if (iz->texture.levels.empty()) throw Error("plane iz has no levels");
+  const uint32_t w0 = iz->texture.levels[0].width, h0 = iz->texture.levels[0].height;
+  for (const Plane* p : {iz, dir, ratio, dirratio}) {
+    if (!p) continue;
+    const std::string why = plane_format_problem(p->name, p->texture.format, form);
+    if (!why.empty()) throw Error(why);
+    if (p->texture.levels.size() != iz->texture.levels.size()) throw Error("planes of one conversion differ in level count");
+    for (size_t l = 0; l < p->texture.levels.size(); ++l) {
+      const TextureLevel& lv = p->texture.levels[l];
+      if (w0 == 0 || h0 == 0 || lv.width != std::max(1u, w0 >> l) || lv.height != std::max(1u, h0 >> l))
+        throw Error("planes of one conversion differ in size (plane " + p->name + ", level " + std::to_string(l) + ")");
+    }
+  }
+  if (!dirratio && (dir != nullptr) != (ratio != nullptr)) throw Error("a dir plane needs its ratio plane and back");
   auto level_of = [&](const Plane* p) -> const TextureLevel& {
     if (level < 0 || size_t(level) >= p->texture.levels.size())
       throw Error("plane " + p->name + " has no mip level " + std::to_string(level));

@@ -2,7 +2,14 @@
 
 #include <nlohmann/json.hpp>
 
+#include <filesystem>
+#include <set>
+
+#include "containers/container.h"
+#include "containers/limits.h"
+#include "containers/sha256.h"
 #include "core/error.h"
+#include "io/image_io.h"
 
 namespace ahd {
 
@@ -34,7 +41,7 @@ std::string manifest_to_json(const Manifest& m) {
   json planes = json::array();
   for (const auto& p : m.planes) {
     planes.push_back({{"name", p.name}, {"file", p.file}, {"format", format_info(p.format).name},
-                      {"width", p.width}, {"height", p.height}, {"levels", p.levels}, {"bytes", p.bytes}});
+                      {"width", p.width}, {"height", p.height}, {"levels", p.levels}, {"bytes", p.bytes}, {"sha256", p.sha256}});
     if (p.layers > 1) planes.back()["layers"] = p.layers;
   }
   j["planes"] = planes;
@@ -74,19 +81,47 @@ Manifest manifest_from_json(const std::string& text, const std::string& path) {
     m.height = j.at("height").get<uint32_t>();
     m.levels = j.at("levels").get<uint32_t>();
     m.layers = j.value("layers", 1u);
-    if (m.layers < 1) throw file_error(path, "layers must be at least 1");
-    for (const auto& p : j.at("planes")) {
+    if (m.layers < 1 || m.layers > 2048) throw file_error(path, "layers must be 1..2048");
+    if (m.width == 0 || m.height == 0) throw file_error(path, "manifest size is empty");
+    check_image_size(path, m.width, m.height);
+    if (m.levels == 0 || m.levels > full_mip_count(m.width, m.height))
+      throw file_error(path, "invalid level count " + std::to_string(m.levels));
+    if (m.container != "ktx2" && m.container != "dds") throw file_error(path, "unknown container " + m.container);
+    const auto& d = j.at("decode");
+    const std::string form = d.at("ratio_form").get<std::string>();
+    if (form != "rgb" && form != "luminance") throw file_error(path, "unknown ratio_form " + form);
+    m.ratio_form = form == "rgb" ? RatioForm::Rgb : RatioForm::Luminance;
+    const auto& planes = j.at("planes");
+    if (!planes.is_array() || planes.size() > 5) throw file_error(path, "planes must be a list of at most 5");
+    std::set<std::string> names, files;
+    for (const auto& p : planes) {
       ManifestPlane mp;
       mp.name = p.at("name").get<std::string>();
+      if (mp.name != "iz" && mp.name != "dir" && mp.name != "ratio" && mp.name != "dirratio" && mp.name != "coverage")
+        throw file_error(path, "unknown plane " + mp.name);
+      if (!names.insert(mp.name).second) throw file_error(path, "plane " + mp.name + " listed twice");
       mp.file = p.at("file").get<std::string>();
-      if (mp.file.find("..") != std::string::npos || (!mp.file.empty() && mp.file[0] == '/'))
+      // A plain file name beside the manifest: no folders, no hidden or special names.
+      if (mp.file.empty() || mp.file[0] == '.' || mp.file.find_first_of("/\\:") != std::string::npos ||
+          mp.file.find('\0') != std::string::npos)
         throw file_error(path, "plane file must be a plain name beside the manifest: " + mp.file);
+      if (!files.insert(mp.file).second) throw file_error(path, "file " + mp.file + " named by two planes");
       if (!format_from_name(p.at("format").get<std::string>(), &mp.format))
         throw file_error(path, "unknown plane format " + p.at("format").get<std::string>());
+      const std::string why = plane_format_problem(mp.name, mp.format, m.ratio_form);
+      if (!why.empty()) throw file_error(path, why);
       mp.width = p.at("width").get<uint32_t>();
       mp.height = p.at("height").get<uint32_t>();
       mp.levels = p.at("levels").get<uint32_t>();
+      if (mp.width != m.width || mp.height != m.height || mp.levels != m.levels)
+        throw file_error(path, "plane " + mp.name + " is " + std::to_string(mp.width) + "x" + std::to_string(mp.height) +
+                                   " with " + std::to_string(mp.levels) + " level(s), the manifest says " +
+                                   std::to_string(m.width) + "x" + std::to_string(m.height) + " with " +
+                                   std::to_string(m.levels));
       mp.bytes = p.at("bytes").get<uint64_t>();
+      mp.sha256 = p.at("sha256").get<std::string>();
+      if (mp.sha256.size() != 64 || mp.sha256.find_first_not_of("0123456789abcdef") != std::string::npos)
+        throw file_error(path, "plane " + mp.name + " has no valid sha256");
       mp.layers = p.value("layers", 1u);
       if (mp.layers != m.layers) throw file_error(path, "plane " + mp.name + " has a layer count other than the manifest's");
       m.planes.push_back(mp);
@@ -100,17 +135,63 @@ Manifest manifest_from_json(const std::string& text, const std::string& path) {
     if (!has("iz")) throw file_error(path, "manifest has no iz plane");
     if (m.directional && !has("dirratio") && !(has("dir") && has("ratio")))
       throw file_error(path, "directional manifest lacks its direction/ratio planes");
-    const auto& d = j.at("decode");
-    m.ratio_form = d.at("ratio_form").get<std::string>() == "rgb" ? RatioForm::Rgb : RatioForm::Luminance;
+    if (m.directional && has("dirratio") && (has("dir") || has("ratio")))
+      throw file_error(path, "manifest has both dirratio and dir/ratio planes");
+    if (!m.directional && (has("dir") || has("ratio") || has("dirratio")))
+      throw file_error(path, "a non-directional manifest has direction or ratio planes");
     m.dz_min = d.at("dz_min").get<double>();
     if (!(m.dz_min > 0 && m.dz_min < 1)) throw file_error(path, "dz_min must be in (0, 1)");
-    for (int i = 0; i < 3; ++i) m.luma[i] = d.at("luma").at(size_t(i)).get<double>();
+    for (int i = 0; i < 3; ++i) {
+      m.luma[i] = d.at("luma").at(size_t(i)).get<double>();
+      if (!(m.luma[i] >= 0 && m.luma[i] <= 1)) throw file_error(path, "luma weights must be in [0, 1]");
+    }
     m.direction_encoding = d.at("direction_encoding").get<std::string>();
     m.direction_frame = d.at("direction_frame").get<std::string>();
   } catch (const json::exception& e) {
     throw file_error(path, std::string("malformed manifest (") + e.what() + ")");
   }
   return m;
+}
+
+std::string plane_format_problem(const std::string& role, PixelFormat f, RatioForm form) {
+  const FormatInfo& fi = format_info(f);
+  const bool hdr = role == "iz";
+  const int rgb = form == RatioForm::Rgb ? 2 : 0;  // the RGB ratio takes 3 channels instead of 1
+  const int need = role == "iz" ? 3 : role == "dir" ? 2 : role == "ratio" ? 1 + rgb : role == "coverage" ? 1 : 3 + rgb;
+  if (role != "iz" && role != "dir" && role != "ratio" && role != "dirratio" && role != "coverage")
+    return "unknown plane " + role;
+  if (fi.is_float != hdr)
+    return std::string("plane ") + role + " cannot be " + fi.name + " (" + (hdr ? "needs an HDR float format" : "needs a UNORM format") + ")";
+  if (fi.channels < need)
+    return std::string("plane ") + role + " cannot be " + fi.name + " (" + std::to_string(fi.channels) + " channel(s), needs " +
+           std::to_string(need) + ")";
+  return "";
+}
+
+Manifest read_manifest_file(const std::string& path) {
+  const std::vector<uint8_t> bytes = read_file_bytes(path, size_t(1) << 24);
+  return manifest_from_json(std::string(bytes.begin(), bytes.end()), path);
+}
+
+Texture read_manifest_plane(const std::string& manifest_path, const ManifestPlane& p) {
+  const std::string path = (std::filesystem::path(manifest_path).parent_path() / p.file).string();
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  if (ec) throw file_error(path, "missing plane file of " + manifest_path);
+  // The size first: a foreign or truncated file is refused without reading it.
+  if (size != p.bytes)
+    throw file_error(path, "does not match the manifest (" + std::to_string(size) + " bytes, the manifest says " +
+                               std::to_string(p.bytes) + "; an interrupted or mixed output set?)");
+  const std::vector<uint8_t> bytes = read_file_bytes(path);
+  if (sha256_hex(bytes.data(), bytes.size()) != p.sha256)
+    throw file_error(path, "does not match the manifest (content hash differs; an interrupted or mixed output set?)");
+  Texture t = decode_container(container_kind_from_path(path), bytes.data(), bytes.size(), path);
+  if (t.format != p.format)
+    throw file_error(path, std::string("holds ") + format_info(t.format).name + " but the manifest says " +
+                               format_info(p.format).name);
+  if (t.levels[0].width != p.width || t.levels[0].height != p.height || t.levels.size() != p.levels)
+    throw file_error(path, "size or level count differs from the manifest");
+  return t;
 }
 
 std::vector<std::pair<std::string, std::string>> plane_metadata(const Manifest& m, const std::string& plane) {

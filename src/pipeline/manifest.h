@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "core/pixel_format.h"
+#include "core/texture.h"
 #include "fit/ahd_fit.h"
 
 namespace ahd {
@@ -16,8 +17,9 @@ struct ManifestPlane {
   std::string file;  // relative to the manifest's folder
   PixelFormat format = PixelFormat::RGBA16_SFLOAT;
   uint32_t width = 0, height = 0, levels = 1;
-  uint64_t bytes = 0;
-  uint32_t layers = 1;  // array layers (atlas pages); written only when > 1 (last: aggregate order kept)
+  uint64_t bytes = 0;   // the file's exact byte size
+  std::string sha256;   // the file's SHA-256 (hex): a plane replaced by another run is detected
+  uint32_t layers = 1;  // array layers (atlas pages); written only when > 1
 };
 
 struct Manifest {
@@ -38,8 +40,25 @@ struct Manifest {
 
 std::string manifest_to_json(const Manifest& m);
 
-// Parses and validates; throws ahd::Error("<path>: <cause>").
+// Parses and validates as strictly as a container: known, unique plane roles whose formats fit them
+// (plane_format_problem), plain file names beside the manifest, every plane of the manifest's size
+// and level count, sizes within max_image_size(), a byte size and SHA-256 per plane. Throws
+// ahd::Error("<path>: <cause>").
 Manifest manifest_from_json(const std::string& text, const std::string& path);
+
+// Why format `f` cannot hold plane `role` (iz: HDR, 3+ channels; dir: UNORM, 2+; ratio: UNORM, 1+,
+// 3+ for the RGB ratio; dirratio: UNORM, 3+; coverage: UNORM, 1+), or "" when it can. Decoders rely on it to stay in
+// bounds.
+std::string plane_format_problem(const std::string& role, PixelFormat f, RatioForm form);
+
+// Reads (at most 16 MiB) and validates a manifest file.
+Manifest read_manifest_file(const std::string& path);
+
+// Reads one plane of a manifest at `manifest_path`: the file's byte size and SHA-256 must be the
+// manifest's (else "<plane file>: does not match the manifest …": a set mixed by an interrupted
+// write or edited by hand is reported, never decoded), then it must hold the format, size and
+// level count the manifest states. Throws ahd::Error naming the file.
+Texture read_manifest_plane(const std::string& manifest_path, const ManifestPlane& plane);
 
 // The key/value pairs every plane texture carries (KTX2 key/value data), describing the encoding.
 std::vector<std::pair<std::string, std::string>> plane_metadata(const Manifest& m, const std::string& plane);

@@ -1,9 +1,15 @@
 #include "pipeline/package.h"
 
 #include "containers/container.h"
+#include "containers/sha256.h"
 #include "pipeline/report_json.h"
 
 namespace ahd {
+
+std::string plane_file_name(const std::string& name, const std::string& plane, const std::string& ext,
+                            const std::vector<uint8_t>& bytes) {
+  return name + "." + plane + "." + sha256_hex(bytes.data(), bytes.size()).substr(0, 12) + "." + ext;
+}
 
 const char* container_extension(ContainerKind kind) { return kind == ContainerKind::KTX2 ? "ktx2" : "dds"; }
 
@@ -24,10 +30,11 @@ PackagedConversion package_conversion(ConvertResult& r, const Profile& profile, 
   m.direction_frame = opt.world_frame ? "normal-frame" : "tangent";
   m.directional = r.directional;
   for (Plane& p : r.planes) {
-    const std::string file = opt.name + "." + p.name + "." + ext;
     if (opt.plane_metadata) p.texture.metadata = plane_metadata(m, p.name);
     else p.texture.metadata.clear();
-    out.files.push_back({file, encode_container(opt.container, p.texture, opt.zstd)});
+    std::vector<uint8_t> bytes = encode_container(opt.container, p.texture, opt.zstd);
+    const std::string file = plane_file_name(opt.name, p.name, ext, bytes);
+    out.files.push_back({file, std::move(bytes)});
     ManifestPlane mp;
     mp.name = p.name;
     mp.file = file;
@@ -37,6 +44,7 @@ PackagedConversion package_conversion(ConvertResult& r, const Profile& profile, 
     mp.levels = uint32_t(p.texture.levels.size());
     mp.layers = p.texture.layers;
     mp.bytes = out.files.back().bytes.size();
+    mp.sha256 = sha256_hex(out.files.back().bytes.data(), out.files.back().bytes.size());
     m.planes.push_back(mp);
   }
   const std::string manifest_text = manifest_to_json(m);
@@ -44,8 +52,9 @@ PackagedConversion package_conversion(ConvertResult& r, const Profile& profile, 
   report["profile"] = profile.name;
   for (auto it = opt.report_extra.begin(); it != opt.report_extra.end(); ++it) report[it.key()] = *it;
   const std::string report_text = report.dump(2) + "\n";
-  out.files.push_back({opt.name + ".json", std::vector<uint8_t>(manifest_text.begin(), manifest_text.end())});
+  // The manifest last: publishing it commits the set (io/output_set.h).
   out.files.push_back({opt.name + ".report.json", std::vector<uint8_t>(report_text.begin(), report_text.end())});
+  out.files.push_back({opt.name + ".json", std::vector<uint8_t>(manifest_text.begin(), manifest_text.end())});
   return out;
 }
 

@@ -23,13 +23,19 @@ struct PackageOptions {
 
 struct PackagedConversion {
   Manifest manifest;
-  std::vector<OutputFile> files;  // planes, then NAME.json, then NAME.report.json
+  std::vector<OutputFile> files;  // planes, then NAME.report.json, then NAME.json (last: it commits the set)
 };
 
 // Encodes every plane of `r` (attaching the plane metadata to r's textures) and assembles the
 // manifest and the report. Throws ahd::Error on an invalid texture.
 PackagedConversion package_conversion(ConvertResult& r, const Profile& profile, const FitOptions& fit,
                                       const PackageOptions& opt, double total_seconds);
+
+// NAME.<plane>.<12 hex digits of the SHA-256 of bytes>.<ext>: a plane's file name in a set.
+// Content-addressed, so a new set never overwrites a plane the previous manifest names
+// (io/output_set.h publishes a set whole on that basis).
+std::string plane_file_name(const std::string& name, const std::string& plane, const std::string& ext,
+                            const std::vector<uint8_t>& bytes);
 
 // The file extension of a container kind ("ktx2", "dds").
 const char* container_extension(ContainerKind kind);

@@ -6,6 +6,8 @@
 #include <array>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
 
 namespace ahd_test {
 
@@ -30,6 +32,17 @@ CliResult run_cli(const std::vector<std::string>& args) {
   const int status = pclose(p);
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return r;
+}
+
+std::string plane_file(const std::string& manifest, const std::string& plane) {
+  std::ifstream f(manifest);
+  if (!f) return "";
+  const nlohmann::json j = nlohmann::json::parse(f, nullptr, false);
+  if (j.is_discarded() || !j.contains("planes")) return "";
+  for (const auto& p : j["planes"])
+    if (p.value("name", "") == plane)
+      return (std::filesystem::path(manifest).parent_path() / p.value("file", "")).string();
+  return "";
 }
 
 std::string temp_dir(const std::string& tag) {

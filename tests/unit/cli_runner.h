@@ -13,6 +13,10 @@ struct CliResult {
 // Runs AHD_CLI_PATH with the arguments (each shell-quoted).
 CliResult run_cli(const std::vector<std::string>& args);
 
+// The path of plane `plane` of the conversion whose manifest is `manifest` (plane files are
+// content-addressed, NAME.<plane>.<hash>.<ext>; the manifest names them). "" when absent.
+std::string plane_file(const std::string& manifest, const std::string& plane);
+
 // A fresh empty folder under the system temp dir.
 std::string temp_dir(const std::string& tag);
 

@@ -49,7 +49,11 @@ TEST(Cli, ConvertBuiltInSampleWritesPlanesManifestAndReport) {
     ASSERT_EQ(r.exit_code, 0) << r.output;
     EXPECT_NE(r.output.find("fit: constrained AHD"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("total"), std::string::npos);
-    for (const char* plane : {"iz", "dir", "ratio"}) EXPECT_TRUE(fs::exists(d / (std::string("s.") + plane + "." + ext)));
+    for (const char* plane : {"iz", "dir", "ratio"}) {
+      const std::string f = ahd_test::plane_file((d / "s.json").string(), plane);
+      EXPECT_TRUE(fs::exists(f)) << plane;
+      EXPECT_EQ(fs::path(f).extension().string(), std::string(".") + ext);
+    }
     EXPECT_TRUE(fs::exists(d / "s.json"));
     EXPECT_TRUE(fs::exists(d / "s.report.json"));
 
@@ -58,7 +62,7 @@ TEST(Cli, ConvertBuiltInSampleWritesPlanesManifestAndReport) {
     bo.width = bo.height = 48;
     const ahd::ConvertResult mem = ahd::convert(ahd::bake_analytic_scene(bo), ahd::load_profile("uncompressed"), {});
     for (const auto& p : mem.planes) {
-      const ahd::Texture t = ahd::read_container_file((d / ("s." + p.name + "." + ext)).string());
+      const ahd::Texture t = ahd::read_container_file(ahd_test::plane_file((d / "s.json").string(), p.name));
       ASSERT_EQ(t.format, p.texture.format);
       ASSERT_EQ(t.levels.size(), p.texture.levels.size());
       for (size_t l = 0; l < t.levels.size(); ++l) EXPECT_EQ(t.levels[l].data, p.texture.levels[l].data) << p.name;
@@ -82,7 +86,7 @@ TEST(Cli, ConvertBuiltInSampleWritesPlanesManifestAndReport) {
 TEST(Cli, FullMipChainsByDefaultAndDecodeLevel) {
   const fs::path d = ahd_test::temp_dir("cli_mips");
   ASSERT_EQ(run_cli({"convert", "-o", (d / "m.dds").string(), "--sample-size", "40", "-q"}).exit_code, 0);
-  const ahd::Texture t = ahd::read_container_file((d / "m.iz.dds").string());
+  const ahd::Texture t = ahd::read_container_file(ahd_test::plane_file((d / "m.json").string(), "iz"));
   ASSERT_EQ(t.levels.size(), 6u);  // 40, 20, 10, 5, 2, 1
   EXPECT_EQ(t.levels[3].width, 5u);
   const auto r = run_cli({"decode", (d / "m.json").string(), "--level", "3", "-o", (d / "e3.exr").string()});
@@ -98,10 +102,10 @@ TEST(Cli, FullMipChainsByDefaultAndDecodeLevel) {
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_NE(bad.output.find("--level 6 does not exist"), std::string::npos) << bad.output;
   EXPECT_EQ(run_cli({"convert", "-o", (d / "one.ktx2").string(), "--sample-size", "40", "--levels", "1", "-q"}).exit_code, 0);
-  EXPECT_EQ(ahd::read_container_file((d / "one.iz.ktx2").string()).levels.size(), 1u);
+  EXPECT_EQ(ahd::read_container_file(ahd_test::plane_file((d / "one.json").string(), "iz")).levels.size(), 1u);
   // The optional coverage plane: R8, 255 on charts, 0 in gutters, with its own mip chain.
   ASSERT_EQ(run_cli({"convert", "-o", (d / "c.ktx2").string(), "--sample-size", "40", "--coverage-plane", "-q"}).exit_code, 0);
-  const ahd::Texture cov = ahd::read_container_file((d / "c.coverage.ktx2").string());
+  const ahd::Texture cov = ahd::read_container_file(ahd_test::plane_file((d / "c.json").string(), "coverage"));
   EXPECT_EQ(cov.format, ahd::PixelFormat::R8_UNORM);
   EXPECT_EQ(cov.levels.size(), 6u);
   EXPECT_EQ(cov.levels[0].data[0], 0);      // corner: gutter
@@ -117,7 +121,7 @@ TEST(Cli, ConvertReadsCanonicalExr) {
   ahd::write_canonical_sh((d / "in.exr").string(), ahd::bake_analytic_scene(bo));
   const auto r = run_cli({"convert", (d / "in.exr").string(), "-o", (d / "out" / "x.ktx2").string()});
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_TRUE(fs::exists(d / "out" / "x.iz.ktx2"));
+  EXPECT_TRUE(fs::exists(ahd_test::plane_file((d / "out" / "x.json").string(), "iz")));
   fs::remove_all(d);
 }
 
@@ -174,13 +178,14 @@ TEST(Cli, CorruptContainerIsRefused) {
   const fs::path d = ahd_test::temp_dir("cli_corrupt");
   ASSERT_EQ(run_cli({"convert", "-o", (d / "s.ktx2").string(), "--sample-size", "16", "-q"}).exit_code, 0);
   // Truncate a plane: inspect and decode must refuse it with one line.
-  fs::resize_file(d / "s.iz.ktx2", 100);
-  for (auto args : {std::vector<std::string>{"inspect", (d / "s.iz.ktx2").string()},
+  const std::string iz = ahd_test::plane_file((d / "s.json").string(), "iz");
+  fs::resize_file(iz, 100);
+  for (auto args : {std::vector<std::string>{"inspect", iz},
                     std::vector<std::string>{"decode", (d / "s.json").string(), "-o", (d / "out" / "e.exr").string()}}) {
     const auto r = run_cli(args);
     EXPECT_NE(r.exit_code, 0);
     EXPECT_EQ(count_lines(r.output), 1) << r.output;
-    EXPECT_NE(r.output.find("s.iz.ktx2"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(iz + ": "), std::string::npos) << r.output;
   }
   EXPECT_EQ(files_in(d / "out"), 0u);
   fs::remove_all(d);
@@ -206,7 +211,7 @@ TEST(Cli, CompressDecompressBc6h) {
   expect_clean_failure({"compress", (d / "in.exr").string(), "-o", (d / "out" / "o.ktx2").string(), "--quality", "ultra"},
                        "--quality", d / "out");
   ASSERT_EQ(run_cli({"convert", "-o", (d / "s.ktx2").string(), "--sample-size", "8", "-q"}).exit_code, 0);
-  expect_clean_failure({"decompress", (d / "s.dir.ktx2").string(), "-o", (d / "out" / "x.exr").string()}, "not BC6H",
+  expect_clean_failure({"decompress", ahd_test::plane_file((d / "s.json").string(), "dir"), "-o", (d / "out" / "x.exr").string()}, "not BC6H",
                        d / "out");
   fs::remove_all(d);
 }
@@ -226,7 +231,7 @@ TEST(Cli, EveryProfileAndContainerRoundTrips) {
       if (p.ratio_rgb) opt.fit.ratio_form = ahd::RatioForm::Rgb;
       const ahd::ConvertResult mem = ahd::convert(ahd::bake_analytic_scene(bo), p, opt);
       for (const auto& plane : mem.planes) {
-        const ahd::Texture t = ahd::read_container_file((d / (profile + "." + plane.name + "." + ext)).string());
+        const ahd::Texture t = ahd::read_container_file(ahd_test::plane_file((d / (profile + ".json")).string(), plane.name));
         ASSERT_EQ(t.format, plane.texture.format) << profile << " " << plane.name;
         ASSERT_EQ(t.levels.size(), plane.texture.levels.size());
         for (size_t l = 0; l < t.levels.size(); ++l)

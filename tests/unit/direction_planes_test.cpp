@@ -53,13 +53,16 @@ TEST(DirectionPlanes, PlainLightmapWritesOnlyIz) {
   const auto m = read_json(d / "out.json");
   EXPECT_EQ(plane_names(m), std::vector<std::string>{"iz"});
   EXPECT_FALSE(m.at("directional").get<bool>());
-  EXPECT_FALSE(fs::exists(d / "out.dir.ktx2"));
-  EXPECT_FALSE(fs::exists(d / "out.ratio.ktx2"));
+  EXPECT_EQ(ahd_test::plane_file((d / "out.json").string(), "dir"), "");
+  EXPECT_EQ(ahd_test::plane_file((d / "out.json").string(), "ratio"), "");
+  size_t files = 0;
+  for (const auto& e : fs::directory_iterator(d)) files += e.path().filename().string().rfind("out.", 0) == 0;
+  EXPECT_EQ(files, 3u);  // iz, manifest, report
   const auto rep = read_json(d / "out.report.json");
   EXPECT_EQ(rep.at("direction").at("planes"), "dropped");
   EXPECT_LT(rep.at("direction").at("iz_only_error").at("relative").at("p99").get<double>(), 1e-6);
   // The plane says it too (KTX2 key/value data).
-  const Texture t = read_container_file((d / "out.iz.ktx2").string());
+  const Texture t = read_container_file(ahd_test::plane_file((d / "out.json").string(), "iz"));
   bool found = false;
   for (const auto& [k, v] : t.metadata) found |= k == "ahd.directional" && v == "0";
   EXPECT_TRUE(found);
@@ -123,7 +126,7 @@ TEST(DirectionPlanes, ManifestChecksItsPlanes) {
   m.profile = "uncompressed";
   m.container = "ktx2";
   m.width = m.height = 4;
-  m.planes.push_back({"iz", "a.iz.ktx2", PixelFormat::RGBA16_SFLOAT, 4, 4, 1, 10});
+  m.planes.push_back({"iz", "a.iz.ktx2", PixelFormat::RGBA16_SFLOAT, 4, 4, 1, 10, std::string(64, 'a')});
   // Directional but without direction planes: refused, saying why.
   try {
     manifest_from_json(manifest_to_json(m), "m.json");

@@ -602,11 +602,12 @@ TEST(MeshRaster, ConvertWithMeshEqualsConvertWithTheNormalMap) {
   convert("gltf", {"--mesh", (d / "m.gltf").string()});
   // Bit-exact: the same normals on every covered texel and the same coverage (the mesh's charts
   // are where the SH is non-zero), so the fit, dilation and encoding see identical inputs.
-  for (const char* plane : {"a.iz.ktx2", "a.dir.ktx2", "a.ratio.ktx2"}) {
-    const auto ref = bytes(d / "normals" / plane);
+  for (const char* plane : {"iz", "dir", "ratio"}) {
+    auto file = [&](const char* tag) { return fs::path(ahd_test::plane_file((d / tag / "a.json").string(), plane)); };
+    const auto ref = bytes(file("normals"));
     ASSERT_GT(ref.size(), 100u) << plane;
-    EXPECT_TRUE(bytes(d / "obj" / plane) == ref) << plane << " differs (obj)";
-    EXPECT_TRUE(bytes(d / "gltf" / plane) == ref) << plane << " differs (gltf)";
+    EXPECT_TRUE(bytes(file("obj")) == ref) << plane << " differs (obj)";
+    EXPECT_TRUE(bytes(file("gltf")) == ref) << plane << " differs (gltf)";
   }
   // A tangent-space layout takes the mesh's coverage only: a flat map, non-zero everywhere
   // (all texels covered without the mesh), is covered exactly on the mesh's charts.
@@ -619,7 +620,7 @@ TEST(MeshRaster, ConvertWithMeshEqualsConvertWithTheNormalMap) {
     if (mesh) args.insert(args.end(), {"--mesh", (d / "m.obj").string()});
     const auto res = ahd_test::run_cli(args);
     ASSERT_EQ(res.exit_code, 0) << res.output;
-    const Texture cov = read_container_file((d / "plain" / "p.coverage.ktx2").string());
+    const Texture cov = read_container_file(ahd_test::plane_file((d / "plain" / "p.json").string(), "coverage"));
     ASSERT_EQ(cov.levels[0].data.size(), size_t(kN * kN));
     for (size_t i = 0; i < r.coverage.size(); ++i)
       EXPECT_EQ(cov.levels[0].data[i], mesh ? r.coverage[i] * 255 : 255) << i;
@@ -670,8 +671,8 @@ TEST(MeshRaster, MeshAxesBringGltfNormalsIntoTheBakersWorld) {
   convert("map", "bakery-sh", {"--normals", (d / "n.exr").string()});
   convert("mesh", "bakery-sh", {"--mesh", (d / "m.obj").string()});
   convert("mesh-no-axes", (d / "no-axes.json").string(), {"--mesh", (d / "m.obj").string()});
-  const auto ref = bytes(d / "map" / "a.dir.ktx2"), with = bytes(d / "mesh" / "a.dir.ktx2"),
-             without = bytes(d / "mesh-no-axes" / "a.dir.ktx2");
+  auto dir_plane = [&](const char* tag) { return fs::path(ahd_test::plane_file((d / tag / "a.json").string(), "dir")); };
+  const auto ref = bytes(dir_plane("map")), with = bytes(dir_plane("mesh")), without = bytes(dir_plane("mesh-no-axes"));
   ASSERT_GT(ref.size(), 100u);
   EXPECT_TRUE(with == ref) << "mesh normals not brought into the baker's axes";
   EXPECT_FALSE(without == ref) << "mesh_axes has no effect";

@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# The whole unit-test suite built with AddressSanitizer + UndefinedBehaviorSanitizer (clang 14)
+# into build-asan/, then run with ctest. The same build also holds the libFuzzer targets (fuzz/):
+# everything is compiled with -fsanitize=fuzzer-no-link too, so one instrumented library serves
+# both (scripts/fuzz.sh runs them). Left out: the Mesa/llvmpipe judge tests (ahd_gl_tests) — the
+# GL driver's JIT under ASan is impractically slow and its code is not ours; the bench.
+# Usage: bash scripts/sanitize.sh [--build-only]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/setup.sh
+SAN="-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer -fsanitize=fuzzer-no-link"
+launcher=()
+command -v ccache >/dev/null 2>&1 && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
+cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DCMAKE_C_COMPILER=clang-14 -DCMAKE_CXX_COMPILER=clang++-14 "${launcher[@]}" \
+  -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g $SAN" -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g $SAN" \
+  -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \
+  -DAHD_BUILD_BENCH=OFF -DAHD_GL_TESTS=OFF -DAHD_FUZZ=ON >/dev/null
+cmake --build build-asan -j "$(nproc)"
+[ "${1:-}" = "--build-only" ] && exit 0
+# Leaks are errors; the suppressions name third-party libraries' own one-time allocations only.
+export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:halt_on_error=1"
+export LSAN_OPTIONS="suppressions=$PWD/fuzz/lsan.supp:print_suppressions=0"
+export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+ctest --test-dir build-asan --output-on-failure -j "$(nproc)"

@@ -1,0 +1,184 @@
+// Output sets published whole or not at all (issue 15): a conversion killed before any rename, or
+// failing on a full disk, leaves the previous set complete and readable under the final names; the
+// next run removes the temporaries and the superseded planes.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+
+#include "io/container_file.h"
+#include "io/profile_file.h"
+#include "cli_runner.h"
+#include "core/error.h"
+#include "io/output_set.h"
+#include "pipeline/convert.h"
+#include "pipeline/manifest.h"
+
+namespace fs = std::filesystem;
+using namespace ahd;
+
+namespace {
+
+std::string slurp(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(f), {});
+}
+
+std::map<std::string, std::string> snapshot(const fs::path& d) {
+  std::map<std::string, std::string> m;
+  for (const auto& e : fs::directory_iterator(d))
+    if (e.is_regular_file()) m[e.path().filename().string()] = slurp(e.path());
+  return m;
+}
+
+size_t temporaries_in(const fs::path& d) {
+  size_t n = 0;
+  for (const auto& e : fs::directory_iterator(d)) n += is_temporary_name(e.path().filename().string());
+  return n;
+}
+
+// Reads the set as `ahdpack decode` does: every plane's size and hash verified, then decoded.
+void expect_complete_set(const fs::path& manifest) {
+  const Manifest m = read_manifest_file(manifest.string());
+  std::vector<Plane> planes;
+  for (const auto& mp : m.planes) planes.push_back({mp.name, read_manifest_plane(manifest.string(), mp)});
+  const DecodedPlanes p = decode_planes(planes, m.ratio_form == RatioForm::Rgb, 0);
+  EXPECT_EQ(uint32_t(p.width), m.width);
+}
+
+ahd_test::CliResult convert(const fs::path& d, const std::string& profile) {
+  return ahd_test::run_cli({"convert", "-o", (d / "room.ktx2").string(), "--sample-size", "16", "--profile", profile, "-q"});
+}
+
+// The plane, report and manifest files of a set: what the folder must hold after a clean run.
+std::set<std::string> set_files(const fs::path& manifest) {
+  std::set<std::string> s = {manifest.filename().string(), "room.report.json"};
+  for (const auto& p : read_manifest_file(manifest.string()).planes) s.insert(p.file);
+  return s;
+}
+
+std::set<std::string> names_in(const fs::path& d) {
+  std::set<std::string> s;
+  for (const auto& e : fs::directory_iterator(d)) s.insert(e.path().filename().string());
+  return s;
+}
+
+}  // namespace
+
+// Issue 15, case 4: kill -9 between renames. SIGKILL is injected before each rename in turn
+// (AHDPACK_TEST_KILL_BEFORE_RENAME) while pc-bc replaces an uncompressed set. Before the
+// manifest's rename the old set must be complete; after it the new one; never a mix.
+TEST(OutputSet, KilledBeforeEachRenameLeavesOldOrNewSetCompleteAndNextRunCleansUp) {
+  const fs::path root = ahd_test::temp_dir("output_set_kill");
+  const fs::path ref_old = root / "ref_old", ref_new = root / "ref_new";
+  fs::create_directories(ref_old);
+  fs::create_directories(ref_new);
+  ASSERT_EQ(convert(ref_old, "uncompressed").exit_code, 0);
+  ASSERT_EQ(convert(ref_new, "pc-bc").exit_code, 0);
+  const std::string old_manifest = slurp(ref_old / "room.json"), new_manifest = slurp(ref_new / "room.json");
+  ASSERT_NE(old_manifest, new_manifest);
+  const size_t renames = set_files(ref_new / "room.json").size();  // planes, report, manifest
+  for (size_t k = 0; k <= renames; ++k) {
+    SCOPED_TRACE("killed before rename " + std::to_string(k));
+    const fs::path d = root / ("k" + std::to_string(k));
+    fs::create_directories(d);
+    ASSERT_EQ(convert(d, "uncompressed").exit_code, 0);
+    ::setenv("AHDPACK_TEST_KILL_BEFORE_RENAME", std::to_string(k).c_str(), 1);
+    const auto killed = convert(d, "pc-bc");
+    ::unsetenv("AHDPACK_TEST_KILL_BEFORE_RENAME");
+    EXPECT_TRUE(killed.exit_code == 128 + SIGKILL || killed.exit_code == -1) << "not killed: " << killed.output;
+    const std::string now = slurp(d / "room.json");
+    // The manifest is renamed last (index renames - 1): before it the old set, after it the new.
+    EXPECT_EQ(now, k < renames ? old_manifest : new_manifest);
+    expect_complete_set(d / "room.json");
+    if (k < renames) {
+      EXPECT_GT(temporaries_in(d), 0u) << "the kill left no temporaries: the hook did not fire?";
+    }
+    // The next run publishes its set and leaves exactly that set: no temporary, no old plane.
+    ASSERT_EQ(convert(d, "pc-bc").exit_code, 0);
+    EXPECT_EQ(temporaries_in(d), 0u);
+    EXPECT_EQ(names_in(d), set_files(d / "room.json"));
+    EXPECT_EQ(slurp(d / "room.json"), new_manifest);
+    expect_complete_set(d / "room.json");
+  }
+  fs::remove_all(root);
+}
+
+// Issue 15, case 3: a conversion failing on a full disk (simulated: AHDPACK_TEST_WRITE_FAULT)
+// used to delete a plane of the previous set. Now: one error line naming the file, exit 1, and
+// the previous set byte for byte, with no temporary file left.
+TEST(OutputSet, FailedConversionLeavesThePreviousSetUntouched) {
+  const fs::path d = ahd_test::temp_dir("output_set_fail");
+  ASSERT_EQ(convert(d, "uncompressed").exit_code, 0);
+  const auto before = snapshot(d);
+  for (const char* fault : {"0:ENOSPC", "1:ENOSPC", "3:EROFS", "4:ENOSPC"}) {
+    SCOPED_TRACE(fault);
+    ::setenv("AHDPACK_TEST_WRITE_FAULT", fault, 1);
+    const auto r = convert(d, "pc-bc");
+    ::unsetenv("AHDPACK_TEST_WRITE_FAULT");
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    EXPECT_EQ(r.output.rfind("ahdpack: error: " + d.string() + "/room.", 0), 0u) << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+    EXPECT_EQ(snapshot(d), before);
+    EXPECT_EQ(temporaries_in(d), 0u);
+    expect_complete_set(d / "room.json");
+  }
+  fs::remove_all(d);
+}
+
+// In-process: a failure anywhere before the manifest's rename removes every temporary and every
+// file the failed publish created, and keeps files it replaced with identical bytes.
+TEST(OutputSet, PublishIsAllOrNothingInProcess) {
+  const fs::path d = ahd_test::temp_dir("output_set_unit");
+  std::vector<FileToPublish> files = {{(d / "a.iz.0.ktx2").string(), {1, 2, 3}},
+                                   {(d / "a.dir.0.ktx2").string(), {4, 5}},
+                                   {(d / "a.json").string(), {'{', '}'}}};
+  publish_output_set(files);
+  EXPECT_EQ(slurp(d / "a.json"), "{}");
+  const auto before = snapshot(d);
+  std::vector<FileToPublish> next = {{(d / "a.iz.1.ktx2").string(), {9}}, {(d / "a.json").string(), {'[', ']'}}};
+  ::setenv("AHDPACK_TEST_WRITE_FAULT", "1:ENOSPC", 1);
+  EXPECT_THROW(publish_output_set(next), Error);
+  ::unsetenv("AHDPACK_TEST_WRITE_FAULT");
+  EXPECT_EQ(snapshot(d), before);
+  // A folder in the way of the manifest: refused before anything is written.
+  fs::create_directories(d / "b.json");
+  try {
+    publish_output_set({{(d / "b.iz.ktx2").string(), {1}}, {(d / "b.json").string(), {2}}});
+    ADD_FAILURE() << "accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()), (d / "b.json").string() + ": is a folder");
+  }
+  EXPECT_EQ(snapshot(d), before);
+  // Superseded files go once the new manifest is in place; the published ones stay.
+  publish_output_set(next, {(d / "a.iz.0.ktx2").string(), (d / "a.dir.0.ktx2").string(), (d / "a.iz.1.ktx2").string()});
+  EXPECT_FALSE(fs::exists(d / "a.iz.0.ktx2"));
+  EXPECT_FALSE(fs::exists(d / "a.dir.0.ktx2"));
+  EXPECT_EQ(slurp(d / "a.iz.1.ktx2"), "\x09");
+  EXPECT_EQ(slurp(d / "a.json"), "[]");
+  fs::remove_all(d);
+}
+
+// Stale temporaries of a dead process are removed; those of a live one (another ahdpack writing
+// into the same folder) are kept.
+TEST(OutputSet, StaleTemporariesOfDeadProcessesAreRemoved) {
+  const fs::path d = ahd_test::temp_dir("output_set_stale");
+  long dead = 4194000;
+  while (::kill(pid_t(dead), 0) == 0 || errno != ESRCH) --dead;
+  const std::string dead_tmp = ".room.json.ahdtmp-" + std::to_string(dead) + "-0badf00d.json";
+  const std::string live_tmp = ".room.json.ahdtmp-" + std::to_string(::getpid()) + "-0badf00d.json";
+  std::ofstream(d / dead_tmp) << "x";
+  std::ofstream(d / live_tmp) << "x";
+  std::ofstream(d / "room.ahdtmp.notours") << "x";
+  EXPECT_TRUE(is_temporary_name(dead_tmp));
+  EXPECT_FALSE(is_temporary_name("room.ahdtmp.notours"));
+  ASSERT_EQ(convert(d, "uncompressed").exit_code, 0);
+  EXPECT_FALSE(fs::exists(d / dead_tmp));
+  EXPECT_TRUE(fs::exists(d / live_tmp));
+  EXPECT_TRUE(fs::exists(d / "room.ahdtmp.notours"));
+  fs::remove_all(d);
+}
