@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <string>
 
+#include "io/manifest_file.h"
 #include "cli/commands.h"
 #include "io/container_file.h"
 #include "core/error.h"

@@ -2,6 +2,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "io/manifest_file.h"
 #include "cli/commands.h"
 #include "io/container_file.h"
 #include "core/error.h"

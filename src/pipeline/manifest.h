@@ -51,14 +51,6 @@ Manifest manifest_from_json(const std::string& text, const std::string& path);
 // bounds.
 std::string plane_format_problem(const std::string& role, PixelFormat f, RatioForm form);
 
-// Reads (at most 16 MiB) and validates a manifest file.
-Manifest read_manifest_file(const std::string& path);
-
-// Reads one plane of a manifest at `manifest_path`: the file's byte size and SHA-256 must be the
-// manifest's (else "<plane file>: does not match the manifest …": a set mixed by an interrupted
-// write or edited by hand is reported, never decoded), then it must hold the format, size and
-// level count the manifest states. Throws ahd::Error naming the file.
-Texture read_manifest_plane(const std::string& manifest_path, const ManifestPlane& plane);
 
 // The key/value pairs every plane texture carries (KTX2 key/value data), describing the encoding.
 std::vector<std::pair<std::string, std::string>> plane_metadata(const Manifest& m, const std::string& plane);

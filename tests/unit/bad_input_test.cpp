@@ -15,6 +15,7 @@
 #include <limits>
 #include <map>
 
+#include "io/manifest_file.h"
 #include "io/container_file.h"
 #include "io/profile_file.h"
 #include "cli_runner.h"
@@ -305,7 +306,8 @@ std::vector<Case> catalogue() {
   c.push_back(container_case("dds-zero-height", "dds", [](B& b) { wr32(b, 12, 0); }, "unsupported size"));
   c.push_back(container_case("dds-too-many-mips", "dds", [](B& b) { wr32(b, 28, 30); }, "invalid mip count"));
   c.push_back(container_case("dds-cube-map", "dds", [](B& b) { wr32(b, 136, 4); }, "cube maps"));
-  c.push_back(container_case("dds-array", "dds", [](B& b) { wr32(b, 140, 6); }, "arrays"));
+  // Arrays are read (atlas pages); one that claims more layers than its data holds is refused.
+  c.push_back(container_case("dds-array", "dds", [](B& b) { wr32(b, 140, 6); }, "truncated"));
   // --- manifests ---
   c.push_back(manifest_case("manifest-truncated", [](std::string& s) { s.resize(s.size() / 2); }, "not a JSON manifest"));
   c.push_back(manifest_case("manifest-not-ours", [](std::string& s) { replace(s, "ahdpack-manifest", "other"); }, "not an ahdpack manifest"));

@@ -165,7 +165,7 @@ TEST(Atlas, FourPageGodotAtlasConvertsToArrayPlanesEqualToEachPageAlone) {
         EXPECT_EQ(mp.layers, 4u);
         const Texture array = read_container_file((out / mp.file).string());
         ASSERT_EQ(array.layers, 4u);
-        const Texture alone = read_container_file((out / (page + "." + mp.name + "." + e)).string());
+        const Texture alone = read_container_file(ahd_test::plane_file((out / (page + ".json")).string(), mp.name));
         const Texture layer = texture_layer(array, uint32_t(p));
         ASSERT_EQ(layer.levels.size(), alone.levels.size());
         for (size_t l = 0; l < alone.levels.size(); ++l)
@@ -182,7 +182,7 @@ TEST(Atlas, FourPageGodotAtlasConvertsToArrayPlanesEqualToEachPageAlone) {
                 read_image((out / ("dec_" + page + ".exr")).string()).data);
     }
     // The pages really differ (a stacked copy of one page would pass the above only by accident).
-    const Texture iz = read_container_file((out / ("atlas.iz." + e)).string());
+    const Texture iz = read_container_file(ahd_test::plane_file((out / "atlas.json").string(), "iz"));
     EXPECT_NE(texture_layer(iz, 0).levels[0].data, texture_layer(iz, 3).levels[0].data);
   }
   const auto r = ahd_test::run_cli({"decode", (d / "out_ktx2" / "atlas.json").string(), "--layer", "4", "-o", (d / "x.exr").string()});

@@ -10,6 +10,7 @@
 #include <map>
 #include <set>
 
+#include "io/manifest_file.h"
 #include "io/container_file.h"
 #include "io/profile_file.h"
 #include "cli_runner.h"
