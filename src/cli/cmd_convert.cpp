@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <set>
 
 #include "api/options.h"
 #include "cli/commands.h"
@@ -146,7 +147,15 @@ std::vector<ShImage> read_input_pages(const ConvertArgs& a, ReadStats* rs, std::
   return pages;
 }
 
-void run_convert(ConvertArgs a) {
+// What one conversion of a batch reports for the summary table.
+struct BatchRow {
+  int width = 0, height = 0;
+  size_t planes = 0;
+  bool directional = true;
+  double rel_mean = -1, rel_p99 = -1;  // the error estimate (−1: not measured)
+};
+
+BatchRow run_convert(ConvertArgs a) {
   resolve_auto_layout(&a);
   std::string out_path = a.output;
   if (out_path.empty())
@@ -188,6 +197,85 @@ void run_convert(ConvertArgs a) {
   }
   publish_conversion(out, run.output.files);
   if (!a.conv.quiet) print_conversion(source, out, run, ro.convert.closed_loop, rs.non_finite_texels);
+  BatchRow row;
+  row.width = int(run.output.manifest.width);
+  row.height = int(run.output.manifest.height);
+  row.planes = run.output.manifest.planes.size();
+  row.directional = run.result.directional;
+  if (run.result.final_error.texels)
+    row.rel_mean = run.result.final_error.relative.mean, row.rel_p99 = run.result.final_error.relative.p99;
+  return row;
+}
+
+// The files a batch converts: each input, a folder standing for its *.exr files (sorted; not
+// recursive). Globs are the shell's.
+std::vector<std::string> batch_files(const std::vector<std::string>& inputs) {
+  std::vector<std::string> files;
+  for (const std::string& in : inputs) {
+    std::error_code ec;
+    if (!fs::is_directory(in, ec)) {
+      files.push_back(in);
+      continue;
+    }
+    std::vector<std::string> found;
+    for (const auto& e : fs::directory_iterator(in, ec))
+      if (e.is_regular_file() && e.path().extension() == ".exr") found.push_back(e.path().string());
+    std::sort(found.begin(), found.end());
+    if (found.empty()) throw file_error(in, "folder holds no .exr file to convert");
+    files.insert(files.end(), found.begin(), found.end());
+  }
+  return files;
+}
+
+// `convert IN1 IN2 … -o OUTDIR/` (or one folder, or -o an existing folder): every file into OUTDIR
+// with its own manifest, one after the other (each conversion uses every thread in every heavy
+// stage), past failures; one summary table; exit 1 naming the failed files.
+void run_batch(const ConvertArgs& a, const std::vector<std::string>& inputs) {
+  const std::vector<std::string> files = batch_files(inputs);
+  const fs::path dir = a.output.empty() ? fs::path("ahdpack-out") : fs::path(a.output);
+  const char* ext = a.conv.container == "dds" ? ".dds" : ".ktx2";
+  struct Done {
+    std::string file;
+    BatchRow row;
+    double seconds = 0;
+    std::string error;
+  };
+  std::vector<Done> done;
+  std::set<std::string> stems;
+  for (const std::string& f : files) {
+    Done d{f};
+    const auto t0 = std::chrono::steady_clock::now();
+    try {
+      const std::string stem = fs::path(f).stem().string();
+      if (!stems.insert(stem).second) throw file_error(f, "another input has the same name: its outputs would collide");
+      ConvertArgs one = a;
+      one.input = f;
+      one.output = (dir / (stem + ext)).string();
+      one.conv.quiet = true;
+      d.row = run_convert(std::move(one));
+    } catch (const Cancelled&) {
+      throw;
+    } catch (const std::exception& e) {
+      d.error = e.what();
+      std::fprintf(stderr, "ahdpack: error: %s\n", d.error.c_str());
+    }
+    d.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    done.push_back(std::move(d));
+  }
+  std::string failed;
+  size_t n_failed = 0;
+  if (!a.conv.quiet) std::printf("%-40s %-11s %-12s %-21s %8s\n", "file", "size", "planes", "rel. error mean / p99", "seconds");
+  for (const Done& d : done) {
+    if (!d.error.empty()) failed += (n_failed++ ? ", " : "") + d.file;
+    if (a.conv.quiet) continue;
+    const std::string size = d.error.empty() ? std::to_string(d.row.width) + "x" + std::to_string(d.row.height) : "-";
+    const std::string planes = d.error.empty() ? std::to_string(d.row.planes) + (d.row.directional ? " (AHD)" : " (I_z only)") : "FAILED";
+    char err[32] = "-";
+    if (d.row.rel_mean >= 0) std::snprintf(err, sizeof err, "%.2e / %.2e", d.row.rel_mean, d.row.rel_p99);
+    std::printf("%-40s %-11s %-12s %-21s %8.2f\n", d.file.c_str(), size.c_str(), planes.c_str(), err, d.seconds);
+  }
+  if (n_failed)
+    throw Error(std::to_string(n_failed) + " of " + std::to_string(done.size()) + " conversions failed: " + failed);
 }
 
 }  // namespace
@@ -208,8 +296,15 @@ void add_layouts_command(CLI::App& app) {
 void add_convert_command(CLI::App& app) {
   auto a = std::make_shared<ConvertArgs>();
   CLI::App* c = app.add_subcommand("convert", "Convert an SH lightmap (or, with no input, the built-in sample) to AHD planes");
-  c->add_option("input", a->input, "Canonical SH EXR (sh0.R … sh8.B); omit for the built-in sample");
-  c->add_option("-o,--output", a->output, "OUT.ktx2 or OUT.dds: writes OUT.<plane>.<ext>, OUT.json, OUT.report.json");
+  auto inputs = std::make_shared<std::vector<std::string>>();
+  c->add_option("input", *inputs,
+                "Canonical SH EXR (sh0.R … sh8.B) or any file of a baker's set; omit for the built-in sample. Several "
+                "inputs, or a folder (its .exr files), convert each into the folder -o names");
+  c->add_option("-o,--output", a->output,
+                "OUT.ktx2 or OUT.dds: writes OUT.<plane>.<hash>.<ext>, OUT.json, OUT.report.json; with several "
+                "inputs, the folder OUTDIR/ for all of them (KTX2, or DDS with --container dds)");
+  c->add_option("--container", a->conv.container, "Batch: the container of every output (ktx2 or dds)")
+      ->check(CLI::IsMember({"ktx2", "dds"}));
   c->add_option("--layout", a->layout,
                 "Baker layout preset (ahdpack layouts), FILE.json, or auto (the default for an input that is not the "
                 "canonical EXR): the input is then any file of the baker's set, or its base path");
@@ -232,7 +327,14 @@ void add_convert_command(CLI::App& app) {
   c->add_option("--sample-size", a->sample_size, "Built-in sample: width and height")->check(CLI::Range(1, 8192));
   c->add_option("--sample-order", a->sample_order, "Built-in sample: SH order 1 (L1) or 2 (L2)")->check(CLI::IsMember({1, 2}));
   c->add_option("--seed", a->seed, "Built-in sample: scene seed (0 = canonical)");
-  c->callback([a]() { run_convert(*a); });
+  c->callback([a, inputs]() {
+    std::error_code ec;
+    const bool to_folder = !a->output.empty() && (a->output.back() == '/' || fs::is_directory(a->output, ec));
+    const bool folder_in = inputs->size() == 1 && fs::is_directory((*inputs)[0], ec);
+    if (inputs->size() > 1 || folder_in || (to_folder && !inputs->empty())) return run_batch(*a, *inputs);
+    a->input = inputs->empty() ? std::string() : (*inputs)[0];
+    run_convert(*a);
+  });
 }
 
 }  // namespace ahd::cli

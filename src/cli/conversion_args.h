@@ -19,6 +19,7 @@ struct ConversionArgs {
   bool open_loop = false;
   bool strict_ktx = false;
   bool quiet = false;
+  std::string container = "ktx2";  // batch conversions into a folder: the container of every output
 };
 
 // `fit`: also the options that change the fit (--ratio, --eps, --levels, --coverage-plane), which a

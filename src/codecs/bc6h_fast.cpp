@@ -29,6 +29,7 @@
 #include <limits>
 
 #if defined(__x86_64__) || defined(__i386__)
+#include <cpuid.h>
 #include <immintrin.h>
 #define AHD_HAVE_X86 1
 #endif
@@ -56,10 +57,17 @@ __attribute__((target("avx,f16c"))) void to_half_f16c(const float* in, uint16_t*
 }
 #endif
 
+// CPUID leaf 1 (ECX: OSXSAVE bit 27, AVX 28, F16C 29) and XCR0 (the OS saves the YMM state):
+// read directly, since clang 14's __builtin_cpu_supports does not know "f16c".
 bool detect_f16c() {
 #ifdef AHD_HAVE_X86
-  __builtin_cpu_init();
-  return __builtin_cpu_supports("avx") && __builtin_cpu_supports("f16c");
+  unsigned a = 0, b = 0, c = 0, d = 0;
+  if (!__get_cpuid(1, &a, &b, &c, &d)) return false;
+  const unsigned need = (1u << 27) | (1u << 28) | (1u << 29);
+  if ((c & need) != need) return false;
+  unsigned lo = 0, hi = 0;
+  __asm__("xgetbv" : "=a"(lo), "=d"(hi) : "c"(0));
+  return (lo & 6u) == 6u;  // XMM and YMM state enabled
 #else
   return false;
 #endif

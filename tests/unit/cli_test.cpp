@@ -240,3 +240,39 @@ TEST(Cli, EveryProfileAndContainerRoundTrips) {
     }
   fs::remove_all(d);
 }
+
+TEST(Cli, BatchConvertsEveryInputPastAFailureAndNamesIt) {
+  const fs::path d = ahd_test::temp_dir("cli_batch");
+  ahd::BakerOptions bo;
+  bo.width = bo.height = 16;
+  bo.coeffs = 4;
+  ahd::write_canonical_sh((d / "a.exr").string(), ahd::bake_analytic_scene(bo));
+  bo.seed = 3;
+  ahd::write_canonical_sh((d / "c.exr").string(), ahd::bake_analytic_scene(bo));
+  {
+    std::ofstream bad(d / "b.exr", std::ios::binary);
+    bad << "not an EXR at all";
+  }
+  const auto r = run_cli({"convert", (d / "a.exr").string(), (d / "b.exr").string(), (d / "c.exr").string(), "-o",
+                          (d / "out/").string()});
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  // The corrupt file: its one error line, the final line naming it, and nothing written for it.
+  EXPECT_NE(r.output.find("ahdpack: error: " + (d / "b.exr").string() + ": "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("1 of 3 conversions failed: " + (d / "b.exr").string()), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(d / "out" / "b.json"));
+  for (const auto& e : fs::directory_iterator(d / "out")) EXPECT_NE(e.path().filename().string().rfind("b.", 0), 0u) << e.path();
+  // The others converted, each with its own manifest and readable planes, and the summary lists all three.
+  for (const char* name : {"a", "c"}) {
+    const std::string iz = ahd_test::plane_file((d / "out" / (std::string(name) + ".json")).string(), "iz");
+    ASSERT_FALSE(iz.empty()) << name;
+    EXPECT_EQ(ahd::read_container_file(iz).levels[0].width, 16u);
+  }
+  EXPECT_NE(r.output.find("FAILED"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("16x16"), std::string::npos) << r.output;
+  // A folder as input converts its .exr files (the corrupt one fails again).
+  const auto f = run_cli({"convert", d.string(), "-o", (d / "out2").string() + "/", "--container", "dds", "-q"});
+  EXPECT_EQ(f.exit_code, 1) << f.output;
+  EXPECT_TRUE(fs::exists(d / "out2" / "a.json"));
+  EXPECT_FALSE(ahd_test::plane_file((d / "out2" / "c.json").string(), "iz").empty());
+  fs::remove_all(d);
+}
