@@ -276,3 +276,32 @@ TEST(Cli, BatchConvertsEveryInputPastAFailureAndNamesIt) {
   EXPECT_FALSE(ahd_test::plane_file((d / "out2" / "c.json").string(), "iz").empty());
   fs::remove_all(d);
 }
+
+// Progress: one line per stage, redrawn in place ('\r') on a terminal — here a pseudo-terminal made
+// by util-linux's `script` — and nothing of it in a pipe or with -q.
+TEST(Cli, ProgressOnATerminalOnlyNotInPipes) {
+  const fs::path d = ahd_test::temp_dir("cli_progress");
+  auto shell = [](const std::string& cmd) {
+    std::string out;
+    FILE* p = popen(cmd.c_str(), "r");
+    if (!p) return out;
+    char buf[4096];
+    size_t n;
+    while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
+    pclose(p);
+    return out;
+  };
+  const std::string convert = std::string("'") + AHD_CLI_PATH + "' convert --sample-size 64 -o '" + (d / "t.ktx2").string() + "'";
+  const std::string tty = shell("script -qec \"" + convert + "\" /dev/null 2>&1");
+  EXPECT_NE(tty.find("fit"), std::string::npos) << tty;
+  EXPECT_NE(tty.find("encode"), std::string::npos) << tty;
+  EXPECT_NE(tty.find("\r\033[K"), std::string::npos) << tty;  // redrawn in place
+  EXPECT_NE(tty.find("100 %"), std::string::npos) << tty;
+  const std::string piped = shell(convert + " 2>&1 | cat");
+  EXPECT_EQ(piped.find("\r\033[K"), std::string::npos) << piped;
+  EXPECT_EQ(piped.find(" %  "), std::string::npos) << piped;
+  EXPECT_NE(piped.find("profile uncompressed"), std::string::npos) << piped;  // the summary still prints
+  const std::string quiet = shell("script -qec \"" + convert + " -q\" /dev/null 2>&1");
+  EXPECT_EQ(quiet.find("\r\033[K"), std::string::npos) << quiet;
+  fs::remove_all(d);
+}
