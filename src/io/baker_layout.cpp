@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "core/json_number.h"
 #include "io/paths.h"
 #include "io/colour_space.h"
 #include "io/image_io.h"
@@ -36,7 +37,8 @@ void check_source(const PresetParse& pp, const LayoutSource& s) {
 }
 
 LayoutSource parse_source(const PresetParse& pp, const json& j) {
-  LayoutSource s{j.at("file").get<int>(), j.value("slice", 0), j.at("channel").get<std::string>()};
+  LayoutSource s{int(json_whole(j.at("file"), 0, 64, pp.path, "file")), int(json_whole_or(j, "slice", 0, 0, 1 << 16, pp.path)),
+                 j.at("channel").get<std::string>()};
   check_source(pp, s);
   return s;
 }
@@ -44,9 +46,9 @@ LayoutSource parse_source(const PresetParse& pp, const json& j) {
 LayoutFile parse_file(const std::string& path, const json& jf) {
   LayoutFile lf;
   lf.pattern = jf.at("pattern").get<std::string>();
-  lf.slices = jf.value("slices", 1);
+  lf.slices = int(json_whole_or(jf, "slices", 1, 1, 1 << 16, path));
   lf.needs_float = jf.value("float", false);
-  lf.part = jf.value("part", 0);
+  lf.part = int(json_whole_or(jf, "part", 0, 0, 1 << 16, path));
   lf.part_name = jf.value("part_name", "");
   lf.per_page = jf.value("per_page", false);
   if (lf.slices < 1) throw file_error(path, "slices must be ≥ 1");
@@ -65,7 +67,8 @@ void parse_sources(const PresetParse& pp, const json& jc, LayoutCoefficient& c) 
     for (size_t i = 0; i < 3; ++i) c.source[i] = parse_source(pp, js[i]);
     return;
   }
-  const int file = jc.at("file").get<int>(), slice = jc.value("slice", 0);
+  const int file = int(json_whole(jc.at("file"), 0, 64, pp.path, "file")),
+            slice = int(json_whole_or(jc, "slice", 0, 0, 1 << 16, pp.path));
   const auto ch = jc.value("channels", std::vector<std::string>{"R", "G", "B"});
   if (ch.size() != 3) throw file_error(pp.path, "channels must name 3 channels (R, G, B order)");
   for (size_t i = 0; i < 3; ++i) c.source[i] = {file, slice, ch[i]};
@@ -118,7 +121,7 @@ void parse_mesh_axes(const std::string& path, const json& j, LayoutPreset& p) {
 }
 
 void parse_preset(const std::string& path, const json& j, LayoutPreset& p) {
-  p.coeffs = j.at("coeffs").get<int>();
+  p.coeffs = int(json_whole(j.at("coeffs"), 0, 9, path, "coeffs"));
   if (p.coeffs != 4 && p.coeffs != 9) throw file_error(path, "coeffs must be 4 or 9");
   const std::string space = j.value("space", "tangent");
   if (space != "tangent" && space != "world") throw file_error(path, "space must be tangent or world");

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/json_number.h"
 
 namespace ahd {
 
@@ -18,7 +19,7 @@ std::vector<Placement> read_json(const std::string& path, const std::string& tex
     for (const auto& e : j.at("placements")) {
       Placement p;
       p.node = e.at("node").get<std::string>();
-      p.page = e.value("page", 0);
+      p.page = int(json_whole_or(e, "page", 0, 0, 2047, path));
       const auto s = e.at("scale").get<std::vector<double>>(), o = e.at("offset").get<std::vector<double>>();
       if (s.size() != 2 || o.size() != 2) throw file_error(path, "scale and offset take 2 numbers (u, v)");
       p.scale[0] = s[0], p.scale[1] = s[1], p.offset[0] = o[0], p.offset[1] = o[1];

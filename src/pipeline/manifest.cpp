@@ -9,6 +9,7 @@
 #include "containers/limits.h"
 #include "containers/sha256.h"
 #include "core/error.h"
+#include "core/json_number.h"
 
 namespace ahd {
 
@@ -70,16 +71,16 @@ Manifest manifest_from_json(const std::string& text, const std::string& path) {
   Manifest m;
   try {
     if (j.value("format", "") != "ahdpack-manifest") throw file_error(path, "not an ahdpack manifest");
-    m.version = j.at("version").get<int>();
+    m.version = int(json_whole(j.at("version"), 0, 1 << 30, path, "version"));
     if (m.version != kManifestVersion)
       throw file_error(path, "manifest version " + std::to_string(m.version) + " is not supported (this build reads " +
                                  std::to_string(kManifestVersion) + ")");
     m.profile = j.at("profile").get<std::string>();
     m.container = j.at("container").get<std::string>();
-    m.width = j.at("width").get<uint32_t>();
-    m.height = j.at("height").get<uint32_t>();
-    m.levels = j.at("levels").get<uint32_t>();
-    m.layers = j.value("layers", 1u);
+    m.width = uint32_t(json_whole(j.at("width"), 0, UINT32_MAX, path, "width"));
+    m.height = uint32_t(json_whole(j.at("height"), 0, UINT32_MAX, path, "height"));
+    m.levels = uint32_t(json_whole(j.at("levels"), 0, 64, path, "levels"));
+    m.layers = uint32_t(json_whole_or(j, "layers", 1, 0, UINT32_MAX, path));
     if (m.layers < 1 || m.layers > 2048) throw file_error(path, "layers must be 1..2048");
     if (m.width == 0 || m.height == 0) throw file_error(path, "manifest size is empty");
     check_image_size(path, m.width, m.height);
@@ -109,19 +110,19 @@ Manifest manifest_from_json(const std::string& text, const std::string& path) {
         throw file_error(path, "unknown plane format " + p.at("format").get<std::string>());
       const std::string why = plane_format_problem(mp.name, mp.format, m.ratio_form);
       if (!why.empty()) throw file_error(path, why);
-      mp.width = p.at("width").get<uint32_t>();
-      mp.height = p.at("height").get<uint32_t>();
-      mp.levels = p.at("levels").get<uint32_t>();
+      mp.width = uint32_t(json_whole(p.at("width"), 0, UINT32_MAX, path, "plane width"));
+      mp.height = uint32_t(json_whole(p.at("height"), 0, UINT32_MAX, path, "plane height"));
+      mp.levels = uint32_t(json_whole(p.at("levels"), 0, 64, path, "plane levels"));
       if (mp.width != m.width || mp.height != m.height || mp.levels != m.levels)
         throw file_error(path, "plane " + mp.name + " is " + std::to_string(mp.width) + "x" + std::to_string(mp.height) +
                                    " with " + std::to_string(mp.levels) + " level(s), the manifest says " +
                                    std::to_string(m.width) + "x" + std::to_string(m.height) + " with " +
                                    std::to_string(m.levels));
-      mp.bytes = p.at("bytes").get<uint64_t>();
+      mp.bytes = uint64_t(json_whole(p.at("bytes"), 0, INT64_MAX, path, "plane bytes"));
       mp.sha256 = p.at("sha256").get<std::string>();
       if (mp.sha256.size() != 64 || mp.sha256.find_first_not_of("0123456789abcdef") != std::string::npos)
         throw file_error(path, "plane " + mp.name + " has no valid sha256");
-      mp.layers = p.value("layers", 1u);
+      mp.layers = uint32_t(json_whole_or(p, "layers", 1, 0, UINT32_MAX, path));
       if (mp.layers != m.layers) throw file_error(path, "plane " + mp.name + " has a layer count other than the manifest's");
       m.planes.push_back(mp);
     }

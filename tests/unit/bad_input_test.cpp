@@ -14,6 +14,7 @@
 #include <functional>
 #include <limits>
 #include <map>
+#include <nlohmann/json.hpp>
 
 #include "io/manifest_file.h"
 #include "io/container_file.h"
@@ -656,4 +657,25 @@ TEST(BadInput, CliRefusesOverLimitImageWhenRead) {
   EXPECT_NE(out.find("40x8 is over the size limit of 32x32"), std::string::npos) << out;
   EXPECT_FALSE(fs::exists(d / "out"));
   fs::remove_all(d);
+}
+
+// Found by fuzz_manifest under UBSan: a number such as 1.9e113 where a whole number belongs was
+// converted with undefined behaviour. Every whole-number field now takes integer tokens in range.
+TEST(BadInput, ManifestNumbersMustBeWholeAndInRange) {
+  std::ifstream f(std::string(AHD_SOURCE_DIR) + "/golden/expected/scene16_uncompressed_ktx2.json");
+  ASSERT_TRUE(f);
+  const nlohmann::json good = nlohmann::json::parse(f);
+  EXPECT_NO_THROW(manifest_from_json(good.dump(), "m.json"));
+  const std::vector<std::pair<std::string, nlohmann::json>> bad = {
+      {"/planes/0/bytes", 1.94856e+113}, {"/width", -3}, {"/levels", 2.5}, {"/version", 1e30}, {"/planes/0/height", "16"}};
+  for (const auto& [pointer, value] : bad) {
+    nlohmann::json m = good;
+    m[nlohmann::json::json_pointer(pointer)] = value;
+    try {
+      manifest_from_json(m.dump(), "m.json");
+      ADD_FAILURE() << pointer << " = " << value.dump() << " was accepted";
+    } catch (const ahd::Error& e) {
+      EXPECT_EQ(std::string(e.what()).rfind("m.json: ", 0), 0u) << e.what();
+    }
+  }
 }
