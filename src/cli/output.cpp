@@ -51,7 +51,12 @@ void print_conversion(const std::string& source, const OutputPaths& out, const C
   if (r.final_error.texels == 0) {
     std::printf("error: not measured (--measure estimate or full)\n");
   } else {
-    std::printf("error vs source SH irradiance (64 normals over the hemisphere, covered texels):\n");
+    const ErrorReport& e0 = r.final_error;
+    if (e0.population > e0.texels)
+      std::printf("error vs source SH irradiance (64 normals over the hemisphere), estimated from a fixed sample of %zu of "
+                  "%zu covered texels per level (--measure full: every texel):\n", e0.texels, e0.population);
+    else
+      std::printf("error vs source SH irradiance (64 normals over the hemisphere, covered texels):\n");
     print_error_header(stdout);
     if (r.fit_error.texels) {
       print_error_row(stdout, "fit: constrained AHD", r.fit_error);
