@@ -189,7 +189,7 @@ std::string convert_case(const Case& c, const std::string& out_dir, int threads,
   const long read_peak_kb = status_kb("VmHWM") - baseline_kb;
   ConversionRun run = run_conversion(std::move(sh), ro.profile, ro.convert, ro.package, {{"read", read_s}});
   t0 = Clock::now();
-  publish_conversion(out, run.output.files);
+  publish_conversion(out, std::move(run.output.files));  // the summary needs the manifest, not the bytes
   run.result.timings.push_back({"write", since(t0)});
   const double total = since(t_start);
   o << "peak_rss_kb=" << (status_kb("VmHWM") - baseline_kb) << "\nread_peak_kb=" << read_peak_kb << "\n";

@@ -195,7 +195,7 @@ BatchRow run_convert(ConvertArgs a) {
       on_fitted = [&](const std::vector<FittedLevel>& levels) { write_intermediate(out.sibling(".ahd.exr"), levels, ro.convert.fit); };
     run = run_conversion(std::move(pages[0]), ro.profile, ro.convert, pkg, read_stage, on_fitted);
   }
-  publish_conversion(out, run.output.files);
+  publish_conversion(out, std::move(run.output.files));  // the summary needs the manifest, not the bytes
   if (!a.conv.quiet) print_conversion(source, out, run, ro.convert.closed_loop, rs.non_finite_texels);
   BatchRow row;
   row.width = int(run.output.manifest.width);

@@ -43,8 +43,8 @@ void add_transcode_command(CLI::App& app) {
     ro.convert.fit = fit;  // the stored fit's parameters, whatever the flags say
     ro.package.world_frame = !levels[0].sh.normals.empty();
     ro.package.report_extra = {{"source", a->input + " (intermediate)"}};
-    const ConversionRun run = run_transcode(levels, profile, ro.convert, ro.package, {{"read", read_seconds}});
-    publish_conversion(out, run.output.files);
+    ConversionRun run = run_transcode(levels, profile, ro.convert, ro.package, {{"read", read_seconds}});
+    publish_conversion(out, std::move(run.output.files));  // the summary needs the manifest, not the bytes
     if (!a->conv.quiet) print_conversion("transcode " + a->input, out, run, ro.convert.closed_loop, 0);
   });
 }
