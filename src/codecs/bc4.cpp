@@ -14,21 +14,52 @@ uint64_t read_indices(const uint8_t* b) {
   return v;
 }
 
-// Best index per texel for a palette; returns the squared error.
+// Best index per texel for a palette (the first of equally close entries); returns the squared
+// error, summed in texel order. Palette-major so the 16 texels are compared in vector lanes.
 float assign(const float v[16], const float pal[8], uint8_t idx[16]) {
+  float bd[16];
+  int bi[16];
+  for (int i = 0; i < 16; ++i) bd[i] = std::fabs(v[i] - pal[0]), bi[i] = 0;
+  for (int k = 1; k < 8; ++k)
+    for (int i = 0; i < 16; ++i) {
+      const float d = std::fabs(v[i] - pal[k]);
+      const bool closer = d < bd[i];
+      bd[i] = closer ? d : bd[i];
+      bi[i] = closer ? k : bi[i];
+    }
   float err = 0;
   for (int i = 0; i < 16; ++i) {
-    int best = 0;
-    float bd = std::fabs(v[i] - pal[0]);
-    for (int k = 1; k < 8; ++k) {
-      const float d = std::fabs(v[i] - pal[k]);
-      if (d < bd) bd = d, best = k;
-    }
-    idx[i] = uint8_t(best);
-    err += bd * bd;
+    idx[i] = uint8_t(bi[i]);
+    err += bd[i] * bd[i];
   }
   return err;
 }
+
+// The endpoint pairs a block's search has already evaluated: the searches below revisit many pairs
+// (neighbourhoods overlap), and a pair seen before can never win again (ties keep the first).
+class TriedPairs {
+ public:
+  // True the first time (r0, r1) is asked about.
+  bool first_time(int r0, int r1) {
+    const unsigned key = unsigned(r0) << 8 | unsigned(r1);
+    uint64_t& word = bits_[key >> 6];
+    const uint64_t bit = uint64_t(1) << (key & 63);
+    if (word & bit) return false;
+    if (word == 0) touched_[ntouched_++] = uint16_t(key >> 6);
+    word |= bit;
+    return true;
+  }
+  // Forget every pair (clears only the words in use).
+  void clear() {
+    for (int i = 0; i < ntouched_; ++i) bits_[touched_[i]] = 0;
+    ntouched_ = 0;
+  }
+
+ private:
+  uint64_t bits_[1024] = {};
+  uint16_t touched_[1024];
+  int ntouched_ = 0;
+};
 
 void write_block(uint8_t r0, uint8_t r1, const uint8_t idx[16], uint8_t out[8]) {
   out[0] = r0;
@@ -40,13 +71,28 @@ void write_block(uint8_t r0, uint8_t r1, const uint8_t idx[16], uint8_t out[8]) 
 
 }  // namespace
 
+namespace {
+
+// n / (steps·255) rounded to float, for every numerator an interpolated entry can have
+// (n = (steps+1−k)·r0 + (k−1)·r1 ≤ steps·255): the encoder's search asks for palettes millions of
+// times, and a table lookup gives the very value of the division.
+struct InterpolationTable {
+  float v[7 * 255 + 1];
+  explicit InterpolationTable(int steps) {
+    for (int n = 0; n <= steps * 255; ++n) v[n] = float(n / (steps * 255.0));
+  }
+};
+
+}  // namespace
+
 void bc4_palette(uint8_t r0, uint8_t r1, float pal[8]) {
+  static const InterpolationTable by7(7), by5(5);
   pal[0] = r0 / 255.0f;
   pal[1] = r1 / 255.0f;
   if (r0 > r1) {
-    for (int k = 2; k < 8; ++k) pal[k] = float(((8 - k) * r0 + (k - 1) * r1) / (7.0 * 255.0));
+    for (int k = 2; k < 8; ++k) pal[k] = by7.v[(8 - k) * r0 + (k - 1) * r1];
   } else {
-    for (int k = 2; k < 6; ++k) pal[k] = float(((6 - k) * r0 + (k - 1) * r1) / (5.0 * 255.0));
+    for (int k = 2; k < 6; ++k) pal[k] = by5.v[(6 - k) * r0 + (k - 1) * r1];
     pal[6] = 0.0f;
     pal[7] = 1.0f;
   }
@@ -93,8 +139,11 @@ void bc4_encode_block(const float texels[16], uint8_t out[8], int effort) {
   float best = INFINITY;
   uint8_t best_idx[16], idx[16], b0 = 0, b1 = 0;
   float pal[8];
+  thread_local TriedPairs tried;
+  tried.clear();
   auto consider = [&](int r0, int r1) {
     if (r0 < 0 || r0 > 255 || r1 < 0 || r1 > 255) return;
+    if (!tried.first_time(r0, r1)) return;
     bc4_palette(uint8_t(r0), uint8_t(r1), pal);
     const float e = assign(v, pal, idx);
     if (e < best) {
