@@ -77,6 +77,11 @@ std::vector<FittedLevel> fit_mip_chain(const ShImage& level0, const FitOptions& 
                                        std::vector<DilateStats>* dilate_stats = nullptr,
                                        NormalRule rule = NormalRule::RotateThenAverage);
 
+// One level of that chain: fit every texel of `sh` (taken over into the result), then dilate the
+// uncovered ones. Throws ahd::Error on a malformed image.
+FittedLevel fit_level(ShImage&& sh, const FitOptions& opt, int threads, FitStats* stats = nullptr,
+                      DilateStats* dilate_stats = nullptr);
+
 // The same, taking level 0 over (moved into the result's level 0): no copy of the largest level.
 std::vector<FittedLevel> fit_mip_chain(ShImage&& level0, const FitOptions& opt, int max_levels, int threads,
                                        std::vector<FitStats>* stats = nullptr,

@@ -167,16 +167,21 @@ std::vector<FittedLevel> fit_mip_chain(ShImage&& level0, const FitOptions& opt, 
   // Level by level, each SH level filtered from the previous one (the same chain build_sh_mips
   // makes), without a second copy of level 0 or a separate list of SH levels.
   for (int l = 0; l < levels; ++l) {
-    ShImage s = l == 0 ? std::move(level0) : downsample_sh(out.back().sh, threads, rule);
     FitStats fs;
     DilateStats ds;
-    AhdImage a = fit_image(s, opt, threads, &fs);
-    dilate_ahd(a, opt.dz_min, threads, &ds);
+    out.push_back(fit_level(l == 0 ? std::move(level0) : downsample_sh(out.back().sh, threads, rule), opt, threads,
+                            &fs, &ds));
     if (stats) stats->push_back(fs);
     if (dilate_stats) dilate_stats->push_back(ds);
-    out.push_back({std::move(s), std::move(a)});
   }
   return out;
+}
+
+FittedLevel fit_level(ShImage&& sh, const FitOptions& opt, int threads, FitStats* stats, DilateStats* dilate_stats) {
+  check_image(sh);
+  AhdImage a = fit_image(sh, opt, threads, stats);
+  dilate_ahd(a, opt.dz_min, threads, dilate_stats);
+  return {std::move(sh), std::move(a)};
 }
 
 std::vector<FittedLevel> fit_mip_chain(const ShImage& level0, const FitOptions& opt, int max_levels, int threads,

@@ -29,13 +29,6 @@ void dir_to_unit_uv(const float d[3], float uv01[2]) {
   uv01[1] = float(uv[1] * 0.5 + 0.5);
 }
 
-void unit_uv_to_dir(const float uv01[2], float d[3]) {
-  const double uv[2] = {uv01[0] * 2.0 - 1.0, uv01[1] * 2.0 - 1.0};
-  double dd[3];
-  hemi_oct_decode(uv, dd);
-  for (int i = 0; i < 3; ++i) d[i] = float(dd[i]);
-}
-
 // I_z alone: d = z, ratio = 1, so I(n) = I_z for every normal.
 AhdLobe ambient_only_lobe(const AhdFit& f) {
   AhdLobe l;
@@ -58,81 +51,6 @@ AhdLobe lobe_of_fit(const AhdFit& f) {
 }
 
 }  // namespace
-
-DecodedPlanes decode_planes(const std::vector<Plane>& planes, bool ratio_rgb, int level) {
-  const Plane *iz = nullptr, *dir = nullptr, *ratio = nullptr, *dirratio = nullptr;
-  for (const Plane& p : planes) {
-    if (p.name == "iz") iz = &p;
-    if (p.name == "dir") dir = &p;
-    if (p.name == "ratio") ratio = &p;
-    if (p.name == "dirratio") dirratio = &p;
-  }
-  if (!iz) throw Error("conversion has no iz plane");
-  // Everything is validated before any texel is decoded (issue 15: an R8 "iz" plane from a hostile
-  // manifest was read past its end): each format must fit its role, and every plane must have the
-  // same mip chain, each level of the chain's size.
-  const RatioForm form = ratio_rgb ? RatioForm::Rgb : RatioForm::Luminance;
-  if (iz->texture.levels.empty()) throw Error("plane iz has no levels");
-  const uint32_t w0 = iz->texture.levels[0].width, h0 = iz->texture.levels[0].height;
-  for (const Plane* p : {iz, dir, ratio, dirratio}) {
-    if (!p) continue;
-    const std::string why = plane_format_problem(p->name, p->texture.format, form);
-    if (!why.empty()) throw Error(why);
-    if (p->texture.levels.size() != iz->texture.levels.size()) throw Error("planes of one conversion differ in level count");
-    for (size_t l = 0; l < p->texture.levels.size(); ++l) {
-      const TextureLevel& lv = p->texture.levels[l];
-      if (w0 == 0 || h0 == 0 || lv.width != std::max(1u, w0 >> l) || lv.height != std::max(1u, h0 >> l))
-        throw Error("planes of one conversion differ in size (plane " + p->name + ", level " + std::to_string(l) + ")");
-    }
-  }
-  if (!dirratio && (dir != nullptr) != (ratio != nullptr)) throw Error("a dir plane needs its ratio plane and back");
-  auto level_of = [&](const Plane* p) -> const TextureLevel& {
-    if (level < 0 || size_t(level) >= p->texture.levels.size())
-      throw Error("plane " + p->name + " has no mip level " + std::to_string(level));
-    return p->texture.levels[size_t(level)];
-  };
-  const ImageF izi = decode_plane(iz->texture.format, level_of(iz));
-  DecodedPlanes out;
-  out.width = izi.width, out.height = izi.height;
-  const size_t n = izi.texels();
-  out.iz.resize(n * 3);
-  out.d.assign(n * 3, 0.0f);
-  out.ratio.assign(n * 3, 1.0f);
-  for (size_t i = 0; i < n; ++i)
-    for (int c = 0; c < 3; ++c) out.iz[i * 3 + c] = izi.data[i * izi.channels + c];
-  ImageF di, ri;
-  int ratio_channel = 0;
-  if (dirratio) {
-    di = decode_plane(dirratio->texture.format, level_of(dirratio));
-    ri = di;
-    ratio_channel = 2;
-  } else if (dir && ratio) {
-    di = decode_plane(dir->texture.format, level_of(dir));
-    ri = decode_plane(ratio->texture.format, level_of(ratio));
-  }
-  if (di.texels() == 0) {
-    // A plain lightmap (no directional planes): pure ambient, d = z.
-    for (size_t i = 0; i < n; ++i) out.d[i * 3 + 2] = 1.0f;
-    return out;
-  }
-  if (di.width != out.width || di.height != out.height || ri.width != out.width || ri.height != out.height)
-    throw Error("planes of one conversion differ in size");
-  for (size_t i = 0; i < n; ++i) {
-    unit_uv_to_dir(&di.data[i * di.channels], &out.d[i * 3]);
-    for (int c = 0; c < 3; ++c) {
-      const int ch = ratio_rgb ? ratio_channel + c : ratio_channel;
-      out.ratio[i * 3 + c] = ri.data[i * ri.channels + std::min(ch, ri.channels - 1)];
-    }
-  }
-  return out;
-}
-
-std::vector<AhdLobe> lobes_from_planes(const DecodedPlanes& p, double dz_min) {
-  std::vector<AhdLobe> lobes(p.iz.size() / 3);
-  for (size_t i = 0; i < lobes.size(); ++i)
-    decode_colours(&p.iz[i * 3], &p.d[i * 3], &p.ratio[i * 3], dz_min, lobes[i].ca, lobes[i].cd, lobes[i].d);
-  return lobes;
-}
 
 void check_profile(const Profile& profile, const ConvertOptions& opt) {
   const bool ratio_rgb = opt.fit.ratio_form == RatioForm::Rgb;
@@ -249,24 +167,43 @@ LevelPlanes quantise_level(const FittedLevel& lv, const Profile& profile, const 
   return out;
 }
 
-std::vector<Plane> planes_of(const Profile& profile, const std::vector<LevelPlanes>& lv, bool directional,
-                             bool open_loop) {
+// The planes of every level, the levels' bytes moved in. open_loop: the ratio planes of the
+// unquantised fit's ratio (for the report) instead of the closed loop's.
+std::vector<Plane> planes_of(const Profile& profile, std::vector<LevelPlanes>&& lv, bool directional) {
   auto texture = [&](PixelFormat f, TextureLevel LevelPlanes::*member) {
     Texture t;
     t.format = f;
-    for (const auto& l : lv) t.levels.push_back(l.*member);
+    for (auto& l : lv) t.levels.push_back(std::move(l.*member));
     return t;
   };
   std::vector<Plane> planes;
   planes.push_back({"iz", texture(profile.iz, &LevelPlanes::iz)});
   if (!directional) return planes;
   if (profile.packed_dir_ratio) {
-    planes.push_back({"dirratio", texture(profile.dirratio, open_loop ? &LevelPlanes::dirratio_open : &LevelPlanes::dirratio)});
+    planes.push_back({"dirratio", texture(profile.dirratio, &LevelPlanes::dirratio)});
   } else {
     planes.push_back({"dir", texture(profile.dir, &LevelPlanes::dir)});
-    planes.push_back({"ratio", texture(profile.ratio, open_loop ? &LevelPlanes::ratio_open : &LevelPlanes::ratio)});
+    planes.push_back({"ratio", texture(profile.ratio, &LevelPlanes::ratio)});
   }
   return planes;
+}
+
+// One level's coded planes as the decoder reads them; open_loop: with the open-loop ratio.
+CodedLevel coded_level(const Profile& profile, const LevelPlanes& p, bool directional, bool open_loop) {
+  CodedLevel c;
+  c.iz_format = profile.iz;
+  c.iz = &p.iz;
+  if (!directional) return c;
+  if (profile.packed_dir_ratio) {
+    c.dirratio_format = profile.dirratio;
+    c.dirratio = open_loop ? &p.dirratio_open : &p.dirratio;
+  } else {
+    c.dir_format = profile.dir;
+    c.dir = &p.dir;
+    c.ratio_format = profile.ratio;
+    c.ratio = open_loop ? &p.ratio_open : &p.ratio;
+  }
+  return c;
 }
 
 // Lobes against the SH as the options ask: every covered texel (Full) or the fixed sample (Estimate).
@@ -274,13 +211,25 @@ ErrorReport measure_lobes(const ShImage& sh, const LobeAt& lobe, const ConvertOp
   return opt.measure == Measure::Full ? measure_error(sh, lobe, opt.threads) : estimate_error(sh, lobe, opt.threads);
 }
 
-// The decoded planes against the level's SH, each texel's lobe decoded as it is measured.
-ErrorReport measure_planes(const ShImage& sh, const DecodedPlanes& p, const ConvertOptions& opt) {
-  return measure_lobes(sh, [&](size_t i) {
+// One level's coded planes against the level's SH. Full: the whole level decoded; Estimate: only
+// the blocks of the sampled texels (the same values: blocks decode on their own).
+ErrorReport measure_coded(const ShImage& sh, const CodedLevel& coded, const ConvertOptions& opt) {
+  const bool rgb = opt.fit.ratio_form == RatioForm::Rgb;
+  if (opt.measure == Measure::Full) {
+    const DecodedPlanes p = decode_level(coded, rgb);
+    return measure_error(sh, [&](size_t i) {
+      AhdLobe l;
+      decode_colours(&p.iz[i * 3], &p.d[i * 3], &p.ratio[i * 3], opt.fit.dz_min, l.ca, l.cd, l.d);
+      return l;
+    }, opt.threads);
+  }
+  return estimate_error(sh, [&](size_t i) {
+    float iz[3], d[3], ratio[3];
+    decode_texel(coded, rgb, uint32_t(i % size_t(sh.width)), uint32_t(i / size_t(sh.width)), iz, d, ratio);
     AhdLobe l;
-    decode_colours(&p.iz[i * 3], &p.d[i * 3], &p.ratio[i * 3], opt.fit.dz_min, l.ca, l.cd, l.d);
+    decode_colours(iz, d, ratio, opt.fit.dz_min, l.ca, l.cd, l.d);
     return l;
-  }, opt);
+  }, opt.threads);
 }
 
 // Keep, drop, or (Auto) measure whether I_z alone is close enough to the SH.
@@ -333,6 +282,99 @@ std::vector<FittedLevel> fit_levels(const ShImage& sh, const ConvertOptions& opt
   return fit_levels(ShImage(sh), opt, r);
 }
 
+namespace {
+
+// The fitted level 0 against its SH (and the unconstrained baseline), as the options ask.
+void measure_fit(const FittedLevel& level0, const ConvertOptions& opt, ConvertResult* r) {
+  const ShImage& sh = level0.sh;
+  const AhdImage& fit = level0.ahd;
+  // Lobes made texel by texel as they are measured: no image of them (72 bytes a texel).
+  r->fit_error = measure_lobes(sh, [&](size_t i) { return lobe_of_fit(fit.texels[i]); }, opt);
+  if (!opt.measuring_baselines()) return;
+  r->unconstrained_error = measure_error(sh, [&](size_t i) {
+    AhdLobe l;
+    IrradiancePoly p[3];
+    local_polys(sh, i, p);
+    const double d[3] = {fit.texels[i].d[0], fit.texels[i].d[1], fit.texels[i].d[2]};
+    for (int c = 0; c < 3; ++c) {
+      fit_channel_unconstrained(hemisphere_moments(p[c], d), &l.ca[c], &l.cd[c]);
+      l.d[c] = d[c];
+    }
+    return l;
+  }, opt.threads);
+}
+
+// Quantises and measures the levels of a chain one at a time, level 0 first, so that a caller can
+// drop each level before it fits the next: convert(ShImage&&) streams the chain through it,
+// quantise_levels hands it a stored chain. Fills the direction decision, planes, errors, timings.
+class ChainEncoder {
+ public:
+  ChainEncoder(const Profile& profile, const ConvertOptions& opt, ConvertResult* r, double chain_texels)
+      : profile_(profile), opt_(opt), r_(r), all_(chain_texels) {}
+
+  void add(const FittedLevel& level) {
+    auto t0 = Clock::now();
+    if (levels_.empty()) {
+      decide_direction(level, opt_, r_);
+      decide_ += seconds_since(t0);
+      t0 = Clock::now();
+    }
+    opt_.step("encode", done_ / all_);
+    levels_.push_back(quantise_level(level, profile_, opt_, r_->directional, &r_->codec_stats));
+    if (opt_.coverage_plane) {
+      const Image8 c = coverage_plane(level.sh.width, level.sh.height, level.ahd.coverage);
+      coverage_.levels.push_back({uint32_t(c.width), uint32_t(c.height), c.data});
+    }
+    quantise_ += seconds_since(t0);
+    done_ += double(level.sh.texels());
+    if (!opt_.measuring()) return;
+    t0 = Clock::now();
+    const LevelPlanes& p = levels_.back();
+    r_->level_error.push_back(measure_coded(level.sh, coded_level(profile_, p, r_->directional, false), opt_));
+    if (levels_.size() == 1 && opt_.measuring_baselines() && r_->directional)
+      r_->open_loop_error = measure_coded(level.sh, coded_level(profile_, p, true, true), opt_);
+    measure_ += seconds_since(t0);
+  }
+
+  void finish() {
+    opt_.step("encode", 1);
+    r_->planes = planes_of(profile_, std::move(levels_), r_->directional);
+    if (opt_.coverage_plane) {
+      coverage_.format = PixelFormat::R8_UNORM;
+      r_->planes.push_back({"coverage", std::move(coverage_)});
+    }
+    r_->timings.push_back({"direction decision", decide_});
+    r_->timings.push_back({"quantise", quantise_});
+    if (!opt_.measuring()) return;
+    r_->final_error = r_->level_error.at(0);
+    r_->timings.push_back({"measure quantised", measure_});
+  }
+
+ private:
+  const Profile& profile_;
+  const ConvertOptions& opt_;
+  ConvertResult* r_;
+  std::vector<LevelPlanes> levels_;
+  Texture coverage_;
+  double all_, done_ = 0;
+  double decide_ = 0, quantise_ = 0, measure_ = 0;
+};
+
+// Levels of the chain the options ask for, for a w×h level 0.
+int chain_levels(int width, int height, int max_levels) {
+  if (max_levels < 0) throw Error("SH mips: max_levels must be ≥ 0");
+  const int full = mip_level_count(width, height);
+  return max_levels == 0 ? full : std::min(full, max_levels);
+}
+
+double chain_texels(int width, int height, int levels) {
+  double n = 0;
+  for (int l = 0; l < levels; ++l) n += double(mip_size(width, l)) * double(mip_size(height, l));
+  return n;
+}
+
+}  // namespace
+
 std::vector<FittedLevel> fit_levels(ShImage&& input, const ConvertOptions& opt, ConvertResult* r) {
   opt.step("fit", 0);
   auto t0 = Clock::now();
@@ -343,25 +385,8 @@ std::vector<FittedLevel> fit_levels(ShImage&& input, const ConvertOptions& opt, 
   r->timings.push_back({"mips, fit, dilate", seconds_since(t0)});
   opt.step("fit", 1);
   if (!opt.measuring()) return levels;
-
   t0 = Clock::now();
-  const ShImage& sh = levels[0].sh;
-  const AhdImage& fit = levels[0].ahd;
-  // Lobes made texel by texel as they are measured: no image of them (72 bytes a texel).
-  r->fit_error = measure_lobes(sh, [&](size_t i) { return lobe_of_fit(fit.texels[i]); }, opt);
-  if (opt.measuring_baselines()) {
-    r->unconstrained_error = measure_error(sh, [&](size_t i) {
-      AhdLobe l;
-      IrradiancePoly p[3];
-      local_polys(sh, i, p);
-      const double d[3] = {fit.texels[i].d[0], fit.texels[i].d[1], fit.texels[i].d[2]};
-      for (int c = 0; c < 3; ++c) {
-        fit_channel_unconstrained(hemisphere_moments(p[c], d), &l.ca[c], &l.cd[c]);
-        l.d[c] = d[c];
-      }
-      return l;
-    }, opt.threads);
-  }
+  measure_fit(levels[0], opt, r);
   r->timings.push_back({"measure fit", seconds_since(t0)});
   return levels;
 }
@@ -369,45 +394,11 @@ std::vector<FittedLevel> fit_levels(ShImage&& input, const ConvertOptions& opt, 
 void quantise_levels(const std::vector<FittedLevel>& levels, const Profile& profile, const ConvertOptions& opt,
                      ConvertResult* r) {
   check_profile(profile, opt);
-  const bool ratio_rgb = opt.fit.ratio_form == RatioForm::Rgb;
-  auto t0 = Clock::now();
-  decide_direction(levels[0], opt, r);
-  r->timings.push_back({"direction decision", seconds_since(t0)});
-  t0 = Clock::now();
-  std::vector<LevelPlanes> lv;
-  // Progress by texels: level 0 is three quarters of the chain.
-  double done = 0, all = 0;
-  for (const FittedLevel& l : levels) all += double(l.sh.texels());
-  for (const FittedLevel& l : levels) {
-    opt.step("encode", done / all);
-    lv.push_back(quantise_level(l, profile, opt, r->directional, &r->codec_stats));
-    done += double(l.sh.texels());
-  }
-  opt.step("encode", 1);
-  r->planes = planes_of(profile, lv, r->directional, false);
-  if (opt.coverage_plane) {
-    Texture cov;
-    cov.format = PixelFormat::R8_UNORM;
-    for (const FittedLevel& l : levels) {
-      const Image8 c = coverage_plane(l.sh.width, l.sh.height, l.ahd.coverage);
-      cov.levels.push_back({uint32_t(c.width), uint32_t(c.height), c.data});
-    }
-    r->planes.push_back({"coverage", std::move(cov)});
-  }
-  r->timings.push_back({"quantise", seconds_since(t0)});
-  if (!opt.measuring()) return;
-
-  t0 = Clock::now();
-  r->level_error.clear();
-  for (size_t l = 0; l < levels.size(); ++l) {
-    opt.step("measure", double(l) / double(levels.size()));
-    r->level_error.push_back(measure_planes(levels[l].sh, decode_planes(r->planes, ratio_rgb, int(l)), opt));
-  }
-  r->final_error = r->level_error[0];
-  if (opt.measuring_baselines() && r->directional)
-    r->open_loop_error =
-        measure_planes(levels[0].sh, decode_planes(planes_of(profile, lv, r->directional, true), ratio_rgb, 0), opt);
-  r->timings.push_back({"measure quantised", seconds_since(t0)});
+  double texels = 0;
+  for (const FittedLevel& l : levels) texels += double(l.sh.texels());
+  ChainEncoder chain(profile, opt, r, texels);
+  for (const FittedLevel& l : levels) chain.add(l);
+  chain.finish();
 }
 
 void ConvertOptions::step(const char* stage, double fraction) const {
@@ -416,10 +407,40 @@ void ConvertOptions::step(const char* stage, double fraction) const {
 }
 
 ConvertResult convert(const ShImage& sh, const Profile& profile, const ConvertOptions& opt) {
+  return convert(ShImage(sh), profile, opt);
+}
+
+ConvertResult convert(ShImage&& sh, const Profile& profile, const ConvertOptions& opt) {
   check_profile(profile, opt);
   ConvertResult r;
-  const std::vector<FittedLevel> levels = fit_levels(sh, opt, &r);
-  quantise_levels(levels, profile, opt, &r);
+  const int levels = chain_levels(sh.width, sh.height, opt.max_levels);
+  ChainEncoder chain(profile, opt, &r, chain_texels(sh.width, sh.height, levels));
+  double fit = 0, measure = 0;
+  ShImage next = std::move(sh);
+  for (int l = 0; l < levels; ++l) {
+    if (l == 0) opt.step("fit", 0);
+    auto t0 = Clock::now();
+    FitStats fs;
+    DilateStats ds;
+    FittedLevel level = fit_level(std::move(next), opt.fit, opt.threads, &fs, &ds);
+    r.dilate_stats.push_back(ds);
+    fit += seconds_since(t0);
+    if (l == 0) {
+      r.fit_stats = fs;
+      opt.step("fit", 1);
+      t0 = Clock::now();
+      if (opt.measuring()) measure_fit(level, opt, &r);
+      measure = seconds_since(t0);
+    }
+    chain.add(level);
+    level.ahd = AhdImage();  // the fit is done with before the next level is filtered
+    t0 = Clock::now();
+    if (l + 1 < levels) next = downsample_sh(level.sh, opt.threads);
+    fit += seconds_since(t0);
+  }
+  r.timings.push_back({"mips, fit, dilate", fit});
+  if (opt.measuring()) r.timings.push_back({"measure fit", measure});
+  chain.finish();
   return r;
 }
 

@@ -11,6 +11,7 @@
 #include "fit/hemisphere_error.h"
 #include "mips/dilate.h"
 #include "pipeline/plane_codec.h"
+#include "pipeline/plane_decode.h"
 #include "pipeline/profile.h"
 #include "sh/sh_image.h"
 
@@ -52,11 +53,6 @@ struct ConvertOptions {
   void step(const char* stage, double fraction) const;
 };
 
-struct Plane {
-  std::string name;  // "iz", "dir", "ratio", "dirratio" or "coverage"
-  Texture texture;
-};
-
 struct StageCost {
   std::string stage;
   double seconds = 0;
@@ -82,8 +78,13 @@ struct ConvertResult {
 // encode, the RGB ratio form with a one-channel ratio plane).
 void check_profile(const Profile& profile, const ConvertOptions& opt);
 
-// The whole conversion: fit_levels then quantise_levels.
+// The whole conversion: the same bytes and figures as fit_levels then quantise_levels, but level by
+// level — each level is fitted, quantised and measured, and only its SH is kept to filter the next
+// — so the peak memory is level 0's SH and fit plus one level's encoder temporaries, not the chain's.
+// Progress: "fit" (level 0), then "encode" (level 0's planes, then the smaller levels, each fitted
+// and encoded in turn). The by-value overload takes the input over (no copy of level 0).
 ConvertResult convert(const ShImage& sh, const Profile& profile, const ConvertOptions& opt);
+ConvertResult convert(ShImage&& sh, const Profile& profile, const ConvertOptions& opt);
 
 // Fit stage: the SH mip chain, the AHD fit of every level, dilation of uncovered texels.
 // Fills r->fit_stats, r->fit_error and r->unconstrained_error (level 0) and timings.
@@ -100,18 +101,5 @@ void quantise_levels(const std::vector<FittedLevel>& levels, const Profile& prof
 // What decoding I_z alone (d = z, ratio = 1) gives, per texel, and its error against the level's SH.
 std::vector<AhdLobe> ambient_only_lobes(const FittedLevel& level);
 ErrorReport ambient_only_error(const FittedLevel& level, int threads);
-
-// The decoded value of every texel of level-0 planes (as the reference decoder reads them):
-// iz (3 floats), d (unit, 3 floats), ratio (3 floats).
-struct DecodedPlanes {
-  int width = 0, height = 0;
-  std::vector<float> iz, d, ratio;
-};
-
-// Decodes the planes of a conversion at mip level `level`. Throws ahd::Error on missing planes.
-DecodedPlanes decode_planes(const std::vector<Plane>& planes, bool ratio_rgb, int level = 0);
-
-// The AHD lobes the decoded planes describe (for measure_error).
-std::vector<AhdLobe> lobes_from_planes(const DecodedPlanes& p, double dz_min);
 
 }  // namespace ahd

@@ -169,4 +169,22 @@ ImageF decode_plane(PixelFormat f, const TextureLevel& lvl) {
   throw Error(std::string("format ") + format_info(f).name + " is not available in this build");
 }
 
+void decode_plane_texel(PixelFormat f, const TextureLevel& lvl, uint32_t x, uint32_t y, float* out) {
+  if (lvl.data.size() != level_size_bytes(f, lvl.width, lvl.height))
+    throw Error(std::string("level data size does not match its dimensions for ") + format_info(f).name);
+  if (x >= lvl.width || y >= lvl.height) throw Error("texel outside the level");
+  const FormatInfo& fi = format_info(f);
+  const uint32_t bw = uint32_t(fi.block_width), bh = uint32_t(fi.block_height);
+  const uint32_t blocks_per_row = (lvl.width + bw - 1) / bw;
+  const size_t offset = (size_t(y / bh) * blocks_per_row + x / bw) * size_t(fi.bytes_per_block);
+  TextureLevel block;  // the texel's block as a level of its own
+  block.width = bw;
+  block.height = bh;
+  block.data.assign(lvl.data.begin() + std::ptrdiff_t(offset),
+                    lvl.data.begin() + std::ptrdiff_t(offset + size_t(fi.bytes_per_block)));
+  const ImageF img = decode_plane(f, block);
+  const float* v = img.at(int(x % bw), int(y % bh));
+  for (int c = 0; c < fi.channels; ++c) out[c] = v[c];
+}
+
 }  // namespace ahd

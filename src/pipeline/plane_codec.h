@@ -28,6 +28,11 @@ TextureLevel encode_plane(PixelFormat f, const ImageF& img, const PlaneCodecOpti
 // byte size does not match its dimensions or the codec is not available.
 ImageF decode_plane(PixelFormat f, const TextureLevel& level);
 
+// Decodes the one texel (x, y) of a level into out[0 .. format_info(f).channels): only its block is
+// decoded (blocks decode on their own, so the value is the whole-level decode's). Throws
+// ahd::Error when (x, y) is outside the level or the level's byte size does not match its size.
+void decode_plane_texel(PixelFormat f, const TextureLevel& level, uint32_t x, uint32_t y, float* out);
+
 // True when this build can encode/decode the format.
 bool plane_format_supported(PixelFormat f);
 

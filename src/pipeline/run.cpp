@@ -45,13 +45,16 @@ ConversionRun run_conversion(ShImage sh, const Profile& profile, const ConvertOp
   const auto t0 = Clock::now();
   const double prior_seconds = sum_seconds(prior);
   ConversionRun run;
+  if (!on_fitted) {  // level by level: the chain of fitted levels never exists at once
+    run.result = convert(std::move(sh), profile, opt);
+    run.result.timings.insert(run.result.timings.begin(), prior.begin(), prior.end());
+    return package(std::move(run), profile, opt, pkg, prior_seconds, t0);
+  }
   run.result.timings = std::move(prior);
   const std::vector<FittedLevel> levels = fit_levels(std::move(sh), opt, &run.result);
-  if (on_fitted) {
-    const auto t = Clock::now();
-    on_fitted(levels);
-    run.result.timings.push_back({"intermediate", std::chrono::duration<double>(Clock::now() - t).count()});
-  }
+  const auto t = Clock::now();
+  on_fitted(levels);
+  run.result.timings.push_back({"intermediate", std::chrono::duration<double>(Clock::now() - t).count()});
   return finish(std::move(run), levels, profile, opt, pkg, prior_seconds, t0);
 }
 
