@@ -45,11 +45,12 @@ void polys_and_iz(const ShImage& sh, size_t i, IrradiancePoly p[3], double iz[3]
 
 TEST(FitRefine, ErrorRatiosAgainstUnconstrainedLeastSquares) {
   // Measured (exact hemisphere integrals, mean over texels of the RMS / the same for the LS fit at
-  // the linear d): random 1.283 → 1.098 (RGB), 1.699 → 1.387 (luminance); analytic scene 64²
-  // 1.132 → 1.076 (RGB), 1.161 → 1.107 (luminance). Bounds leave ~1 % for compiler differences.
+  // the linear d): random 1.283 → 1.010 (RGB), 1.699 → 1.315 (luminance); analytic scene 64²
+  // 1.132 → 1.076 (RGB), 1.161 → 1.107 (luminance). Random RGB is bounded by issue 18's target
+  // (1.05); the others, which miss it, leave ~1 % for compiler differences.
   const ShImage sets[2] = {random_lighting_set(20000, 7), smooth_scene()};
-  const double bound[2][2] = {{1.11, 1.40}, {1.087, 1.118}};  // [set][rgb, luminance]
-  const double gain[2] = {0.90, 0.97};                        // refined / linear at most
+  const double bound[2][2] = {{1.05, 1.33}, {1.087, 1.118}};  // [set][rgb, luminance]
+  const double gain[2] = {0.80, 0.97};                        // refined / linear at most
   for (int s = 0; s < 2; ++s)
     for (int f = 0; f < 2; ++f) {
       const RatioForm form = f ? RatioForm::Luminance : RatioForm::Rgb;
