@@ -132,10 +132,24 @@ void refine_direction(const IrradiancePoly p[3], const double iz[3], const FitOp
   double best[3] = {d[0], d[1], d[2]};
   double fbest = f(best);
   if (!std::isfinite(fbest)) return;
-  // A cheap global start: the local search from the linear d misses the better basin on varied
-  // lighting (the L1 band averages the lights' directions; the best lobe points at the strongest
-  // one). The axis of the luminance L2 band's quadratic form (both signs) points along the
-  // dominant light; the best of the starts is polished below.
+  // Cheap global starts: the local search from the linear d misses the better basin on varied
+  // lighting (the L1 band averages the lights' directions; the best lobe follows the strongest).
+  // Candidates: each channel's own L1 direction and the axis of the luminance L2 band's quadratic
+  // form (both signs), which points along the dominant light. The best of them and the linear d
+  // is polished below. (Measured on random lighting, RGB: linear d only 1.098 → + L2 axis 1.010
+  // → + channel L1 0.969, against 0.960 for the best of 1 500 directions; README.)
+  auto try_start = [&](double s[3]) {
+    tilt_above_horizon(s, opt.dz_min);
+    const double fs = f(s);
+    if (fs < fbest) fbest = fs, best[0] = s[0], best[1] = s[1], best[2] = s[2];
+  };
+  for (int c = 0; c < 3; ++c) {
+    double s[3] = {p[c].e[0], p[c].e[1], p[c].e[2]};
+    const double len = std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
+    if (!(len > 0) || !std::isfinite(len)) continue;
+    for (double& x : s) x /= len;
+    try_start(s);
+  }
   double Q[3][3] = {};
   for (int c = 0; c < 3; ++c)
     for (int i = 0; i < 3; ++i)
@@ -144,9 +158,7 @@ void refine_direction(const IrradiancePoly p[3], const double iz[3], const FitOp
   if (principal_axis(Q, axis)) {
     for (double sign : {1.0, -1.0}) {
       double s[3] = {sign * axis[0], sign * axis[1], sign * axis[2]};
-      tilt_above_horizon(s, opt.dz_min);
-      const double fs = f(s);
-      if (fs < fbest) fbest = fs, best[0] = s[0], best[1] = s[1], best[2] = s[2];
+      try_start(s);
     }
   }
   // Each round fits a quadratic to 6 samples around the best point so far (central differences
