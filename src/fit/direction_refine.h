@@ -37,7 +37,9 @@ double constrained_error(const IrradiancePoly p[3], const double iz[3], const do
 // From the unit direction d (d_z ≥ dz_min, usually the optimal linear one) moves d to a nearby
 // direction with a lower constrained hemisphere error Σ_c E_c for the ratio form of `opt` (RGB:
 // each channel's own constrained optimum; luminance: least_squares_ratio). A few Newton steps on
-// a local quadratic model in the tangent plane; never returns a worse d than it was given, and
+// a local quadratic model in the tangent plane, started from the best of d, each channel's L1
+// direction and the two signs of the luminance L2 band's principal axis (all after the horizon
+// rule); never returns a worse d than it was given, and
 // the result satisfies d_z ≥ dz_min. iz[c] ≥ 0.
 void refine_direction(const IrradiancePoly p[3], const double iz[3], const FitOptions& opt, double d[3]);
 

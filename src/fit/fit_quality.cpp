@@ -7,6 +7,7 @@
 #include "core/parallel.h"
 #include "fit/ahd_decode.h"
 #include "fit/direction_refine.h"
+#include "fit/hemisphere_error.h"
 #include "sample/hard_cases.h"
 
 namespace ahd {
@@ -28,30 +29,53 @@ double planes_rms(const IrradiancePoly p[3], const float iz[3], const float d[3]
   return lobe_rms(p, ca, cd, u);
 }
 
-double ls_rms(const IrradiancePoly p[3], const FitOptions& opt) {
-  double d[3], ca[3], cd[3];
+// The unconstrained LS lobe at the linear d (after the horizon rule).
+void ls_lobe(const IrradiancePoly p[3], const FitOptions& opt, double ca[3], double cd[3], double d[3]) {
   optimal_direction(p, opt, d);
   tilt_above_horizon(d, opt.dz_min);
   for (int c = 0; c < 3; ++c) fit_channel_unconstrained(hemisphere_moments(p[c], d, false), &ca[c], &cd[c]);
-  return lobe_rms(p, ca, cd, d);
+}
+
+// RMS over the sampled normals `dirs` (count × 3) and the three channels.
+double sampled_rms(const IrradiancePoly p[3], const double ca[3], const double cd[3], const double d[3],
+                   const std::vector<double>& dirs) {
+  const size_t n = dirs.size() / 3;
+  double se = 0;
+  for (size_t k = 0; k < n; ++k) {
+    const double* w = &dirs[k * 3];
+    const double g = std::max(0.0, w[0] * d[0] + w[1] * d[1] + w[2] * d[2]);
+    for (int c = 0; c < 3; ++c) {
+      const double e = ca[c] + g * cd[c] - eval_irradiance(p[c], w);
+      se += e * e;
+    }
+  }
+  return n ? std::sqrt(se / (3.0 * double(n))) : 0.0;
 }
 
 }  // namespace
 
-FitQuality fit_quality(const ShImage& sh, const AhdImage& fit, const FitOptions& opt, int threads) {
+FitQuality fit_quality(const ShImage& sh, const AhdImage& fit, const FitOptions& opt, int threads,
+                       int directions) {
   const size_t n = sh.texels();
-  std::vector<double> f(n, 0), l(n, 0), m(n, 0);
+  const std::vector<double> dirs = hemisphere_directions(std::max(0, directions));
+  std::vector<double> f(n, 0), l(n, 0), m(n, 0), sf(n, 0), sl(n, 0);
   parallel_for(n, threads, 256, [&](size_t i) {
     if (!sh.coverage[i]) return;
     IrradiancePoly p[3];
     local_polys(sh, i, p);
     const AhdFit& t = fit.texels[i];
-    f[i] = planes_rms(p, t.iz, t.d, t.ratio, opt.dz_min);
-    l[i] = ls_rms(p, opt);
+    double ca[3], cd[3], u[3], lca[3], lcd[3], ld[3];
+    decode_colours(t.iz, t.d, t.ratio, opt.dz_min, ca, cd, u);
+    ls_lobe(p, opt, lca, lcd, ld);
+    f[i] = lobe_rms(p, ca, cd, u);
+    l[i] = lobe_rms(p, lca, lcd, ld);
+    if (!dirs.empty()) sf[i] = sampled_rms(p, ca, cd, u, dirs), sl[i] = sampled_rms(p, lca, lcd, ld, dirs);
     for (int c = 0; c < 3; ++c) m[i] += kLuma[c] * hemisphere_integral(p[c]) / (2.0 * kPi);
   });
-  size_t nratio = 0;
+  size_t nratio = 0, nsampled = 0;
+  double sum_sf = 0, sum_sl = 0;
   FitQuality q;
+  q.directions = int(dirs.size() / 3);
   for (size_t i = 0; i < n; ++i) {
     if (!sh.coverage[i]) continue;
     q.texels++;
@@ -59,10 +83,14 @@ FitQuality fit_quality(const ShImage& sh, const AhdImage& fit, const FitOptions&
     q.ls_rms += l[i];
     if (m[i] > 0) q.fit_rel += f[i] / m[i], q.ls_rel += l[i] / m[i];
     if (l[i] > 0) q.texel_ratio += f[i] / l[i], nratio++;
+    sum_sf += sf[i], sum_sl += sl[i];
+    if (sl[i] > 1e-6 * std::fabs(m[i])) q.sampled_texel_ratio += sf[i] / sl[i], nsampled++;
   }
   if (q.texels) q.fit_rms /= double(q.texels), q.ls_rms /= double(q.texels);
   if (q.texels) q.fit_rel /= double(q.texels), q.ls_rel /= double(q.texels);
   if (nratio) q.texel_ratio /= double(nratio);
+  if (nsampled) q.sampled_texel_ratio /= double(nsampled);
+  q.sampled_ratio = sum_sl > 0 ? sum_sf / sum_sl : 1.0;
   return q;
 }
 

@@ -18,13 +18,23 @@ struct FitQuality {
   double fit_rel = 0;     // mean over texels of fit RMS / the texel's hemisphere-mean luminance irradiance
   double ls_rel = 0;
   double texel_ratio = 0; // mean over texels of fit RMS / LS RMS (texels with LS RMS > 0)
+  // Issue 18's own measure, as it states it: the RMS over `directions` sampled normals (the
+  // equal-area spiral of hemisphere_directions, uniform in solid angle) and the three channels,
+  // fitted planes vs the unconstrained LS AHD at the linear d. Mean over texels of the per-texel
+  // ratio (texels with sampled LS RMS > 1e-6 × their mean irradiance: the LS lobe is exact on
+  // pure ambient, where the ratio is 0/0), and the ratio of the mean RMS errors.
+  int directions = 0;
+  double sampled_texel_ratio = 0;
+  double sampled_ratio = 0;
   double ratio() const { return ls_rms > 0 ? fit_rms / ls_rms : 1.0; }
   double rel_ratio() const { return ls_rel > 0 ? fit_rel / ls_rel : 1.0; }
 };
 
 // The planes of `fit` (iz, d, ratio: decoded as ahd_decode.h does) against the SH of `sh`,
-// covered texels only. opt gives dz_min and the luminance weights of the linear d.
-FitQuality fit_quality(const ShImage& sh, const AhdImage& fit, const FitOptions& opt, int threads);
+// covered texels only. opt gives dz_min and the luminance weights of the linear d. `directions`
+// sampled normals for the sampled figures (0: skip them).
+FitQuality fit_quality(const ShImage& sh, const AhdImage& fit, const FitOptions& opt, int threads,
+                       int directions = 0);
 
 // p99 over pairs of covered horizontal and vertical neighbours of the angle between their d, in
 // degrees. 0 when there are no such pairs.

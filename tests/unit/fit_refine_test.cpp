@@ -45,11 +45,12 @@ void polys_and_iz(const ShImage& sh, size_t i, IrradiancePoly p[3], double iz[3]
 
 TEST(FitRefine, ErrorRatiosAgainstUnconstrainedLeastSquares) {
   // Measured (exact hemisphere integrals, mean over texels of the RMS / the same for the LS fit at
-  // the linear d): random 1.283 → 1.098 (RGB), 1.699 → 1.387 (luminance); analytic scene 64²
-  // 1.132 → 1.076 (RGB), 1.161 → 1.107 (luminance). Bounds leave ~1 % for compiler differences.
+  // the linear d): random 1.283 → 0.969 (RGB), 1.699 → 1.280 (luminance); analytic scene 64²
+  // 1.132 → 1.076 (RGB), 1.161 → 1.107 (luminance). Random RGB is bounded by issue 18's target
+  // (1.05); the others, which miss it, leave ~1 % for compiler differences.
   const ShImage sets[2] = {random_lighting_set(20000, 7), smooth_scene()};
-  const double bound[2][2] = {{1.11, 1.40}, {1.087, 1.118}};  // [set][rgb, luminance]
-  const double gain[2] = {0.90, 0.97};                        // refined / linear at most
+  const double bound[2][2] = {{1.05, 1.293}, {1.087, 1.118}};  // [set][rgb, luminance]
+  const double gain[2] = {0.78, 0.97};                         // refined / linear at most
   for (int s = 0; s < 2; ++s)
     for (int f = 0; f < 2; ++f) {
       const RatioForm form = f ? RatioForm::Luminance : RatioForm::Rgb;
@@ -60,6 +61,26 @@ TEST(FitRefine, ErrorRatiosAgainstUnconstrainedLeastSquares) {
       EXPECT_LE(qr.ratio(), bound[s][f]) << "set " << s << " form " << f;
       EXPECT_LE(qr.ratio(), gain[s] * ql.ratio()) << "set " << s << " form " << f;
     }
+}
+
+TEST(FitRefine, IssueMeasureSampledDirections) {
+  // Issue 18's measure as it states it: 400 sampled directions, fitted float planes against the
+  // unconstrained LS AHD at the linear d. Sampling (uniform in solid angle) agrees with the exact
+  // integrals, so the ratio of means equals the exact ratio; the mean of per-texel ratios weighs
+  // dim texels as much as bright ones. Measured on random lighting, RGB: ratio of means 1.283 →
+  // 0.969, mean of texel ratios 1.278 → 1.024; target ≤ 1.05 for both.
+  const ShImage sh = random_lighting_set(20000, 7);
+  const FitOptions lin = options(RatioForm::Rgb, DirectionFit::Linear), ref = options(RatioForm::Rgb, DirectionFit::Refined);
+  const FitQuality ql = fit_quality(sh, fit_image(sh, lin, 2), lin, 2, 400);
+  const FitQuality qr = fit_quality(sh, fit_image(sh, ref, 2), ref, 2, 400);
+  std::printf("rgb, 400 directions: ratio of means %.4f -> %.4f, mean of texel ratios %.4f -> %.4f\n",
+              ql.sampled_ratio, qr.sampled_ratio, ql.sampled_texel_ratio, qr.sampled_texel_ratio);
+  EXPECT_EQ(qr.directions, 400);
+  EXPECT_NEAR(ql.sampled_ratio, ql.ratio(), 0.005);
+  EXPECT_NEAR(qr.sampled_ratio, qr.ratio(), 0.005);
+  EXPECT_LE(qr.sampled_ratio, 1.05);
+  EXPECT_LE(qr.sampled_texel_ratio, 1.05);
+  EXPECT_GT(ql.sampled_texel_ratio, 1.2);  // the measure does see what the linear d costs
 }
 
 TEST(FitRefine, NeverWorseThanTheLinearDirectionPerTexel) {
