@@ -16,13 +16,13 @@ constexpr int kDy[8] = {-1, -1, -1, 0, 0, 1, 1, 1};
 // Edge neighbours count twice as much as corner ones (they are closer: 1 vs √2 texels).
 constexpr double kW[8] = {1, 2, 1, 2, 2, 1, 2, 1};
 
-}  // namespace
-
-void dilate(ImageF& plane, const std::vector<uint8_t>& coverage, int threads, DilateStats* stats) {
-  const int w = plane.width, h = plane.height, ch = plane.channels;
-  const size_t n = plane.texels();
-  if (coverage.size() != n) throw Error("dilate: coverage size does not match the image");
-  if (plane.data.size() != n * size_t(ch)) throw Error("dilate: malformed image");
+// The ring schedule of the rule above over texel values reached through accessors: read(i, v)
+// copies texel i's `ch` values into v, write(i, v) stores them. Texels are read only once covered or
+// filled, so a caller can dilate values held in any layout without copying them to a plane first.
+template <class Read, class Write>
+void dilate_rings(int w, int h, int ch, const std::vector<uint8_t>& coverage, int threads, DilateStats* stats,
+                  const Read& read, const Write& write) {
+  const size_t n = size_t(w) * h;
   DilateStats st;
   // filled[i]: 0 = not yet, 1 = covered or filled by an earlier ring.
   std::vector<uint8_t> filled(n, 0);
@@ -31,7 +31,8 @@ void dilate(ImageF& plane, const std::vector<uint8_t>& coverage, int threads, Di
   st.filled = n - st.covered;
   if (st.covered == 0) {
     // Nothing to extend: a defined value rather than whatever was there.
-    std::fill(plane.data.begin(), plane.data.end(), 0.0f);
+    const std::vector<float> zeros(size_t(ch), 0.0f);
+    for (size_t i = 0; i < n; ++i) write(i, zeros.data());
     if (stats) *stats = st;
     return;
   }
@@ -69,25 +70,30 @@ void dilate(ImageF& plane, const std::vector<uint8_t>& coverage, int threads, Di
       const size_t i = ring[r];
       const int x = int(i % size_t(w)), y = int(i / size_t(w));
       double acc[16] = {};
+      float vals[16];
       std::vector<double> big;  // only for planes with more than 16 channels
+      std::vector<float> bigv;
       double* a = acc;
+      float* v = vals;
       if (ch > 16) {
         big.assign(size_t(ch), 0.0);
+        bigv.assign(size_t(ch), 0.0f);
         a = big.data();
+        v = bigv.data();
       }
       double wsum = 0;
       for (int k = 0; k < 8; ++k) {
         const int nx = x + kDx[k], ny = y + kDy[k];
         if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
         if (!filled[size_t(ny) * w + nx]) continue;
-        const float* v = plane.at(nx, ny);
+        read(size_t(ny) * w + nx, v);
         for (int c = 0; c < ch; ++c) a[c] += kW[k] * double(v[c]);
         wsum += kW[k];
       }
       for (int c = 0; c < ch; ++c) values[r * size_t(ch) + size_t(c)] = float(a[c] / wsum);
     });
     for (size_t r = 0; r < ring.size(); ++r) {
-      std::copy_n(&values[r * size_t(ch)], ch, plane.at(int(ring[r] % size_t(w)), int(ring[r] / size_t(w))));
+      write(ring[r], &values[r * size_t(ch)]);
       filled[ring[r]] = 1;
     }
     // Next ring: unfilled neighbours of this ring, sorted so the order never depends on discovery.
@@ -109,27 +115,41 @@ void dilate(ImageF& plane, const std::vector<uint8_t>& coverage, int threads, Di
   if (stats) *stats = st;
 }
 
+}  // namespace
+
+void dilate(ImageF& plane, const std::vector<uint8_t>& coverage, int threads, DilateStats* stats) {
+  const int ch = plane.channels;
+  const size_t n = plane.texels();
+  if (coverage.size() != n) throw Error("dilate: coverage size does not match the image");
+  if (plane.data.size() != n * size_t(ch)) throw Error("dilate: malformed image");
+  float* data = plane.data.data();
+  dilate_rings(plane.width, plane.height, ch, coverage, threads, stats,
+               [&](size_t i, float* v) { std::copy_n(data + i * size_t(ch), ch, v); },
+               [&](size_t i, const float* v) { std::copy_n(v, ch, data + i * size_t(ch)); });
+}
+
 void dilate_ahd(AhdImage& img, double dz_min, int threads, DilateStats* stats) {
   const size_t n = size_t(img.width) * img.height;
   if (img.texels.size() != n || img.coverage.size() != n) throw Error("dilate_ahd: malformed image");
-  // One 9-channel image (iz, d, ratio): the weights depend only on coverage, so dilating the three
-  // planes together is the same as dilating them one by one.
-  ImageF p(img.width, img.height, 9);
-  for (size_t i = 0; i < n; ++i) {
-    const AhdFit& f = img.texels[i];
-    float* v = &p.data[i * 9];
-    for (int c = 0; c < 3; ++c) {
-      v[c] = f.iz[c];
-      v[3 + c] = f.d[c];
-      v[6 + c] = f.ratio[c];
-    }
-  }
-  dilate(p, img.coverage, threads, stats);
+  // I_z, d and ratio as one 9-value texel (the weights depend only on coverage, so dilating them
+  // together is the same as one by one), read and written in place: no plane copy of the image.
+  // The filled texels hold the raw means until every ring is done, as a plane would.
+  AhdFit* t = img.texels.data();
+  dilate_rings(img.width, img.height, 9, img.coverage, threads, stats,
+               [&](size_t i, float* v) {
+                 std::copy_n(t[i].iz, 3, v);
+                 std::copy_n(t[i].d, 3, v + 3);
+                 std::copy_n(t[i].ratio, 3, v + 6);
+               },
+               [&](size_t i, const float* v) {
+                 std::copy_n(v, 3, t[i].iz);
+                 std::copy_n(v + 3, 3, t[i].d);
+                 std::copy_n(v + 6, 3, t[i].ratio);
+               });
   parallel_for(n, threads, 1024, [&](size_t i) {
     if (img.coverage[i]) return;
-    const float* v = &p.data[i * 9];
     AhdFit& f = img.texels[i];
-    double d[3] = {v[3], v[4], v[5]};
+    double d[3] = {f.d[0], f.d[1], f.d[2]};
     const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     if (len > 0) {
       for (double& x : d) x /= len;
@@ -138,10 +158,10 @@ void dilate_ahd(AhdImage& img, double dz_min, int threads, DilateStats* stats) {
     }
     tilt_above_horizon(d, dz_min);
     for (int c = 0; c < 3; ++c) {
-      f.iz[c] = std::max(0.0f, v[c]);
+      f.iz[c] = std::max(0.0f, f.iz[c]);
       f.d[c] = float(d[c]);
       // No covered texel at all: ratio 1 (pure ambient), the fit's convention for black.
-      f.ratio[c] = len > 0 ? std::clamp(v[6 + c], 0.0f, 1.0f) : 1.0f;
+      f.ratio[c] = len > 0 ? std::clamp(f.ratio[c], 0.0f, 1.0f) : 1.0f;
     }
     double ca[3], cd[3], ud[3];
     decode_colours(f.iz, f.d, f.ratio, dz_min, ca, cd, ud);
