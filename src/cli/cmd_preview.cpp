@@ -96,10 +96,9 @@ void run_preview(const PreviewArgs& a) {
   ShImage sh;
   if (!a.source.empty()) sh = read_source_for(a.source, v);
 
-  fs::path out = fs::path(a.out);
-  if (out.filename().empty()) out = out.parent_path();  // "DIR/"
-  if (out.empty()) throw Error("-o needs a folder name");
-  out = fs::absolute(out).lexically_normal();
+  if (a.out.empty()) throw Error("-o needs a folder name");
+  fs::path out = fs::absolute(a.out).lexically_normal();
+  if (!out.has_filename()) out = out.parent_path();  // "DIR/" or "."
   std::error_code ec;
   if (!fs::is_directory(out.parent_path(), ec)) throw file_error(out.parent_path().string(), "no such folder");
   TempDir tmp{out.parent_path() / ("." + out.filename().string() + ".ahdtmp-" + std::to_string(getpid()) + "-preview")};

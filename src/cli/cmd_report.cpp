@@ -47,7 +47,7 @@ void report_profiles(int size, const std::string& plot_path) {
   plot.x_label = "bytes per texel";
   plot.y_label = "I_z relative error p99, closed loop";
   plot.note = "analytic scene " + std::to_string(size) + "x" + std::to_string(size) +
-              " and the hard-case set; labels: profile (hemisphere rel RMSE mean)";
+              " and the hard-case set; labels: profile (hemisphere relative RMSE, mean)";
   plot.series = {{"analytic scene", "point ours", "#1f77b4", 'o', {}}, {"hard-case set", "point ours", "#d62728", 's', {}}};
   BakerOptions bo;
   bo.width = bo.height = size;

@@ -128,7 +128,26 @@ std::string plot_svg(const Plot& plot) {
        (plot.log_x ? " (log)" : "") + "</text>\n";
   o += "<text transform=\"translate(22," + num((T + H - B) / 2) + ") rotate(-90)\" text-anchor=\"middle\">" +
        esc(plot.y_label) + (plot.log_y ? " (log)" : "") + "</text>\n";
-  // Points, each series in its own group; labels beside the points.
+  // Points, each series in its own group; labels beside the points, moved down or up past labels
+  // already placed (boxes estimated at 5.5 px per character, 11 px high).
+  struct Box {
+    double x0, y0, x1, y1;
+  };
+  std::vector<Box> placed;
+  auto label_y = [&](double x, double y, size_t chars) {
+    const double w = 5.5 * double(chars);
+    for (double dy : {-5.0, 8.0, -16.0, 19.0, -27.0, 30.0, -38.0, 41.0}) {
+      const Box b{x, y + dy - 10, x + w, y + dy + 1};
+      const bool free = std::none_of(placed.begin(), placed.end(), [&](const Box& o) {
+        return b.x0 < o.x1 && o.x0 < b.x1 && b.y0 < o.y1 && o.y0 < b.y1;
+      });
+      if (free) {
+        placed.push_back(b);
+        return y + dy;
+      }
+    }
+    return y - 5;
+  };
   for (const PlotSeries& s : plot.series) {
     o += "<g class=\"series\" data-series=\"" + esc(s.name) + "\">\n";
     for (const PlotPoint& p : s.points) {
@@ -141,8 +160,8 @@ std::string plot_svg(const Plot& plot) {
            "\" data-y=\"" + num(p.y, "%.6g") + "\"><title>" + esc(s.name + (p.label.empty() ? "" : ", " + p.label)) +
            "</title>" + marker(s.marker, x, y, s.colour);
       if (!p.label.empty())
-        o += "<text x=\"" + num(x + 7) + "\" y=\"" + num(y - 5) + "\" font-size=\"10\" fill=\"#333\">" + esc(p.label) +
-             "</text>";
+        o += "<text x=\"" + num(x + 7) + "\" y=\"" + num(label_y(x + 7, y, p.label.size())) +
+             "\" font-size=\"10\" fill=\"#333\">" + esc(p.label) + "</text>";
       o += "</g>\n";
     }
     o += "</g>\n";
