@@ -78,6 +78,14 @@ TEST(PreviewChromium, PageLoadsWithoutErrorsAndShowsSomething) {
   const std::string log = read_text(p.dir / "dom.err");
   ASSERT_EQ(rc, 0) << log;
   EXPECT_NE(dom.find("data-status=\"ok\""), std::string::npos) << dom.substr(0, 2000) << "\n" << log;
+  // The exposure script ran: the filter's red table holds the 256 entries of the log codes.
+  const size_t fr = dom.find("id=\"fr\"");
+  ASSERT_NE(fr, std::string::npos);
+  const size_t tv = dom.find("tablevalues=\"", fr) != std::string::npos ? dom.find("tablevalues=\"", fr)
+                                                                         : dom.find("tableValues=\"", fr);
+  ASSERT_NE(tv, std::string::npos) << dom.substr(fr, 200);
+  const std::string table = dom.substr(tv + 13, dom.find('"', tv + 13) - (tv + 13));
+  EXPECT_EQ(std::count(table.begin(), table.end(), ' ') + 1, 256) << table.substr(0, 200);
   // Console messages (errors and uncaught exceptions) appear as CONSOLE lines in chromium's log.
   EXPECT_EQ(log.find("CONSOLE"), std::string::npos) << log;
   EXPECT_EQ(log.find("Uncaught"), std::string::npos) << log;
