@@ -23,5 +23,5 @@ export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:halt_on_error=1"
 export LSAN_OPTIONS="suppressions=$PWD/fuzz/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 # The consumer test installs the package and builds a program with the default compiler: not an
-# instrumented build's job.
-ctest --test-dir build-asan --output-on-failure -j "$(nproc)" -E "^Consumer\\."
+# instrumented build's job; the preview page test (PreviewChromium.*) runs a browser, not our code.
+ctest --test-dir build-asan --output-on-failure -j "$(nproc)" -E "^(Consumer|PreviewChromium)\\."

@@ -11,6 +11,7 @@ PKGS=(
   libosmesa6-dev libgl1-mesa-dri libgl-dev
   glslang-tools spirv-cross
   clang-14 libclang-rt-14-dev   # sanitizer build and libFuzzer targets (scripts/sanitize.sh, fuzz.sh)
+  chromium                      # headless test of the `ahdpack preview` page (PreviewChromium.*)
 )
 # Node.js is only needed for the independent KTX2 reader (ktx-parse); a machine that
 # already has node+npm (from any source) keeps it, otherwise Debian's are installed.

@@ -18,6 +18,8 @@
 #include <functional>
 
 #include "cli/commands.h"
+#include "cli/peers_bc6h.h"
+#include "cli/svg_plot.h"
 #include "codecs/bc4.h"
 #include "codecs/bc5.h"
 #include "codecs/bc6h_codec.h"
@@ -100,14 +102,49 @@ struct Row {
   std::string image, codec, quality;
   Timing one, all;
   Errors err;
+  double mp = 0;  // megapixels of the image
 };
+
+// The speed–error plot: one point per BC6H (image, quality) row, and PEERS.md's figures for the
+// images that were measured, as labelled reference points.
+std::string bc6h_plot(const std::vector<Row>& rows) {
+  static const char* kColours[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b"};
+  static const char* kPeerColours[] = {"#bbbbbb", "#999999", "#f2c14e", "#e0a030", "#17becf", "#7fbf7f", "#4c9a4c", "#e377c2"};
+  Plot p;
+  p.title = "BC6H: speed against error (ahdpack bench bc6h)";
+  p.x_label = "MPix/s, one thread's CPU time";
+  p.y_label = "log-RMSE, log2(1+x)";
+  p.note = std::string("peers: ../shared/data/bc6h/PEERS.md, measured ") + kPeersBc6hDate + "; labels: quality or image";
+  std::vector<std::string> images;
+  for (const Row& r : rows)
+    if (std::find(images.begin(), images.end(), r.image) == images.end()) images.push_back(r.image);
+  for (size_t i = 0; i < images.size(); ++i) {
+    PlotSeries s{"ahdpack, " + images[i], "point ours", kColours[i % 6], 'o', {}};
+    for (const Row& r : rows)
+      if (r.image == images[i]) s.points.push_back({double(r.one.cpu > 0 ? r.mp / r.one.cpu : 0), r.err.log_rmse, r.quality});
+    p.series.push_back(s);
+  }
+  std::vector<PlotSeries> peers;
+  for (const PeerFigure& f : peers_bc6h()) {
+    if (std::find(images.begin(), images.end(), f.image) == images.end()) continue;
+    auto it = std::find_if(peers.begin(), peers.end(), [&](const PlotSeries& s) { return s.name == f.encoder; });
+    if (it == peers.end()) {
+      peers.push_back({f.encoder, "point peer", kPeerColours[peers.size() % 8], 'd', {}});
+      it = peers.end() - 1;
+    }
+    const std::string img = f.image.substr(f.image.find('_') == std::string::npos ? 0 : f.image.find('_') + 1);
+    it->points.push_back({f.mpix_per_s, f.log_rmse, img.substr(0, img.rfind('.'))});
+  }
+  p.series.insert(p.series.end(), peers.begin(), peers.end());
+  return plot_svg(p);
+}
 
 }  // namespace
 
 void add_bench_command(CLI::App& app) {
   struct Args {
     std::string folder = std::string(AHD_FORMATS_DIR) + "/../../shared/data/bc6h";
-    std::string csv;
+    std::string csv, plot;
     std::vector<std::string> qualities = {"fast", "default", "high", "max"};
     std::vector<std::string> codecs = {"bc6h", "bc4", "bc5"};
   };
@@ -118,6 +155,7 @@ void add_bench_command(CLI::App& app) {
       "bc6h", "BC6H speed and error per quality level over a folder of EXRs; BC4/BC5 on x/(1+x) planes of the same images");
   c->add_option("folder", a->folder, "Folder of EXR images (default: ../shared/data/bc6h)");
   c->add_option("--csv", a->csv, "Also write the table as CSV");
+  c->add_option("--plot", a->plot, "Also write the BC6H speed-error plot as SVG, with the peers of PEERS.md");
   c->add_option("--qualities", a->qualities, "BC6H quality levels to run (fast default high max)");
   c->add_option("--codecs", a->codecs, "Codecs to run (bc6h bc4 bc5)");
   c->callback([a]() {
@@ -138,7 +176,9 @@ void add_bench_command(CLI::App& app) {
                 all, all, all);
     std::printf("%-22s %-5s %-8s %8s %8s %8s %8s %10s %10s %8s %10s\n", "image", "codec", "quality", "cpu/thr", "wall 1t",
                 "wall all", "cpu all", "log-RMSE", "RMSE", "PSNR dB", "max err");
+    std::vector<Row> bc6h_rows;
     auto emit = [&](const Row& r, double mp) {
+      if (r.codec == "bc6h") bc6h_rows.push_back(r), bc6h_rows.back().mp = mp;
       std::printf("%-22s %-5s %-8s %8.3f %8.3f %8.3f %8.3f %10.5f %10.4g %8.2f %10.4g\n", r.image.c_str(), r.codec.c_str(),
                   r.quality.c_str(), mp / r.one.cpu, mp / r.one.wall, mp / r.all.wall, mp / r.all.cpu, r.err.log_rmse,
                   r.err.rmse, r.err.psnr, r.err.max);
@@ -200,6 +240,10 @@ void add_bench_command(CLI::App& app) {
     if (!a->csv.empty()) {
       write_file_atomic(a->csv, csv);
       std::printf("CSV: %s\n", a->csv.c_str());
+    }
+    if (!a->plot.empty()) {
+      write_file_atomic(a->plot, bc6h_plot(bc6h_rows));
+      std::printf("plot: %s\n", a->plot.c_str());
     }
   });
 }

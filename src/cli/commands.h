@@ -16,5 +16,7 @@ void add_sample_command(CLI::App& app);      // cmd_sample.cpp
 void add_report_command(CLI::App& app);      // cmd_report.cpp: hard-cases, eps, profiles
 void add_report_fit_command(CLI::App* report);  // cmd_report_fit.cpp: `report fit`, linear vs refined d
 void add_transcode_command(CLI::App& app);   // cmd_transcode.cpp
+void add_preview_command(CLI::App& app);     // cmd_preview.cpp: HTML page of a conversion
+void add_verify_command(CLI::App& app);      // cmd_verify.cpp: a conversion within bounds (users' CI)
 
 }  // namespace ahd::cli

@@ -19,6 +19,8 @@ int main(int argc, char** argv) {
   ahd::cli::add_sample_command(app);
   ahd::cli::add_report_command(app);
   ahd::cli::add_transcode_command(app);
+  ahd::cli::add_preview_command(app);
+  ahd::cli::add_verify_command(app);
   try {
     ahd::cli::apply_size_limit_from_environment();
     app.parse(argc, argv);

@@ -1,0 +1,164 @@
+// ahdpack preview NAME.json [--source IN.exr] -o DIR/: a self-contained HTML page (no network) with
+// PNGs beside it: every plane and mip level, irradiance for the surface normal and tilted normals,
+// error heat maps against the source SH, the report's tables and the time per stage.
+//
+// HDR images are PNGs in the fixed log encoding of preview_images.h; the exposure slider rewrites
+// the table of an SVG feComponentTransfer filter that every HDR <img> uses, so exposure works on
+// file:// pages without reading pixels back (a canvas would be tainted there). The page records
+// script errors and images that failed to load in <body data-status>, which the tests read.
+//
+// The folder is written whole or not at all: everything goes to a hidden temporary folder beside
+// DIR, renamed to DIR at the end. An existing DIR is replaced only when it is empty or an earlier
+// preview (it holds the marker file), never any other folder.
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "cli/commands.h"
+#include "cli/conversion_view.h"
+#include "cli/preview_html.h"
+#include "cli/preview_images.h"
+#include "core/error.h"
+#include "fit/ahd_decode.h"
+#include "io/image_io.h"
+
+namespace ahd::cli {
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kMarker = ".ahdpack-preview";
+
+struct PreviewArgs {
+  std::string manifest, source, out;
+};
+
+// Irradiance of level 0 for one tangent-space unit normal.
+std::vector<float> irradiance(const DecodedPlanes& p, const double n[3], double dz_min) {
+  std::vector<float> e(size_t(p.width) * p.height * 3);
+  for (size_t i = 0; i < e.size() / 3; ++i) {
+    double o[3];
+    decode_irradiance(&p.iz[i * 3], &p.d[i * 3], &p.ratio[i * 3], n, dz_min, o);
+    for (int c = 0; c < 3; ++c) e[i * 3 + c] = float(o[c]);
+  }
+  return e;
+}
+
+// Removes a temporary folder unless released (any failure before the final rename).
+struct TempDir {
+  fs::path path;
+  bool keep = false;
+  ~TempDir() {
+    std::error_code ec;
+    if (!keep && !path.empty()) fs::remove_all(path, ec);
+  }
+};
+
+// Moves the finished folder `tmp` to `out`, replacing an empty folder or an earlier preview.
+void publish_folder(const fs::path& tmp, const fs::path& out) {
+  std::error_code ec;
+  if (fs::exists(out, ec)) {
+    if (!fs::is_directory(out, ec)) throw file_error(out.string(), "exists and is not a folder");
+    const bool ours = fs::exists(out / kMarker, ec) || fs::is_empty(out, ec);
+    if (!ours) throw file_error(out.string(), "exists and is not an ahdpack preview folder (nothing was replaced)");
+    const fs::path old = out.parent_path() / ("." + out.filename().string() + ".ahdtmp-" + std::to_string(getpid()) + "-old");
+    fs::rename(out, old, ec);
+    if (ec) throw file_error(out.string(), "cannot replace: " + ec.message());
+    fs::rename(tmp, out, ec);
+    if (ec) {
+      std::error_code ec2;
+      fs::rename(old, out, ec2);
+      throw file_error(out.string(), "cannot write: " + ec.message());
+    }
+    fs::remove_all(old, ec);
+    return;
+  }
+  fs::rename(tmp, out, ec);
+  if (ec) throw file_error(out.string(), "cannot write: " + ec.message());
+}
+
+void run_preview(const PreviewArgs& a) {
+  const ConversionView v = read_conversion(a.manifest);
+  const Manifest& m = v.manifest;
+  PreviewPage page;
+  page.name = fs::path(a.manifest).stem().string();
+  page.manifest = m;
+  fs::path report_path = fs::path(a.manifest).parent_path() / (page.name + ".report.json");
+  if (fs::exists(report_path)) {
+    std::ifstream f(report_path);
+    page.report = nlohmann::json::parse(f, nullptr, false);
+    if (page.report.is_discarded() || !page.report.is_object()) throw file_error(report_path.string(), "is not a report");
+  }
+  ShImage sh;
+  if (!a.source.empty()) sh = read_source_for(a.source, v);
+
+  if (a.out.empty()) throw Error("-o needs a folder name");
+  fs::path out = fs::absolute(a.out).lexically_normal();
+  if (!out.has_filename()) out = out.parent_path();  // "DIR/" or "."
+  std::error_code ec;
+  if (!fs::is_directory(out.parent_path(), ec)) throw file_error(out.parent_path().string(), "no such folder");
+  TempDir tmp{out.parent_path() / ("." + out.filename().string() + ".ahdtmp-" + std::to_string(getpid()) + "-preview")};
+  fs::remove_all(tmp.path, ec);
+  if (!fs::create_directory(tmp.path, ec)) throw file_error(tmp.path.string(), "cannot create: " + ec.message());
+
+  auto png = [&](const std::string& file, const ImageF& img) { write_image((tmp.path / file).string(), img); };
+  const DecodedPlanes& l0 = v.levels[0];
+  const double white = white_point(l0.iz);
+  page.white = white;
+  for (size_t l = 0; l < v.levels.size(); ++l) {
+    const DecodedPlanes& p = v.levels[l];
+    const std::string s = "_L" + std::to_string(l) + ".png";
+    png("iz" + s, log_encode(p.iz, p.width, p.height, white));
+    if (m.directional) {
+      png("dir" + s, direction_colours(p.d, p.width, p.height));
+      png("ratio" + s, ratio_image(p.ratio, p.width, p.height));
+    }
+    page.level_sizes.push_back({p.width, p.height});
+  }
+  const double t = std::sqrt(0.5);
+  const struct {
+    const char* file;
+    const char* caption;
+    double n[3];
+  } normals[] = {{"irr_normal.png", "surface normal (0, 0, 1)", {0, 0, 1}},
+                 {"irr_tilt_px.png", "tilted 45° toward +x (tangent)", {t, 0, t}},
+                 {"irr_tilt_nx.png", "tilted 45° toward −x", {-t, 0, t}},
+                 {"irr_tilt_py.png", "tilted 45° toward +y (bitangent)", {0, t, t}},
+                 {"irr_tilt_ny.png", "tilted 45° toward −y", {0, -t, t}}};
+  for (const auto& n : normals) {
+    png(n.file, log_encode(irradiance(l0, n.n, m.dz_min), l0.width, l0.height, white));
+    page.irradiance.push_back({n.file, n.caption});
+  }
+  if (!a.source.empty()) {
+    const TexelErrorMaps e = texel_error_maps(sh, l0, m.dz_min);
+    png("error_normal.png", heat_map(e.normal, l0.width, l0.height, kHeatLoExp, kHeatHiExp));
+    png("error_hemisphere.png", heat_map(e.hemisphere, l0.width, l0.height, kHeatLoExp, kHeatHiExp));
+    page.source = a.source;
+    page.error_normal = summarise_map(e.normal);
+    page.error_hemisphere = summarise_map(e.hemisphere);
+  }
+  write_file_atomic((tmp.path / "index.html").string(), preview_html(page));
+  write_file_atomic((tmp.path / kMarker).string(), std::string("written by ahdpack preview\n"));
+  publish_folder(tmp.path, out);
+  tmp.keep = true;
+  std::printf("ahdpack preview: %s -> %s/index.html (%zu level(s)%s)\n", a.manifest.c_str(), out.string().c_str(),
+              v.levels.size(), a.source.empty() ? "" : ", error heat maps against the source");
+}
+
+}  // namespace
+
+void add_preview_command(CLI::App& app) {
+  auto a = std::make_shared<PreviewArgs>();
+  CLI::App* c = app.add_subcommand("preview", "Write an HTML page (no network) showing a conversion: planes, mips, "
+                                              "irradiance, error heat maps, report");
+  c->add_option("manifest", a->manifest, "NAME.json written by convert")->required();
+  c->add_option("--source", a->source, "The source SH (canonical EXR) for the error heat maps");
+  c->add_option("-o,--output", a->out, "Output folder (replaced if it holds an earlier preview)")->required();
+  c->callback([a]() { run_preview(*a); });
+}
+
+}  // namespace ahd::cli

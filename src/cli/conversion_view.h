@@ -1,0 +1,38 @@
+// A conversion read back for `preview` and `verify`: its manifest and every mip level decoded, and
+// per-texel errors against the source SH (the same figures as fit/hemisphere_error.h, per texel).
+#pragma once
+#include <string>
+#include <vector>
+
+#include "fit/hemisphere_error.h"
+#include "pipeline/convert.h"
+#include "pipeline/manifest.h"
+#include "sh/sh_image.h"
+
+namespace ahd::cli {
+
+struct ConversionView {
+  Manifest manifest;
+  std::vector<DecodedPlanes> levels;  // levels[l]: the planes of mip level l, array layer 0
+};
+
+// Reads the manifest and every plane (sizes and SHA-256 checked by read_manifest_plane), and
+// decodes each level of array layer `layer`. Throws ahd::Error("<file>: <cause>").
+ConversionView read_conversion(const std::string& manifest_path, int layer = 0);
+
+// Reads the canonical SH EXR `source` and checks that it is the conversion's source size and a
+// single page. Throws ahd::Error naming the file.
+ShImage read_source_for(const std::string& source, const ConversionView& v);
+
+// Per texel of level 0 (row-major; NaN where the source is not covered):
+//   hemisphere  RMS over 64 hemisphere normals and the channels of I − E / mean luminance of E
+//   normal      |I(z) − E(z)| (max channel) / luminance of E(z)  — what quantisation adds
+struct TexelErrorMaps {
+  std::vector<float> hemisphere, normal;
+};
+TexelErrorMaps texel_error_maps(const ShImage& sh, const DecodedPlanes& level0, double dz_min);
+
+// The ErrorReport of level 0 against the source (measure_error over every covered texel).
+ErrorReport measure_conversion(const ShImage& sh, const DecodedPlanes& level0, double dz_min);
+
+}  // namespace ahd::cli

@@ -1,0 +1,172 @@
+// `ahdpack preview`. PreviewChromium.*: the page in a real browser: Debian's chromium, headless, opens the page from file://.
+// The page must load every image and run its script without an error, the screenshot must not be
+// blank, and the error heat map must be darker where the analytic scene is smooth than at its
+// shadow edges. Skipped only when chromium is not installed (scripts/setup.sh installs it).
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "cli_runner.h"
+#include "io/image_io.h"
+#include "io/sh_exr.h"
+#include "sh/sh_image.h"
+
+namespace fs = std::filesystem;
+using ahd_test::run_cli;
+
+namespace {
+
+std::string chromium_binary() {
+  for (const char* p : {"/usr/bin/chromium", "/usr/bin/chromium-browser"})
+    if (fs::exists(p)) return p;
+  return "";
+}
+
+// Runs a shell command; stdout into `out`, stderr into `err`. Returns the exit status.
+int run(const std::string& cmd, const fs::path& err_file, std::string* out) {
+  FILE* p = popen((cmd + " 2>'" + err_file.string() + "'").c_str(), "r");
+  char buf[4096];
+  size_t n;
+  while (p && (n = fread(buf, 1, sizeof buf, p)) > 0) out->append(buf, n);
+  const int st = p ? pclose(p) : -1;
+  return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+std::string read_text(const fs::path& p) {
+  std::ifstream f(p);
+  return std::string(std::istreambuf_iterator<char>(f), {});
+}
+
+double luminance(const ahd::ImageF& img, size_t i) {
+  const float* c = &img.data[i * img.channels];
+  return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
+}
+
+struct Page {
+  explicit Page(const std::string& tag) : dir(ahd_test::temp_dir(tag)) { make(); }
+  fs::path dir;
+  fs::path src = dir / "s.exr", manifest = dir / "conv" / "s.json", out = dir / "page";
+  void make() {
+    EXPECT_EQ(run_cli({"sample", "-o", src.string(), "--size", "128"}).exit_code, 0);
+    auto r = run_cli({"convert", src.string(), "-o", (dir / "conv" / "s.ktx2").string(), "--profile", "pc-bc"});
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    r = run_cli({"preview", manifest.string(), "--source", src.string(), "-o", out.string() + "/"});
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+  }
+  std::string chromium(const std::string& what) const {
+    return "'" + chromium_binary() + "' --headless=new --no-sandbox --disable-gpu --hide-scrollbars "
+           "--user-data-dir='" + (dir / "profile").string() + "' --enable-logging=stderr --v=0 "
+           "--virtual-time-budget=5000 " + what + " 'file://" + (out / "index.html").string() + "'";
+  }
+};
+
+}  // namespace
+
+TEST(PreviewChromium, PageLoadsWithoutErrorsAndShowsSomething) {
+  if (chromium_binary().empty()) GTEST_SKIP() << "chromium is not installed (scripts/setup.sh installs it)";
+  Page p("preview_chromium");
+  ASSERT_TRUE(fs::exists(p.out / "index.html"));
+  // The DOM after load: the page's script writes data-status="ok" only when every image loaded
+  // and no script error happened.
+  std::string dom;
+  const int rc = run(p.chromium("--dump-dom"), p.dir / "dom.err", &dom);
+  const std::string log = read_text(p.dir / "dom.err");
+  ASSERT_EQ(rc, 0) << log;
+  EXPECT_NE(dom.find("data-status=\"ok\""), std::string::npos) << dom.substr(0, 2000) << "\n" << log;
+  // The exposure script ran: the filter's red table holds the 256 entries of the log codes.
+  const size_t fr = dom.find("id=\"fr\"");
+  ASSERT_NE(fr, std::string::npos);
+  const size_t tv = dom.find("tablevalues=\"", fr) != std::string::npos ? dom.find("tablevalues=\"", fr)
+                                                                         : dom.find("tableValues=\"", fr);
+  ASSERT_NE(tv, std::string::npos) << dom.substr(fr, 200);
+  const std::string table = dom.substr(tv + 13, dom.find('"', tv + 13) - (tv + 13));
+  EXPECT_EQ(std::count(table.begin(), table.end(), ' ') + 1, 256) << table.substr(0, 200);
+  // Console messages (errors and uncaught exceptions) appear as CONSOLE lines in chromium's log.
+  EXPECT_EQ(log.find("CONSOLE"), std::string::npos) << log;
+  EXPECT_EQ(log.find("Uncaught"), std::string::npos) << log;
+
+  // The screenshot: not blank (many distinct luminances, real contrast).
+  const fs::path shot = p.dir / "shot.png";
+  std::string ignored;
+  ASSERT_EQ(run(p.chromium("--window-size=1200,1400 --screenshot='" + shot.string() + "'"), p.dir / "shot.err", &ignored),
+            0) << read_text(p.dir / "shot.err");
+  const ahd::ImageF s = ahd::read_image(shot.string());
+  double lo = 1, hi = 0, sum = 0, sum2 = 0;
+  std::vector<int> hist(256, 0);
+  for (size_t i = 0; i < s.texels(); ++i) {
+    const double l = luminance(s, i);
+    lo = std::min(lo, l), hi = std::max(hi, l), sum += l, sum2 += l * l;
+    hist[std::clamp(int(l * 255), 0, 255)]++;
+  }
+  const double mean = sum / double(s.texels()), sd = std::sqrt(std::max(0.0, sum2 / double(s.texels()) - mean * mean));
+  EXPECT_GT(hi - lo, 0.5);
+  EXPECT_GT(sd, 0.05);
+  EXPECT_GT(std::count_if(hist.begin(), hist.end(), [](int n) { return n > 0; }), 64);
+}
+
+// Where the scene is smooth the BC6H/BC5 planes are nearly exact; at the hard and soft shadow
+// edges (and the sphere's contact) a 4×4 block holds light and shadow and the error along the
+// normal rises. Edges are found from the source itself: the relative jump of E(z) to a neighbour.
+TEST(Preview, HeatMapIsDarkerWhereSmoothThanAtShadowEdges) {
+  Page p("preview_heat");
+  const ahd::ShImage sh = ahd::read_canonical_sh(p.src.string());
+  const ahd::ImageF heat = ahd::read_image((p.out / "error_normal.png").string());
+  ASSERT_EQ(heat.width, sh.width);
+  const int w = sh.width, h = sh.height;
+  std::vector<double> ez(sh.texels());
+  for (size_t i = 0; i < ez.size(); ++i) {
+    ahd::IrradiancePoly poly[3];
+    ahd::local_polys(sh, i, poly);
+    const double z[3] = {0, 0, 1};
+    ez[i] = 0.2126 * ahd::eval_irradiance(poly[0], z) + 0.7152 * ahd::eval_irradiance(poly[1], z) +
+            0.0722 * ahd::eval_irradiance(poly[2], z);
+  }
+  std::vector<std::pair<double, size_t>> jumps;  // relative jump, texel: interior covered texels only
+  for (int y = 2; y < h - 2; ++y)
+    for (int x = 2; x < w - 2; ++x) {
+      bool inside = true;
+      double jump = 0;
+      const size_t i = size_t(y) * w + x;
+      for (int dy = -2; dy <= 2; ++dy)
+        for (int dx = -2; dx <= 2; ++dx) {
+          const size_t j = size_t(y + dy) * w + (x + dx);
+          inside &= sh.coverage[j] != 0;
+          if (std::abs(dx) + std::abs(dy) == 1) jump = std::max(jump, std::fabs(ez[j] - ez[i]) / std::max(ez[i], 1e-6));
+        }
+      if (inside) jumps.push_back({jump, i});
+    }
+  ASSERT_GT(jumps.size(), 1000u);
+  std::sort(jumps.begin(), jumps.end());
+  auto mean_heat = [&](size_t from, size_t to) {
+    double s = 0;
+    for (size_t k = from; k < to; ++k) s += luminance(heat, jumps[k].second);
+    return s / double(to - from);
+  };
+  const size_t n = jumps.size();
+  const double smooth = mean_heat(0, n / 2), edges = mean_heat(n - n / 20, n);  // lower half vs top 5 %
+  std::printf("heat-map luminance: smooth %.3f, shadow edges %.3f\n", smooth, edges);
+  EXPECT_LT(smooth * 1.3, edges);  // measured 0.241 vs 0.389 (pc-bc, 128²)
+}
+
+TEST(Preview, BadInputWritesNoFolder) {
+  const fs::path d = ahd_test::temp_dir("preview_bad");
+  const auto r = run_cli({"preview", (d / "missing.json").string(), "-o", (d / "page").string()});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+  EXPECT_FALSE(fs::exists(d / "page"));
+  for (const auto& e : fs::directory_iterator(d)) ADD_FAILURE() << "left behind: " << e.path();
+  // A folder that is not an earlier preview is never replaced.
+  fs::create_directories(d / "mine");
+  std::ofstream(d / "mine" / "keep.txt") << "x";
+  ASSERT_EQ(run_cli({"sample", "-o", (d / "s.exr").string(), "--size", "16"}).exit_code, 0);
+  ASSERT_EQ(run_cli({"convert", (d / "s.exr").string(), "-o", (d / "c" / "s.ktx2").string()}).exit_code, 0);
+  const auto r2 = run_cli({"preview", (d / "c" / "s.json").string(), "-o", (d / "mine").string()});
+  EXPECT_EQ(r2.exit_code, 1) << r2.output;
+  EXPECT_TRUE(fs::exists(d / "mine" / "keep.txt"));
+  EXPECT_EQ(std::distance(fs::directory_iterator(d / "mine"), fs::directory_iterator()), 1);
+}
