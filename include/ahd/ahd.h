@@ -16,7 +16,7 @@ extern "C" {
  * coverage: width*height bytes (non-zero = covered), or NULL for every texel covered.
  * normals: width*height*3 unit world-space normals when the SH is in world space, else NULL. */
 typedef struct ahd_sh_input {
-  int width, height, coeffs; /* coeffs: 4 (L1) or 9 (L2) */
+  int width, height, coeffs; /* coeffs: 1 (L0, a plain lightmap), 4 (L1) or 9 (L2) */
   const float* sh;
   const unsigned char* coverage;
   const float* normals;

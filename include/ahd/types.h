@@ -24,7 +24,7 @@ struct Cancelled : Error {
   Cancelled() : Error("cancelled") {}
 };
 
-// w×h texels of `coeffs` (4 = L1, 9 = L2) radiance-SH coefficients × RGB, linear.
+// w×h texels of `coeffs` (1 = L0: a plain lightmap, 4 = L1, 9 = L2) radiance-SH coefficients × RGB, linear.
 // Layout: data[((y*w + x)*coeffs + k)*3 + c], rows top first. Owned by the caller.
 struct ShImage {
   int width = 0;

@@ -7,6 +7,8 @@
 #include <cstring>
 #include <new>
 
+#include "sh/sh.h"
+
 struct ahd_result {
   std::vector<ahd::OutputFile> files;
 };
@@ -21,8 +23,8 @@ void set_error(char* error, size_t size, const char* text) {
 }
 
 ahd::ShImage image_from(const ahd_sh_input& in) {
-  if (in.width <= 0 || in.height <= 0 || (in.coeffs != 4 && in.coeffs != 9) || !in.sh)
-    throw ahd::Error("invalid input: width and height must be positive, coeffs 4 or 9, sh not NULL");
+  if (in.width <= 0 || in.height <= 0 || !ahd::valid_sh_coeffs(in.coeffs) || !in.sh)
+    throw ahd::Error("invalid input: width and height must be positive, coeffs 1, 4 or 9, sh not NULL");
   ahd::ShImage img;
   img.width = in.width;
   img.height = in.height;

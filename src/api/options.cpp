@@ -1,6 +1,7 @@
 #include "api/options.h"
 
 #include "core/error.h"
+#include "sh/sh.h"
 
 namespace ahd {
 
@@ -42,7 +43,7 @@ ResolvedOptions resolve_options(const ConversionOptions& o, const std::string& n
 
 void check_sh_image(const ShImage& sh) {
   if (sh.width <= 0 || sh.height <= 0) throw Error("the SH image has no texels");
-  if (sh.coeffs != 4 && sh.coeffs != 9) throw Error("the SH image must hold 4 (L1) or 9 (L2) coefficients");
+  if (!valid_sh_coeffs(sh.coeffs)) throw Error("the SH image must hold 1 (L0), 4 (L1) or 9 (L2) coefficients");
   const size_t n = sh.texels();
   if (sh.data.size() != n * size_t(sh.coeffs) * 3)
     throw Error("the SH data holds " + std::to_string(sh.data.size()) + " floats, not width*height*coeffs*3 = " +

@@ -13,6 +13,7 @@
 #include "cli/output.h"
 #include "cli/progress.h"
 #include "core/error.h"
+#include "sh/sh.h"
 #include "io/ahd_intermediate.h"
 #include "io/baker_layout.h"
 #include "io/colour_space.h"
@@ -112,7 +113,7 @@ ShImage read_layout_input(const ConvertArgs& a, const LayoutPreset& layout, Read
     sh = read_layout(layout, a.input, a.normals, rs);
   }
   *source = a.input + " (layout " + layout.name + ", " + std::to_string(sh.width) + "x" + std::to_string(sh.height) +
-            (sh.coeffs == 9 ? " L2" : " L1") + (sh.normals.empty() ? ", tangent space" : ", world space + normals") +
+            " " + std::string(sh_order_name(sh.coeffs)) + (sh.normals.empty() ? ", tangent space" : ", world space + normals") +
             from_mesh + ")";
   return sh;
 }
@@ -126,7 +127,7 @@ ShImage read_input(const ConvertArgs& a, ReadStats* rs, std::string* source) {
   }
   if (!a.layout.empty()) return read_layout_input(a, load_layout(a.layout), rs, source);
   ShImage sh = read_canonical_sh(a.input, rs);
-  *source = a.input + " (" + std::to_string(sh.width) + "x" + std::to_string(sh.height) + (sh.coeffs == 9 ? " L2" : " L1") +
+  *source = a.input + " (" + std::to_string(sh.width) + "x" + std::to_string(sh.height) + " " + std::string(sh_order_name(sh.coeffs)) +
             (sh.normals.empty() ? ", tangent space)" : ", world space + normals)");
   return sh;
 }

@@ -113,7 +113,7 @@ std::vector<FittedLevel> read_intermediate(const std::string& path, FitOptions* 
     throw file_error(path, "not an ahdpack intermediate of version " + std::to_string(kIntermediateVersion));
   std::map<std::string, int> index;
   for (int c = 0; c < spec0.nchannels; ++c) index[spec0.channelnames[size_t(c)]] = c;
-  const int coeffs = index.count("sh8.B") ? 9 : 4;
+  const int coeffs = index.count("sh8.B") ? 9 : index.count("sh3.B") ? 4 : 1;
   const bool normals = index.count("normal.X") != 0;
   const std::vector<std::string> names = channel_names(coeffs, normals);
   std::vector<int> src;  // file channel of each name

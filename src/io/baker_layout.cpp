@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "sh/sh.h"
 #include "core/json_number.h"
 #include "io/paths.h"
 #include "io/colour_space.h"
@@ -122,13 +123,13 @@ void parse_mesh_axes(const std::string& path, const json& j, LayoutPreset& p) {
 
 void parse_preset(const std::string& path, const json& j, LayoutPreset& p) {
   p.coeffs = int(json_whole(j.at("coeffs"), 0, 9, path, "coeffs"));
-  if (p.coeffs != 4 && p.coeffs != 9) throw file_error(path, "coeffs must be 4 or 9");
+  if (!valid_sh_coeffs(p.coeffs)) throw file_error(path, "coeffs must be 1, 4 or 9");
   const std::string space = j.value("space", "tangent");
   if (space != "tangent" && space != "world") throw file_error(path, "space must be tangent or world");
   p.world_space = space == "world";
   parse_mesh_axes(path, j, p);
   p.form = parse_form(path, j.value("form", "radiance"));
-  if (p.form == LayoutForm::LinearOverPi && p.coeffs != 4) throw file_error(path, "linear_over_pi holds L0 and L1 only");
+  if (p.form == LayoutForm::LinearOverPi && p.coeffs > 4) throw file_error(path, "linear_over_pi holds L0 and L1 only");
   for (const auto& jf : j.at("files")) p.files.push_back(parse_file(path, jf));
   const PresetParse pp{path, p};
   for (const auto& jc : j.at("coefficients")) p.coefficients.push_back(parse_coefficient(pp, jc));

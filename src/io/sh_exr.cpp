@@ -50,12 +50,13 @@ ShImage read_canonical_sh(const std::string& path, ReadStats* stats) {
   int coeffs = 0;
   if (index.count(sh_channel(8, 2))) coeffs = 9;
   else if (index.count(sh_channel(3, 2))) coeffs = 4;
-  else throw file_error(path, "no SH channels: expected sh0.R sh0.G sh0.B … sh3.B (L1) or … sh8.B (L2)");
+  else if (index.count(sh_channel(0, 2)) && !index.count(sh_channel(1, 0))) coeffs = 1;
+  else throw file_error(path, "no SH channels: expected sh0.R sh0.G sh0.B (L0), … sh3.B (L1) or … sh8.B (L2)");
   for (int k = 0; k < coeffs; ++k)
     for (int c = 0; c < 3; ++c)
       if (!index.count(sh_channel(k, c))) throw file_error(path, "missing channel " + sh_channel(k, c));
-  if (coeffs == 4 && index.count(sh_channel(4, 0)))
-    throw file_error(path, "incomplete L2 channel set (sh4..sh8 partly present)");
+  if (coeffs < 9 && index.count(sh_channel(coeffs, 0)))
+    throw file_error(path, coeffs == 4 ? "incomplete L2 channel set (sh4..sh8 partly present)" : "incomplete L1 channel set (sh1..sh3 partly present)");
 
   // Rows arrive in bands straight from OpenImageIO into the SH image: the file is never held
   // whole in a second buffer (or precision) beside it.

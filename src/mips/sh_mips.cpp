@@ -17,6 +17,7 @@ void sh_from_poly(const IrradiancePoly& p, int count, double* out, int stride) {
   const double tr = p.q[0][0] + p.q[1][1] + p.q[2][2];
   const double e0 = p.e0 + tr / 3.0;
   out[0 * stride] = e0 / (kA0 * kY00);
+  if (count < 4) return;
   out[1 * stride] = p.e[1] / (kA1 * kY1);
   out[2 * stride] = p.e[2] / (kA1 * kY1);
   out[3 * stride] = p.e[0] / (kA1 * kY1);
@@ -49,7 +50,7 @@ void local_coeffs(const ShImage& img, size_t i, double out[kMaxVals]) {
 
 void check_image(const ShImage& img) {
   if (img.width <= 0 || img.height <= 0) throw Error("SH mips: image size must be positive");
-  if (img.coeffs != kShCoeffsL1 && img.coeffs != kShCoeffsL2) throw Error("SH mips: 4 or 9 coefficients");
+  if (!valid_sh_coeffs(img.coeffs)) throw Error("SH mips: 1, 4 or 9 coefficients");
   if (img.data.size() != img.texels() * size_t(img.coeffs) * 3 || img.coverage.size() != img.texels() ||
       (!img.normals.empty() && img.normals.size() != img.texels() * 3))
     throw Error("SH mips: malformed SH image (data, coverage or normals size)");

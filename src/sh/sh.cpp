@@ -21,9 +21,11 @@ IrradiancePoly irradiance_poly(const float* sh, int count, int stride) {
   IrradiancePoly p;
   auto c = [&](int k) { return double(sh[k * stride]); };
   p.e0 = kA0 * kY00 * c(0);
-  p.e[0] = kA1 * kY1 * c(3);
-  p.e[1] = kA1 * kY1 * c(1);
-  p.e[2] = kA1 * kY1 * c(2);
+  if (count >= 4) {  // L0 images (plain lightmaps) have no L1: e stays 0
+    p.e[0] = kA1 * kY1 * c(3);
+    p.e[1] = kA1 * kY1 * c(1);
+    p.e[2] = kA1 * kY1 * c(2);
+  }
   if (count >= 9) {
     // Band 2 times Â2; the constant part of Y20 (−1) goes into e0.
     const double k = kA2;

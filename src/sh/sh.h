@@ -6,6 +6,7 @@
 
 namespace ahd {
 
+constexpr int kShCoeffsL0 = 1;  // a plain lightmap: irradiance only, no direction (L1 = L2 = 0)
 constexpr int kShCoeffsL1 = 4;
 constexpr int kShCoeffsL2 = 9;
 
@@ -21,6 +22,16 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr double kA0 = kPi;
 constexpr double kA1 = 2.0 * kPi / 3.0;
 constexpr double kA2 = kPi / 4.0;
+
+// True for the coefficient counts an SH image can hold: 1 (L0), 4 (L1) or 9 (L2).
+constexpr bool valid_sh_coeffs(int count) {
+  return count == kShCoeffsL0 || count == kShCoeffsL1 || count == kShCoeffsL2;
+}
+
+// "L0", "L1" or "L2" for a valid count.
+constexpr const char* sh_order_name(int count) {
+  return count == kShCoeffsL2 ? "L2" : count == kShCoeffsL1 ? "L1" : "L0";
+}
 
 // Evaluates the first `count` (4 or 9) basis functions at the unit direction (x, y, z).
 void sh_basis(double x, double y, double z, int count, double* out);

@@ -6,7 +6,7 @@ namespace ahd {
 
 ShImage make_sh_image(int width, int height, int coeffs) {
   if (width <= 0 || height <= 0) throw Error("SH image size must be positive");
-  if (coeffs != 4 && coeffs != 9) throw Error("SH images hold 4 (L1) or 9 (L2) coefficients");
+  if (!valid_sh_coeffs(coeffs)) throw Error("SH images hold 1 (L0), 4 (L1) or 9 (L2) coefficients");
   ShImage img;
   img.width = width;
   img.height = height;
