@@ -80,6 +80,28 @@ TextureLevel level_rows(PixelFormat f, const TextureLevel& lvl, int y0, int y1) 
   return s;
 }
 
+// Rows per band where a level is encoded or decoded piecewise: a multiple of every block height.
+constexpr int kBandRows = 64;
+
+// Encodes a w×h plane a band of kBandRows rows at a time: fill(y0, band) writes rows
+// [y0, y0 + band.height). Block rows encode on their own and are stored one after another, so the
+// bytes are those of encoding the whole plane at once.
+template <class Fill>
+TextureLevel encode_banded(PixelFormat f, int w, int h, int channels, const PlaneCodecOptions& codec,
+                           PlaneCodecStats* stats, const Fill& fill) {
+  TextureLevel out;
+  out.width = uint32_t(w);
+  out.height = uint32_t(h);
+  out.data.reserve(level_size_bytes(f, out.width, out.height));
+  for (int y0 = 0; y0 < h; y0 += kBandRows) {
+    ImageF band(w, std::min(h, y0 + kBandRows) - y0, channels);
+    fill(y0, band);
+    const TextureLevel part = encode_plane(f, band, codec, stats);
+    out.data.insert(out.data.end(), part.data.begin(), part.data.end());
+  }
+  return out;
+}
+
 // Planes of one level, closed loop: direction first, then I_z, then the ratio refitted against
 // the DECODED direction and I_z (covered texels; uncovered ones keep their dilated ratio).
 struct LevelPlanes {
@@ -97,13 +119,13 @@ LevelPlanes quantise_level(const FittedLevel& lv, const Profile& profile, const 
   PlaneCodecOptions codec = opt.codec;
   codec.threads = opt.threads;
   LevelPlanes out;
-  {  // I_z: its float copy lives only while it is encoded
-    ImageF izi(w, h, 3);
-    parallel_for(n, opt.threads, 4096, [&](size_t i) {
-      for (int c = 0; c < 3; ++c) izi.data[i * 3 + c] = fit.texels[i].iz[c];
+  // I_z: a float copy of one band of rows at a time, never of the whole level.
+  out.iz = encode_banded(profile.iz, w, h, 3, codec, stats, [&](int y0, ImageF& band) {
+    const size_t first = size_t(y0) * size_t(w);
+    parallel_for(band.texels(), opt.threads, 4096, [&](size_t j) {
+      for (int c = 0; c < 3; ++c) band.data[j * 3 + c] = fit.texels[first + j].iz[c];
     });
-    out.iz = encode_plane(profile.iz, izi, codec, stats);
-  }
+  });
   if (!directional) return out;
   ImageF uv(w, h, 2);
   parallel_for(n, opt.threads, 4096, [&](size_t i) { dir_to_unit_uv(fit.texels[i].d, &uv.data[i * 2]); });
@@ -119,7 +141,6 @@ LevelPlanes quantise_level(const FittedLevel& lv, const Profile& profile, const 
   });
   // Closed loop: the coded direction and I_z are decoded a band of rows at a time (blocks decode on
   // their own, so the values are those of whole-plane decoding) rather than as whole float images.
-  constexpr int kBandRows = 64;  // a multiple of every block height
   for (int y0 = 0; opt.closed_loop && y0 < h; y0 += kBandRows) {
     const int y1 = std::min(h, y0 + kBandRows);
     const ImageF iz_dec = decode_plane(profile.iz, level_rows(profile.iz, out.iz, y0, y1));
