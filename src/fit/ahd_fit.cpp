@@ -123,10 +123,6 @@ AhdFit fit_colours(const IrradiancePoly p[3], const double d[3], const double iz
     if (opt.ratio_form == RatioForm::Rgb) r = iz[c] > 0.0 ? std::clamp(ca[c] / iz[c], 0.0, 1.0) : 1.0;
     out.iz[c] = float(iz[c]);
     out.ratio[c] = float(r);
-    // What the stored parameters decode to at the texel centre (ahd_decode.h).
-    const double a = r * iz[c];
-    out.ca[c] = float(a);
-    out.cd[c] = float((iz[c] - a) / dz);
   }
   return out;
 }

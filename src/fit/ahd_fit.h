@@ -38,15 +38,19 @@ enum FitFlag : uint8_t {
   kFitNonFinite = 16,      // NaN/Inf reached the fit: that channel stored as 0
 };
 
-// One fitted texel. ca/cd are what the stored (ratio, d, I_z) decode to at the texel centre.
+// One fitted texel: what the planes store, before quantisation (40 bytes: a fitted level is held
+// whole while it is quantised, so the colours are derived, not stored).
 struct AhdFit {
   float iz[3];     // irradiance along the local z (the normal), RGB
   float d[3];      // unit highlight direction, local frame, d[2] ≥ dz_min
   float ratio[3];  // C_a / I_z per channel (all three equal in the luminance form), in [0,1]
-  float ca[3];     // ambient colour, ≥ 0
-  float cd[3];     // highlight colour, ≥ 0
   uint8_t flags;   // FitFlag bits
 };
+
+// The colours the stored (ratio, d, I_z) decode to at the texel centre (ahd_decode.h; d_z ≥ dz_min
+// already holds): ambient C_a = ratio·I_z ≥ 0 and highlight C_d = (I_z − C_a) / d_z ≥ 0.
+inline double fitted_ca(const AhdFit& f, int c) { return double(f.ratio[c]) * double(f.iz[c]); }
+inline double fitted_cd(const AhdFit& f, int c) { return (double(f.iz[c]) - fitted_ca(f, c)) / double(f.d[2]); }
 
 // The hemisphere moments one texel's fit needs, exposed for tests and the unconstrained baseline.
 // Integrals over the upper hemisphere Ω+ (z ≥ 0) with g(ω) = max(0, ω·d):

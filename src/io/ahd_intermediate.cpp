@@ -168,9 +168,6 @@ std::vector<FittedLevel> read_intermediate(const std::string& path, FitOptions* 
       for (int c = 0; c < 3; ++c) f.d[c] = next();
       for (int c = 0; c < 3; ++c) f.ratio[c] = next();
       f.flags = uint8_t(next());
-      double ca[3], cd[3], u[3];
-      decode_colours(f.iz, f.d, f.ratio, fit ? fit->dz_min : 0.05, ca, cd, u);
-      for (int c = 0; c < 3; ++c) f.ca[c] = float(ca[c]), f.cd[c] = float(cd[c]);
     }
     l.ahd.coverage = l.sh.coverage;
     levels.push_back(std::move(l));

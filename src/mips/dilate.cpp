@@ -163,12 +163,6 @@ void dilate_ahd(AhdImage& img, double dz_min, int threads, DilateStats* stats) {
       // No covered texel at all: ratio 1 (pure ambient), the fit's convention for black.
       f.ratio[c] = len > 0 ? std::clamp(f.ratio[c], 0.0f, 1.0f) : 1.0f;
     }
-    double ca[3], cd[3], ud[3];
-    decode_colours(f.iz, f.d, f.ratio, dz_min, ca, cd, ud);
-    for (int c = 0; c < 3; ++c) {
-      f.ca[c] = float(ca[c]);
-      f.cd[c] = float(cd[c]);
-    }
     f.flags = 0;
   });
 }

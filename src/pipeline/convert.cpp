@@ -40,13 +40,10 @@ AhdLobe ambient_only_lobe(const AhdFit& f) {
   return l;
 }
 
-AhdLobe lobe_of_fit(const AhdFit& f) {
+// What the fitted (unquantised) planes decode to, as the reference decoder reads them.
+AhdLobe lobe_of_fit(const AhdFit& f, double dz_min) {
   AhdLobe l;
-  for (int c = 0; c < 3; ++c) {
-    l.ca[c] = f.ca[c];
-    l.cd[c] = f.cd[c];
-    l.d[c] = f.d[c];
-  }
+  decode_colours(f.iz, f.d, f.ratio, dz_min, l.ca, l.cd, l.d);
   return l;
 }
 
@@ -310,7 +307,7 @@ void measure_fit(const FittedLevel& level0, const ConvertOptions& opt, ConvertRe
   const ShImage& sh = level0.sh;
   const AhdImage& fit = level0.ahd;
   // Lobes made texel by texel as they are measured: no image of them (72 bytes a texel).
-  r->fit_error = measure_lobes(sh, [&](size_t i) { return lobe_of_fit(fit.texels[i]); }, opt);
+  r->fit_error = measure_lobes(sh, [&](size_t i) { return lobe_of_fit(fit.texels[i], opt.fit.dz_min); }, opt);
   if (!opt.measuring_baselines()) return;
   r->unconstrained_error = measure_error(sh, [&](size_t i) {
     AhdLobe l;

@@ -73,7 +73,7 @@ Agreement decode_vs_runtime(const WorldBake& b, const std::string& layout, const
         const double rt = runtime(i, c, world_n[i].data());
         const double dec_v = e.data[i * 3 + c] / kPi;
         const double dn = std::max(0.0, double(tn[0] * f.d[0] + tn[1] * f.d[1] + tn[2] * f.d[2]));
-        const double model_v = (f.ca[c] + dn * f.cd[c]) / kPi;
+        const double model_v = (fitted_ca(f, c) + dn * fitted_cd(f, c)) / kPi;
         if (round == 0) a.along_normal = std::max(a.along_normal, std::fabs(dec_v - rt) / (std::fabs(rt) + 1e-6));
         else err2 += (dec_v - rt) * (dec_v - rt), model2 += (model_v - rt) * (model_v - rt), ref2 += rt * rt;
       }

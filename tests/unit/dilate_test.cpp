@@ -296,10 +296,10 @@ TEST(Dilate, AhdImageFilledTexelsAreValidAndGarbageFree) {
       EXPECT_GE(f.iz[c], 0.0f);
       EXPECT_GE(f.ratio[c], 0.0f);
       EXPECT_LE(f.ratio[c], 1.0f);
-      EXPECT_GE(f.ca[c], 0.0f);
-      EXPECT_GE(f.cd[c], 0.0f);
+      EXPECT_GE(fitted_ca(f, c), 0.0f);
+      EXPECT_GE(fitted_cd(f, c), 0.0f);
       // Self-consistent: the lobe gives back I_z along the normal.
-      EXPECT_NEAR(f.ca[c] + f.d[2] * f.cd[c], f.iz[c], 1e-4 * (f.iz[c] + 1e-6));
+      EXPECT_NEAR(fitted_ca(f, c) + f.d[2] * fitted_cd(f, c), f.iz[c], 1e-4 * (f.iz[c] + 1e-6));
     }
   }
 }

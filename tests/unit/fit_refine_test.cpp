@@ -149,13 +149,13 @@ TEST(FitRefine, MillionRandomTexelsKeepIzAndNonNegativity) {
     polys_and_iz(sh, size_t(i), p, iz);
     const AhdFit f = fit_texel(p, opt);
     for (int c = 0; c < 3; ++c) {
-      ASSERT_TRUE(std::isfinite(f.ca[c]) && std::isfinite(f.cd[c]));
-      ASSERT_GE(f.ca[c], 0.0f);
-      ASSERT_GE(f.cd[c], 0.0f);
+      ASSERT_TRUE(std::isfinite(fitted_ca(f, c)) && std::isfinite(fitted_cd(f, c)));
+      ASSERT_GE(fitted_ca(f, c), 0.0f);
+      ASSERT_GE(fitted_cd(f, c), 0.0f);
       ASSERT_GE(f.ratio[c], 0.0f);
       ASSERT_LE(f.ratio[c], 1.0f);
       if (!(iz[c] > 0)) continue;
-      const double back = double(f.ca[c]) + double(f.d[2]) * f.cd[c];
+      const double back = double(fitted_ca(f, c)) + double(f.d[2]) * fitted_cd(f, c);
       worst_iz = std::max(worst_iz, std::fabs(back - iz[c]) / iz[c]);
       worst_iz = std::max(worst_iz, std::fabs(double(f.iz[c]) - iz[c]) / iz[c]);
       ++checked;
@@ -215,11 +215,11 @@ TEST(FitRefine, HardCasesStayFiniteAndConstrained) {
       const AhdImage fit = fit_image(hc.sh, opt, 1);
       for (const AhdFit& f : fit.texels) {
         for (int c = 0; c < 3; ++c) {
-          ASSERT_TRUE(std::isfinite(f.iz[c]) && std::isfinite(f.ca[c]) && std::isfinite(f.cd[c])) << hc.name;
-          ASSERT_GE(f.ca[c], 0.0f) << hc.name;
-          ASSERT_GE(f.cd[c], 0.0f) << hc.name;
-          ASSERT_LE(f.cd[c], f.iz[c] / opt.dz_min * (1 + 1e-6) + 1e-30) << hc.name;
-          ASSERT_NEAR(f.ca[c] + f.d[2] * f.cd[c], f.iz[c], 1e-6 * f.iz[c] + 1e-37) << hc.name;
+          ASSERT_TRUE(std::isfinite(f.iz[c]) && std::isfinite(fitted_ca(f, c)) && std::isfinite(fitted_cd(f, c))) << hc.name;
+          ASSERT_GE(fitted_ca(f, c), 0.0f) << hc.name;
+          ASSERT_GE(fitted_cd(f, c), 0.0f) << hc.name;
+          ASSERT_LE(fitted_cd(f, c), f.iz[c] / opt.dz_min * (1 + 1e-6) + 1e-30) << hc.name;
+          ASSERT_NEAR(fitted_ca(f, c) + f.d[2] * fitted_cd(f, c), f.iz[c], 1e-6 * f.iz[c] + 1e-37) << hc.name;
         }
         ASSERT_GE(f.d[2], float(opt.dz_min) - 1e-7f) << hc.name;
       }

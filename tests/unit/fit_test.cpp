@@ -226,15 +226,15 @@ TEST(Fit, MillionRandomTexelsKeepIzAndNonNegativity) {
     polys_of(sh, coeffs, p);
     const AhdFit f = fit_texel(p, opt);
     for (int c = 0; c < 3; ++c) {
-      ASSERT_GE(f.ca[c], 0.0f);
-      ASSERT_GE(f.cd[c], 0.0f);
-      ASSERT_TRUE(std::isfinite(f.ca[c]) && std::isfinite(f.cd[c]));
+      ASSERT_GE(fitted_ca(f, c), 0.0f);
+      ASSERT_GE(fitted_cd(f, c), 0.0f);
+      ASSERT_TRUE(std::isfinite(fitted_ca(f, c)) && std::isfinite(fitted_cd(f, c)));
       ASSERT_GE(f.ratio[c], 0.0f);
       ASSERT_LE(f.ratio[c], 1.0f);
       const double iz_sh = p[c].e0 + p[c].e[2] + p[c].q[2][2];
       if (iz_sh <= 0) continue;
       // The stored I_z is the SH irradiance along z, and the AHD lobe reproduces it.
-      const double back = double(f.ca[c]) + double(f.d[2]) * f.cd[c];
+      const double back = double(fitted_ca(f, c)) + double(f.d[2]) * fitted_cd(f, c);
       worst_iz = std::max(worst_iz, std::fabs(back - iz_sh) / iz_sh);
       worst_iz = std::max(worst_iz, std::fabs(double(f.iz[c]) - iz_sh) / iz_sh);
       ++n;
@@ -290,7 +290,7 @@ TEST(Fit, Figure2NaiveInterpolationOvershootsOursIsLinear) {
     double d[3];
     for (int i = 0; i < 3; ++i) d[i] = (1 - t) * A.d[i] + t * B.d[i];
     const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    const double ca = (1 - t) * A.ca[0] + t * B.ca[0], cd = (1 - t) * A.cd[0] + t * B.cd[0];
+    const double ca = (1 - t) * fitted_ca(A, 0) + t * fitted_ca(B, 0), cd = (1 - t) * fitted_cd(A, 0) + t * fitted_cd(B, 0);
     const double naive = ca + std::max(0.0, d[2] / len) * cd;
     naive_overshoot = std::max(naive_overshoot, naive - iz_lin);
     // Ours: interpolate (I_z, d, ratio), decode.
@@ -320,14 +320,14 @@ TEST(Fit, HardCasesStayFiniteAndConstrained) {
     for (size_t i = 0; i < fit.texels.size(); ++i) {
       const AhdFit& f = fit.texels[i];
       for (int c = 0; c < 3; ++c) {
-        ASSERT_TRUE(std::isfinite(f.iz[c]) && std::isfinite(f.ca[c]) && std::isfinite(f.cd[c])) << hc.name;
+        ASSERT_TRUE(std::isfinite(f.iz[c]) && std::isfinite(fitted_ca(f, c)) && std::isfinite(fitted_cd(f, c))) << hc.name;
         ASSERT_GE(f.iz[c], 0.0f) << hc.name;
-        ASSERT_GE(f.ca[c], 0.0f) << hc.name;
-        ASSERT_GE(f.cd[c], 0.0f) << hc.name;
-        ASSERT_LE(f.cd[c], f.iz[c] / opt.dz_min * (1 + 1e-6) + 1e-30) << hc.name << ": C_d bound";
+        ASSERT_GE(fitted_ca(f, c), 0.0f) << hc.name;
+        ASSERT_GE(fitted_cd(f, c), 0.0f) << hc.name;
+        ASSERT_LE(fitted_cd(f, c), f.iz[c] / opt.dz_min * (1 + 1e-6) + 1e-30) << hc.name << ": C_d bound";
         ASSERT_GE(f.ratio[c], 0.0f);
         ASSERT_LE(f.ratio[c], 1.0f);
-        ASSERT_NEAR(f.ca[c] + f.d[2] * f.cd[c], f.iz[c], 1e-6 * f.iz[c] + 1e-37) << hc.name;
+        ASSERT_NEAR(fitted_ca(f, c) + f.d[2] * fitted_cd(f, c), f.iz[c], 1e-6 * f.iz[c] + 1e-37) << hc.name;
       }
       ASSERT_GE(f.d[2], float(opt.dz_min) - 1e-7f) << hc.name;
       ASSERT_NEAR(f.d[0] * f.d[0] + f.d[1] * f.d[1] + f.d[2] * f.d[2], 1.0f, 1e-5f) << hc.name;
@@ -360,8 +360,8 @@ TEST(Fit, PureAmbientIsAllAmbient) {
   add_ambient(img.texel(0), a);
   const AhdImage fit = fit_image(img, FitOptions{}, 1);
   for (int c = 0; c < 3; ++c) {
-    EXPECT_NEAR(fit.texels[0].ca[c], fit.texels[0].iz[c], 1e-6 * fit.texels[0].iz[c]);
-    EXPECT_NEAR(fit.texels[0].cd[c], 0.0f, 1e-6 * fit.texels[0].iz[c]);
+    EXPECT_NEAR(fitted_ca(fit.texels[0], c), fit.texels[0].iz[c], 1e-6 * fit.texels[0].iz[c]);
+    EXPECT_NEAR(fitted_cd(fit.texels[0], c), 0.0f, 1e-6 * fit.texels[0].iz[c]);
     EXPECT_NEAR(fit.texels[0].iz[c], kPi * a[c], 1e-5);  // constant radiance L gives E = πL
   }
 }

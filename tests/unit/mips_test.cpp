@@ -356,8 +356,8 @@ TEST(Mips, FitMipChainErrorPerLevel) {
       std::vector<AhdLobe> lobes(lv.ahd.texels.size());
       for (size_t i = 0; i < lobes.size(); ++i)
         for (int c = 0; c < 3; ++c) {
-          lobes[i].ca[c] = lv.ahd.texels[i].ca[c];
-          lobes[i].cd[c] = lv.ahd.texels[i].cd[c];
+          lobes[i].ca[c] = fitted_ca(lv.ahd.texels[i], c);
+          lobes[i].cd[c] = fitted_cd(lv.ahd.texels[i], c);
           lobes[i].d[c] = lv.ahd.texels[i].d[c];
         }
       const ErrorReport e = measure_error(lv.sh, lobes, 2);
@@ -373,7 +373,7 @@ TEST(Mips, FitMipChainErrorPerLevel) {
       EXPECT_LT(e.normal_rel.max, 1e-5) << "level " << l;
       for (const AhdFit& f : lv.ahd.texels)
         for (int c = 0; c < 3; ++c) {
-          ASSERT_TRUE(std::isfinite(f.iz[c]) && std::isfinite(f.ca[c]) && std::isfinite(f.cd[c]));
+          ASSERT_TRUE(std::isfinite(f.iz[c]) && std::isfinite(fitted_ca(f, c)) && std::isfinite(fitted_cd(f, c)));
           ASSERT_GE(f.iz[c], 0.0f);
         }
     }

@@ -40,9 +40,9 @@ TEST(Pipeline, AnalyticSceneFitKeepsIzAndSigns) {
         const double ez = p[c].e0 + p[c].e[2] + p[c].q[2][2];
         ASSERT_GT(ez, 0.0);
         ASSERT_NEAR(f.iz[c], ez, 1e-5 * ez);
-        ASSERT_NEAR(double(f.ca[c]) + double(f.d[2]) * f.cd[c], ez, 1e-5 * ez);
-        ASSERT_GE(f.ca[c], 0.0f);
-        ASSERT_GE(f.cd[c], 0.0f);
+        ASSERT_NEAR(double(fitted_ca(f, c)) + double(f.d[2]) * fitted_cd(f, c), ez, 1e-5 * ez);
+        ASSERT_GE(fitted_ca(f, c), 0.0f);
+        ASSERT_GE(fitted_cd(f, c), 0.0f);
       }
     }
   }
