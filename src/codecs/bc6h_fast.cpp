@@ -163,6 +163,13 @@ struct Endpoints {
   int e[2][3];
 };
 
+void store(const Endpoints& ep, const uint8_t idx[16], float err, OneRegionFit* out) {
+  out->mode = kModes[ep.m].mode;
+  std::memcpy(out->e, ep.e, sizeof out->e);
+  std::memcpy(out->idx, idx, 16);
+  out->err = err;
+}
+
 // Palette (decoded half bits) of two quantised endpoints, per channel.
 inline void palette(const Endpoints& ep, float P[3][16]) {
   const int bits = kModes[ep.m].epb;
@@ -285,7 +292,7 @@ void pack(const Endpoints& ep, const uint8_t idx[16], uint8_t out[16]) {
 
 }  // namespace
 
-void encode_block_fast(const uint16_t h[48], const float x[48], const uint8_t valid[16], uint8_t out[16]) {
+void fit_one_region_fast(const uint16_t h[48], const float x[48], const uint8_t valid[16], OneRegionFit* out) {
   Fit f;
   // Channel planes. Padding texels take the values of the first real one, so that plain minima
   // and maxima over all 16 are those of the real texels; their weight is 0.
@@ -316,7 +323,7 @@ void encode_block_fast(const uint16_t h[48], const float x[48], const uint8_t va
     Endpoints ep;
     ep.m = 0;
     for (int c = 0; c < 3; ++c) ep.e[0][c] = ep.e[1][c] = (int(f.hi[c]) * 64 + 30) / 31;
-    pack(ep, idx, out);
+    store(ep, idx, 0.0f, out);
     return;
   }
 
@@ -367,13 +374,27 @@ void encode_block_fast(const uint16_t h[48], const float x[48], const uint8_t va
     best = ep, best_err = err;
     std::memcpy(idx, trial, 16);
   }
+  store(best, idx, best_err, out);
+}
+
+void encode_block_fast(const uint16_t h[48], const float x[48], const uint8_t valid[16], uint8_t out[16]) {
+  OneRegionFit fit;
+  fit_one_region_fast(h, x, valid, &fit);
+  pack_one_region(fit, out);
+}
+
+void pack_one_region(OneRegionFit fit, uint8_t out[16]) {
+  Endpoints ep;
+  ep.m = 0;
+  while (kModes[ep.m].mode != fit.mode) ++ep.m;
+  std::memcpy(ep.e, fit.e, sizeof ep.e);
   // Texel 0's index is stored without its top bit: mirror the block when it is set (the palette
   // is symmetric, and quantize() keeps deltas inside the symmetric part of their range).
-  if (idx[0] >= 8) {
-    for (int c = 0; c < 3; ++c) std::swap(best.e[0][c], best.e[1][c]);
-    for (int t = 0; t < 16; ++t) idx[t] = uint8_t(15 - idx[t]);
+  if (fit.idx[0] >= 8) {
+    for (int c = 0; c < 3; ++c) std::swap(ep.e[0][c], ep.e[1][c]);
+    for (int t = 0; t < 16; ++t) fit.idx[t] = uint8_t(15 - fit.idx[t]);
   }
-  pack(best, idx, out);
+  pack(ep, fit.idx, out);
 }
 
 }  // namespace ahd::bc6h
