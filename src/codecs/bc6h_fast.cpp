@@ -284,10 +284,12 @@ void pack(const Endpoints& ep, const uint8_t idx[16], uint8_t out[16]) {
     pos += md.delta;
     for (int bit = md.epb - 1; bit >= 10; --bit, ++pos) v |= (unsigned __int128)((ep.e[0][c] >> bit) & 1) << pos;
   }
-  v |= (unsigned __int128)idx[0] << pos;
-  pos += 3;
-  for (int t = 1; t < 16; ++t, pos += 4) v |= (unsigned __int128)idx[t] << pos;
-  for (int i = 0; i < 16; ++i) out[i] = uint8_t(v >> (8 * i));
+  // The header is 65 bits in every one-region mode, so the indices fill the high 64 bits from
+  // bit 1 (texel 0's 3 bits) at fixed shifts: plain 64-bit ORs instead of 128-bit shifts.
+  uint64_t hi = uint64_t(v >> 64) | uint64_t(idx[0]) << 1;
+  for (int t = 1; t < 16; ++t) hi |= uint64_t(idx[t]) << (4 * t);
+  const uint64_t lo = uint64_t(v);
+  for (int i = 0; i < 8; ++i) out[i] = uint8_t(lo >> (8 * i)), out[8 + i] = uint8_t(hi >> (8 * i));
 }
 
 }  // namespace
