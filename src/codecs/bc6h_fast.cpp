@@ -272,23 +272,25 @@ bool refit(const Fit& f, const uint8_t idx[16], float a[3], float b[3]) {
 
 // Writes a one-region block: 5 mode bits, the low 10 bits of each base endpoint, then per channel
 // the delta (or second endpoint) followed by the base's high bits from the highest down, then the
-// indices (texel 0 without its top bit). This is the spec's layout of modes 11–14.
+// indices (texel 0 without its top bit). This is the spec's layout of modes 11–14. In every one of
+// them a channel's second field (delta + high bits) is 10 bits, so the header is 65 bits with
+// every field at a fixed place: 64-bit ORs, no 128-bit shifts.
 void pack(const Endpoints& ep, const uint8_t idx[16], uint8_t out[16]) {
   const OneRegionMode& md = kModes[ep.m];
-  unsigned __int128 v = unsigned(md.code);
-  int pos = 5;
-  for (int c = 0; c < 3; ++c, pos += 10) v |= (unsigned __int128)(ep.e[0][c] & 0x3FF) << pos;
+  uint64_t lo = uint64_t(md.code);
+  for (int c = 0; c < 3; ++c) lo |= uint64_t(ep.e[0][c] & 0x3FF) << (5 + 10 * c);
+  uint64_t second[3];
   for (int c = 0; c < 3; ++c) {
     const int d = (ep.e[1][c] - (md.delta < md.epb ? ep.e[0][c] : 0)) & ((1 << md.delta) - 1);
-    v |= (unsigned __int128)unsigned(d) << pos;
-    pos += md.delta;
-    for (int bit = md.epb - 1; bit >= 10; --bit, ++pos) v |= (unsigned __int128)((ep.e[0][c] >> bit) & 1) << pos;
+    uint64_t f = unsigned(d);
+    int pos = md.delta;
+    for (int bit = md.epb - 1; bit >= 10; --bit, ++pos) f |= uint64_t((ep.e[0][c] >> bit) & 1) << pos;
+    second[c] = f;
   }
-  // The header is 65 bits in every one-region mode, so the indices fill the high 64 bits from
-  // bit 1 (texel 0's 3 bits) at fixed shifts: plain 64-bit ORs instead of 128-bit shifts.
-  uint64_t hi = uint64_t(v >> 64) | uint64_t(idx[0]) << 1;
+  lo |= second[0] << 35 | second[1] << 45 | second[2] << 55;  // bit 9 of the blue field is bit 64
+  // The indices fill the high 64 bits from bit 1 (texel 0's 3 bits).
+  uint64_t hi = (second[2] >> 9) | uint64_t(idx[0]) << 1;
   for (int t = 1; t < 16; ++t) hi |= uint64_t(idx[t]) << (4 * t);
-  const uint64_t lo = uint64_t(v);
   for (int i = 0; i < 8; ++i) out[i] = uint8_t(lo >> (8 * i)), out[8 + i] = uint8_t(hi >> (8 * i));
 }
 

@@ -10,6 +10,10 @@ namespace ahd::bc6h {
 // portable bit-exact path otherwise; both give the same bits.
 void floats_to_half(const float* in, uint16_t* out, int n);
 
+// The search's index step (bc6h_encoder.cpp) runs four palette entries at a time with SSE2 on
+// x86-64; true = the plain scalar loop instead (tests: both write the same bytes).
+void force_scalar_search(bool scalar);
+
 // Which conversion floats_to_half uses: true = the portable path whatever the CPU (tests).
 void force_portable_half(bool portable);
 bool cpu_has_f16c();
