@@ -566,7 +566,7 @@ void try_two_regions(const Block& b, int n_parts, int max_exact, int refine_top,
 
 // Quality `default`'s pruning (see encode_block_default).
 constexpr float kFastGood = 3000.0f;
-constexpr double kTwoRegionWorth = 3e-3;
+constexpr double kTwoRegionWorth = 6e-3;
 constexpr double kTwoLineGain = 0.30;
 constexpr int kOneRegionPasses = 2, kPartitionsTried = 2, kTwoRegionPasses = 2;
 
@@ -746,9 +746,11 @@ void encode_block_searched(const float rgb[48], const uint8_t valid[16], bool is
 //    block kTwoLineGain times better than one line.
 // The constants were chosen on ../shared/data/bc6h (smooth / hard / noisy) so that every image's
 // log-RMSE is at or below the previous `default`'s (a full search of one region and 2 partitions,
-// 2 modes each) at 2.3–5× its speed; lower kTwoLineGain (0.25) cost hard +7 % log-RMSE, a
-// two-point pre-ranking of partitions (no eigenvector) +22 %, skipping the one-region refinement
-// on good blocks (kFastGood 10 000) +2 %.
+// 2 modes each) at 3–5× its speed. Measured alternatives: kTwoLineGain 0.25 cost hard +7 %
+// log-RMSE, 0.20 +22 %; a two-point pre-ranking of partitions (no eigenvector) +22 % on hard;
+// kFastGood 10 000 +2 %; kTwoRegionWorth 1e-2 +0.6 % on hard (above the old default); one
+// partition instead of two +3 % on smooth; skipping blocks whose texels are far from any one
+// line (a noise test) saved nothing on the noisy image and cost hard +4 %.
 void encode_block_default(const uint16_t h[48], const float rgb[48], const uint8_t valid[16], uint8_t out[16]) {
   OneRegionFit fit;
   fit_one_region_fast(h, rgb, valid, &fit);
