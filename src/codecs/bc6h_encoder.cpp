@@ -159,8 +159,6 @@ bool fit_deltas(const ModeInfo& mi, int e[4][3], bool is_signed) {
 // when no entry is inside; such a candidate is then unusable.
 constexpr float kOff = 1e30f;
 
-std::atomic<bool> g_force_scalar_search{false};
-
 double evaluate(const Block& b, Candidate& cand) {
   const ModeInfo& mi = mode(cand.mode);
   const uint16_t mask = mi.regions == 2 ? kPartitions[cand.partition] : 0;
@@ -187,7 +185,7 @@ double evaluate(const Block& b, Candidate& cand) {
   }
   double total = 0;
 #ifdef __SSE2__
-  if (!g_force_scalar_search.load(std::memory_order_relaxed)) {
+  if (!scalar_forced()) {
   // The same arithmetic four entries at a time (SSE2 is part of x86-64): the minimum by
   // min_ps, and its first index from the equal lanes — what the scalar loop below picks.
   const int nv = n / 4;
@@ -830,9 +828,5 @@ std::vector<uint8_t> bc6h_encode_image(const ImageF& img, const Bc6hOptions& opt
   }
   return out;
 }
-
-namespace bc6h {
-void force_scalar_search(bool scalar) { g_force_scalar_search.store(scalar, std::memory_order_relaxed); }
-}  // namespace bc6h
 
 }  // namespace ahd

@@ -10,9 +10,11 @@ namespace ahd::bc6h {
 // portable bit-exact path otherwise; both give the same bits.
 void floats_to_half(const float* in, uint16_t* out, int n);
 
-// The search's index step (bc6h_encoder.cpp) runs four palette entries at a time with SSE2 on
-// x86-64; true = the plain scalar loop instead (tests: both write the same bytes).
-void force_scalar_search(bool scalar);
+// On x86-64 the fast fit's palette and projection and the search's index step (bc6h_encoder.cpp)
+// run four lanes at a time with SSE2; true = the plain scalar loops instead (tests: both write
+// the same bytes).
+void force_scalar(bool scalar);
+bool scalar_forced();
 
 // Which conversion floats_to_half uses: true = the portable path whatever the CPU (tests).
 void force_portable_half(bool portable);

@@ -260,23 +260,23 @@ TEST(Bc6h, HalfConversionPathsGiveTheSameBits) {
   }
 }
 
-TEST(Bc6h, SearchWritesTheSameBytesWithSimdOrScalarIndices) {
-  // default (both the fast-fit blocks and the searched ones), high (two regions, 3-bit indices)
-  // and signed default, on a crop of each shared image and the hard 8×8 inputs' kind of values.
+TEST(Bc6h, SimdAndScalarLoopsWriteTheSameBytes) {
+  // fast (the fit's palette and projection), default (fast-fit blocks and searched ones), high
+  // (two regions, 3-bit indices), unsigned and signed, on a crop of each shared image.
   for (const char* file : {"lightmap_smooth.exr", "hdr_hard.exr", "lightmap_noisy.exr"}) {
     const ImageF src = clamp_rgb(read_image(std::string(AHD_SHARED_DIR) + "/data/bc6h/" + file));
     ImageF crop(96, 96, 3);
     for (int y = 0; y < 96; ++y)
       for (int x = 0; x < 96; ++x)
         for (int c = 0; c < 3; ++c) crop.at(x, y)[c] = src.at(x + 160, y + 160)[c];
-    for (Bc6hQuality q : {Bc6hQuality::Default, Bc6hQuality::High})
+    for (Bc6hQuality q : {Bc6hQuality::Fast, Bc6hQuality::Default, Bc6hQuality::High})
       for (bool is_signed : {false, true}) {
         Bc6hOptions o;
         o.quality = q;
         o.is_signed = is_signed;
-        bc6h::force_scalar_search(true);
+        bc6h::force_scalar(true);
         const std::vector<uint8_t> scalar = bc6h_encode_image(crop, o);
-        bc6h::force_scalar_search(false);
+        bc6h::force_scalar(false);
         const std::vector<uint8_t> simd = bc6h_encode_image(crop, o);
         EXPECT_EQ(scalar, simd) << file << " " << bc6h_quality_name(q) << (is_signed ? " signed" : "");
       }
