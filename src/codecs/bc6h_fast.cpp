@@ -99,7 +99,15 @@ namespace {
 
 // Sum of 16 floats in four lanes (t mod 4), a fixed order the compiler can vectorise.
 inline float sum16(const float v[16]) {
-  float l[4] = {0, 0, 0, 0};
+  alignas(16) float l[4] = {0, 0, 0, 0};
+#ifdef __SSE2__
+  if (!g_force_scalar.load(std::memory_order_relaxed)) {
+    __m128 acc = _mm_setzero_ps();
+    for (int t = 0; t < 16; t += 4) acc = _mm_add_ps(acc, _mm_loadu_ps(v + t));
+    _mm_store_ps(l, acc);
+    return (l[0] + l[1]) + (l[2] + l[3]);
+  }
+#endif
   for (int t = 0; t < 16; t += 4)
     for (int i = 0; i < 4; ++i) l[i] += v[t + i];
   return (l[0] + l[1]) + (l[2] + l[3]);
@@ -234,6 +242,43 @@ void project_sse2(const Fit& f, const float P[3][16], int pos[16]) {
 }
 #endif
 
+#ifdef __SSE2__
+// The neighbour check of assign() for four texels at a time (palette entries gathered into
+// lanes); the same operations in the same order, the total summed texel by texel as there.
+float pick_sse2(const Fit& f, const float P[3][16], const int pos[16], uint8_t idx[16]) {
+  float total = 0;
+  for (int t = 0; t < 16; t += 4) {
+    int k[4], km[4], kp[4];
+    for (int l = 0; l < 4; ++l) {
+      k[l] = kNearest.idx[pos[t + l]];
+      km[l] = k[l] - (k[l] > 0), kp[l] = k[l] + (k[l] < 15);
+    }
+    const __m128 w0 = _mm_loadu_ps(&f.W[0][t]), w1 = _mm_loadu_ps(&f.W[1][t]), w2 = _mm_loadu_ps(&f.W[2][t]);
+    const __m128 h0 = _mm_loadu_ps(&f.H[0][t]), h1 = _mm_loadu_ps(&f.H[1][t]), h2 = _mm_loadu_ps(&f.H[2][t]);
+    auto err = [&](const int j[4]) {
+      const __m128 e0 = _mm_sub_ps(_mm_setr_ps(P[0][j[0]], P[0][j[1]], P[0][j[2]], P[0][j[3]]), h0);
+      const __m128 e1 = _mm_sub_ps(_mm_setr_ps(P[1][j[0]], P[1][j[1]], P[1][j[2]], P[1][j[3]]), h1);
+      const __m128 e2 = _mm_sub_ps(_mm_setr_ps(P[2][j[0]], P[2][j[1]], P[2][j[2]], P[2][j[3]]), h2);
+      return _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_mul_ps(w0, e0), e0), _mm_mul_ps(_mm_mul_ps(w1, e1), e1)),
+                        _mm_mul_ps(_mm_mul_ps(w2, e2), e2));
+    };
+    alignas(16) float ek[4], em[4], ep[4];
+    _mm_store_ps(ek, err(k));
+    _mm_store_ps(em, err(km));
+    _mm_store_ps(ep, err(kp));
+    for (int l = 0; l < 4; ++l) {
+      int kb = em[l] < ek[l] ? km[l] : k[l];
+      float best = em[l] < ek[l] ? em[l] : ek[l];
+      kb = ep[l] < best ? kp[l] : kb;
+      best = ep[l] < best ? ep[l] : best;
+      idx[t + l] = uint8_t(kb);
+      total += best;
+    }
+  }
+  return total;
+}
+#endif
+
 // Indices by weighted projection on the palette's segment, then the better neighbour; returns
 // the weighted squared error in half steps. Every palette entry lies within the block's range
 // (the endpoints do), so any index is allowed.
@@ -244,12 +289,11 @@ float assign(const Fit& f, const Endpoints& ep, uint8_t idx[16]) {
   if (!g_force_scalar.load(std::memory_order_relaxed)) {
     palette_sse2(ep, P);
     project_sse2(f, P, pos);
-  } else
-#endif
-  {
-    palette(ep, P);
-    project(f, P, pos);
+    return pick_sse2(f, P, pos, idx);
   }
+#endif
+  palette(ep, P);
+  project(f, P, pos);
   float total = 0;
   for (int t = 0; t < 16; ++t) {
     const float w0 = f.W[0][t], w1 = f.W[1][t], w2 = f.W[2][t];
@@ -307,14 +351,28 @@ bool refit(const Fit& f, const uint8_t idx[16], float a[3], float b[3]) {
   float g[16];
   for (int t = 0; t < 16; ++t) g[t] = float(kW4[idx[t]]) * (1.0f / 64.0f);
   for (int c = 0; c < 3; ++c) {
-    // Four partial sums (lanes t mod 4) so the loop vectorises without reassociating floats.
-    float p00[4] = {}, p01[4] = {}, p11[4] = {}, q0[4] = {}, q1[4] = {};
-    for (int t = 0; t < 16; t += 4)
-      for (int l = 0; l < 4; ++l) {
-        const float gg = g[t + l], w = f.W[c][t + l], hh = f.H[c][t + l], wa = w * (1 - gg), wb = w * gg;
-        p00[l] += wa * (1 - gg), p01[l] += wa * gg, p11[l] += wb * gg;
-        q0[l] += wa * hh, q1[l] += wb * hh;
+    // Four partial sums (lanes t mod 4): the same sums with SSE2 or without.
+    alignas(16) float p00[4] = {}, p01[4] = {}, p11[4] = {}, q0[4] = {}, q1[4] = {};
+#ifdef __SSE2__
+    if (!g_force_scalar.load(std::memory_order_relaxed)) {
+      const __m128 one = _mm_set1_ps(1.0f);
+      __m128 s00 = _mm_setzero_ps(), s01 = s00, s11 = s00, r0 = s00, r1 = s00;
+      for (int t = 0; t < 16; t += 4) {
+        const __m128 gg = _mm_loadu_ps(g + t), w = _mm_loadu_ps(&f.W[c][t]), hh = _mm_loadu_ps(&f.H[c][t]);
+        const __m128 om = _mm_sub_ps(one, gg), wa = _mm_mul_ps(w, om), wb = _mm_mul_ps(w, gg);
+        s00 = _mm_add_ps(s00, _mm_mul_ps(wa, om)), s01 = _mm_add_ps(s01, _mm_mul_ps(wa, gg));
+        s11 = _mm_add_ps(s11, _mm_mul_ps(wb, gg));
+        r0 = _mm_add_ps(r0, _mm_mul_ps(wa, hh)), r1 = _mm_add_ps(r1, _mm_mul_ps(wb, hh));
       }
+      _mm_store_ps(p00, s00), _mm_store_ps(p01, s01), _mm_store_ps(p11, s11), _mm_store_ps(q0, r0), _mm_store_ps(q1, r1);
+    } else
+#endif
+      for (int t = 0; t < 16; t += 4)
+        for (int l = 0; l < 4; ++l) {
+          const float gg = g[t + l], w = f.W[c][t + l], hh = f.H[c][t + l], wa = w * (1 - gg), wb = w * gg;
+          p00[l] += wa * (1 - gg), p01[l] += wa * gg, p11[l] += wb * gg;
+          q0[l] += wa * hh, q1[l] += wb * hh;
+        }
     const float s00 = (p00[0] + p00[1]) + (p00[2] + p00[3]), s01 = (p01[0] + p01[1]) + (p01[2] + p01[3]),
                 s11 = (p11[0] + p11[1]) + (p11[2] + p11[3]), t0 = (q0[0] + q0[1]) + (q0[2] + q0[3]),
                 t1 = (q1[0] + q1[1]) + (q1[2] + q1[3]);
