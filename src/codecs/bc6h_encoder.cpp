@@ -398,6 +398,43 @@ double line_residual_quick(const Moments& m) {
   return std::max(0.0, trace - (v[0] * cv0 + v[1] * cv1 + v[2] * cv2) / vv);
 }
 
+#ifdef __SSE2__
+// line_residual_quick(a) + line_residual_quick(b), the two regions in the two lanes of SSE2
+// doubles: the same operations in the same order, the early returns as final selects.
+double pair_residual_sse2(const Moments& a, const Moments& b) {
+  auto pd = [](double x, double y) { return _mm_setr_pd(x, y); };
+  auto sel = [](__m128d mask, __m128d yes, __m128d no) { return _mm_or_pd(_mm_and_pd(mask, yes), _mm_andnot_pd(mask, no)); };
+  const __m128d zero = _mm_setzero_pd();
+  const __m128d w = pd(a.w, b.w), inv = _mm_div_pd(_mm_set1_pd(1.0), w);
+  const __m128d s0 = pd(a.s[0], b.s[0]), s1 = pd(a.s[1], b.s[1]), s2 = pd(a.s[2], b.s[2]);
+  auto cov = [&](int i, __m128d x, __m128d y) {
+    return _mm_sub_pd(pd(a.ss[i], b.ss[i]), _mm_mul_pd(_mm_mul_pd(x, y), inv));
+  };
+  const __m128d xx = cov(0, s0, s0), yy = cov(1, s1, s1), zz = cov(2, s2, s2), xy = cov(3, s0, s1),
+                xz = cov(4, s0, s2), yz = cov(5, s1, s2);
+  const __m128d trace = _mm_add_pd(_mm_add_pd(xx, yy), zz);
+  const __m128d c1 = _mm_and_pd(_mm_cmpgt_pd(yy, xx), _mm_cmpge_pd(yy, zz));
+  const __m128d c2 = _mm_andnot_pd(c1, _mm_and_pd(_mm_cmpgt_pd(zz, xx), _mm_cmpgt_pd(zz, yy)));
+  __m128d v0 = sel(c1, xy, sel(c2, xz, xx)), v1 = sel(c1, yy, sel(c2, yz, xy)), v2 = sel(c1, yz, sel(c2, zz, xz));
+  auto row = [](__m128d p, __m128d q, __m128d r, __m128d x, __m128d y, __m128d z) {
+    return _mm_add_pd(_mm_add_pd(_mm_mul_pd(p, x), _mm_mul_pd(q, y)), _mm_mul_pd(r, z));
+  };
+  for (int it = 0; it < 2; ++it) {
+    const __m128d u0 = row(xx, xy, xz, v0, v1, v2), u1 = row(xy, yy, yz, v0, v1, v2), u2 = row(xz, yz, zz, v0, v1, v2);
+    v0 = u0, v1 = u1, v2 = u2;
+  }
+  const __m128d vv = row(v0, v1, v2, v0, v1, v2);
+  const __m128d cv0 = row(xx, xy, xz, v0, v1, v2), cv1 = row(xy, yy, yz, v0, v1, v2), cv2 = row(xz, yz, zz, v0, v1, v2);
+  __m128d r = _mm_max_pd(_mm_sub_pd(trace, _mm_div_pd(row(v0, v1, v2, cv0, cv1, cv2), vv)), zero);
+  r = sel(_mm_cmpgt_pd(vv, zero), r, trace);          // !(vv > 0): trace
+  r = sel(_mm_cmpgt_pd(trace, zero), r, zero);        // !(trace > 0): 0
+  r = sel(_mm_cmpgt_pd(w, zero), r, zero);            // w <= 0: 0
+  alignas(16) double out[2];
+  _mm_store_pd(out, r);
+  return out[0] + out[1];
+}
+#endif
+
 // Least squares for one region's unquantised endpoints given the indices; writes c-domain targets.
 bool refit_region(const Block& b, const Candidate& cand, int r, double lo[3], double hi[3]) {
   const ModeInfo& mi = mode(cand.mode);
@@ -625,6 +662,12 @@ void try_two_regions(const Block& b, int n_parts, int max_exact, int refine_top,
       r1.add(rows[3][mask >> 12], 1.0);
       Moments r0 = all;
       r0.add(r1, -1.0);
+#ifdef __SSE2__
+      if (!scalar_forced()) {
+        ranked[p] = {pair_residual_sse2(r0, r1), p};
+        continue;
+      }
+#endif
       ranked[p] = {line_residual_quick(r0) + line_residual_quick(r1), p};
     }
   } else {
