@@ -159,6 +159,37 @@ bool fit_deltas(const ModeInfo& mi, int e[4][3], bool is_signed) {
 // when no entry is inside; such a candidate is then unusable.
 constexpr float kOff = 1e30f;
 
+#ifdef __SSE2__
+// evaluate()'s index step four palette entries at a time (SSE2 is part of x86-64): the same
+// arithmetic, the minimum by min_ps and its first index from the equal lanes — what the scalar
+// loop picks. Returns the error, or 1e300 when a texel has no palette entry inside the range.
+double pick_indices_sse2(const Block& b, const float pal[2][3][16], uint16_t mask, int n, uint8_t idx[16]) {
+  const int nv = n / 4;
+  double total = 0;
+  for (int t = 0; t < 16; ++t) {
+    const int r = (mask >> t) & 1;
+    const __m128 l0 = _mm_set1_ps(b.L[t][0]), l1 = _mm_set1_ps(b.L[t][1]), l2 = _mm_set1_ps(b.L[t][2]);
+    __m128 ev[4], mn = _mm_set1_ps(std::numeric_limits<float>::infinity());
+    for (int v = 0; v < nv; ++v) {
+      const __m128 d0 = _mm_sub_ps(_mm_load_ps(&pal[r][0][4 * v]), l0);
+      const __m128 d1 = _mm_sub_ps(_mm_load_ps(&pal[r][1][4 * v]), l1);
+      const __m128 d2 = _mm_sub_ps(_mm_load_ps(&pal[r][2][4 * v]), l2);
+      ev[v] = _mm_add_ps(_mm_add_ps(_mm_mul_ps(d0, d0), _mm_mul_ps(d1, d1)), _mm_mul_ps(d2, d2));
+      mn = _mm_min_ps(mn, ev[v]);
+    }
+    mn = _mm_min_ps(mn, _mm_shuffle_ps(mn, mn, _MM_SHUFFLE(2, 3, 0, 1)));
+    mn = _mm_min_ps(mn, _mm_shuffle_ps(mn, mn, _MM_SHUFFLE(1, 0, 3, 2)));
+    unsigned eq = 0;
+    for (int v = 0; v < nv; ++v) eq |= unsigned(_mm_movemask_ps(_mm_cmpeq_ps(ev[v], mn))) << (4 * v);
+    const float e = _mm_cvtss_f32(mn);
+    if (!(e < kOff)) return 1e300;  // as the scalar loop: e >= kOff
+    idx[t] = uint8_t(__builtin_ctz(eq));
+    total += b.valid[t] * e;
+  }
+  return total;
+}
+#endif
+
 double evaluate(const Block& b, Candidate& cand) {
   const ModeInfo& mi = mode(cand.mode);
   const uint16_t mask = mi.regions == 2 ? kPartitions[cand.partition] : 0;
@@ -185,36 +216,7 @@ double evaluate(const Block& b, Candidate& cand) {
   }
   double total = 0;
 #ifdef __SSE2__
-  if (!scalar_forced()) {
-  // The same arithmetic four entries at a time (SSE2 is part of x86-64): the minimum by
-  // min_ps, and its first index from the equal lanes — what the scalar loop below picks.
-  const int nv = n / 4;
-  for (int t = 0; t < 16; ++t) {
-    const int r = (mask >> t) & 1;
-    const __m128 l0 = _mm_set1_ps(b.L[t][0]), l1 = _mm_set1_ps(b.L[t][1]), l2 = _mm_set1_ps(b.L[t][2]);
-    __m128 ev[4], mn = _mm_set1_ps(std::numeric_limits<float>::infinity());
-    for (int v = 0; v < nv; ++v) {
-      const __m128 d0 = _mm_sub_ps(_mm_load_ps(&pal[r][0][4 * v]), l0);
-      const __m128 d1 = _mm_sub_ps(_mm_load_ps(&pal[r][1][4 * v]), l1);
-      const __m128 d2 = _mm_sub_ps(_mm_load_ps(&pal[r][2][4 * v]), l2);
-      ev[v] = _mm_add_ps(_mm_add_ps(_mm_mul_ps(d0, d0), _mm_mul_ps(d1, d1)), _mm_mul_ps(d2, d2));
-      mn = _mm_min_ps(mn, ev[v]);
-    }
-    mn = _mm_min_ps(mn, _mm_shuffle_ps(mn, mn, _MM_SHUFFLE(2, 3, 0, 1)));
-    mn = _mm_min_ps(mn, _mm_shuffle_ps(mn, mn, _MM_SHUFFLE(1, 0, 3, 2)));
-    unsigned eq = 0;
-    for (int v = 0; v < nv; ++v) eq |= unsigned(_mm_movemask_ps(_mm_cmpeq_ps(ev[v], mn))) << (4 * v);
-    const float e = _mm_cvtss_f32(mn);
-    if (!(e < kOff)) {  // no palette entry within the block's range (or every one is): unusable
-      cand.err = 1e300;
-      return cand.err;
-    }
-    cand.idx[t] = uint8_t(__builtin_ctz(eq));
-    total += b.valid[t] * e;
-  }
-  cand.err = total;
-  return total;
-  }
+  if (!scalar_forced()) return cand.err = pick_indices_sse2(b, pal, mask, n, cand.idx);
 #endif
   for (int t = 0; t < 16; ++t) {
     const int r = (mask >> t) & 1;
@@ -635,6 +637,8 @@ Candidate search(const Block& b, Bc6hQuality q) {
 
 // Two regions: ranks partitions by how well two lines fit them, tries the `n_parts` best with
 // `max_exact` modes each, refines the `refine_top` best of each; keeps the best in `best`.
+// `quick` (quality `default`): the cheaper ranking, and nothing tried when no partition's two
+// lines fit kTwoLineGain times better than one.
 void try_two_regions(const Block& b, int n_parts, int max_exact, int refine_top, int passes, bool perturb,
                      Candidate& best, bool quick) {
   std::pair<double, int> ranked[32];
