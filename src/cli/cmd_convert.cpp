@@ -283,7 +283,7 @@ void run_batch(const ConvertArgs& a, const std::vector<std::string>& inputs) {
   BatchProgress progress(files.size(), a.conv.quiet);
   std::mutex publish_lock;
   const auto t_batch = std::chrono::steady_clock::now();
-  run_batch_plan(plan, [&](size_t i, int threads) {
+  const auto convert_one = [&](size_t i, int threads) {
     if (interrupt_flag()->load()) throw Cancelled();  // Ctrl-C: start no further file
     Done& d = done[i];
     const auto t0 = std::chrono::steady_clock::now();
@@ -306,7 +306,17 @@ void run_batch(const ConvertArgs& a, const std::vector<std::string>& inputs) {
     }
     d.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     progress.file_done();
-  });
+  };
+  try {
+    run_batch_plan(plan, convert_one);
+  } catch (const Cancelled&) {  // main then says the running conversions wrote nothing
+    progress.finish();
+    size_t converted = 0;
+    for (const Done& d : done) converted += d.seconds > 0 && d.error.empty();
+    std::fprintf(stderr, "ahdpack: %zu of %zu file(s) were converted before the interruption (complete outputs); of the others:\n",
+                 converted, done.size());
+    throw;
+  }
   progress.finish();
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_batch).count();
   std::string failed;
