@@ -5,15 +5,17 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <mutex>
 #include <set>
 
 #include "api/options.h"
+#include "cli/batch_schedule.h"
 #include "cli/commands.h"
 #include "cli/conversion_args.h"
 #include "cli/output.h"
 #include "cli/progress.h"
 #include "core/error.h"
-#include "sh/sh.h"
+#include "core/parallel.h"
 #include "io/ahd_intermediate.h"
 #include "io/baker_layout.h"
 #include "io/colour_space.h"
@@ -25,6 +27,7 @@
 #include "io/profile_file.h"
 #include "io/sh_exr.h"
 #include "pipeline/run.h"
+#include "sh/sh.h"
 
 namespace ahd::cli {
 namespace fs = std::filesystem;
@@ -156,7 +159,15 @@ struct BatchRow {
   double rel_mean = -1, rel_p99 = -1;  // the error estimate (−1: not measured)
 };
 
-BatchRow run_convert(ConvertArgs a) {
+// How a batch runs one conversion (run_convert's defaults: the terminal's progress, no lock).
+struct BatchJob {
+  std::function<void(const char* stage, double fraction)> progress;  // the batch's line, or none
+  // Held while publishing: publish_output_set swaps the process's SIGINT/SIGTERM handlers and
+  // keeps one process-wide list of temporaries, so two sets are never published at once.
+  std::mutex* publish_lock = nullptr;
+};
+
+BatchRow run_convert(ConvertArgs a, const BatchJob* job = nullptr) {
   resolve_auto_layout(&a);
   std::string out_path = a.output;
   if (out_path.empty())
@@ -164,7 +175,8 @@ BatchRow run_convert(ConvertArgs a) {
   const OutputPaths out = output_paths(out_path);
   ConversionOptions co = conversion_options(a.conv);
   co.container = out.kind;
-  attach_terminal_progress(&co, a.conv.quiet);
+  if (job) co.cancel = interrupt_flag(), co.progress = job->progress;  // the batch installed the handler
+  else attach_terminal_progress(&co, a.conv.quiet);
 
   // Checked before anything is read or written: one clear line, no output.
   const ResolvedOptions ro = resolve_options(co, out.name, load_profile(a.conv.profile));
@@ -196,7 +208,11 @@ BatchRow run_convert(ConvertArgs a) {
       on_fitted = [&](const std::vector<FittedLevel>& levels) { write_intermediate(out.sibling(".ahd.exr"), levels, ro.convert.fit); };
     run = run_conversion(std::move(pages[0]), ro.profile, ro.convert, pkg, read_stage, on_fitted);
   }
-  publish_conversion(out, std::move(run.output.files));  // the summary needs the manifest, not the bytes
+  {
+    std::unique_lock<std::mutex> l;
+    if (job && job->publish_lock) l = std::unique_lock<std::mutex>(*job->publish_lock);
+    publish_conversion(out, std::move(run.output.files));  // the summary needs the manifest, not the bytes
+  }
   if (!a.conv.quiet) print_conversion(source, out, run, ro.convert.closed_loop, rs.non_finite_texels);
   BatchRow row;
   row.width = int(run.output.manifest.width);
@@ -228,9 +244,22 @@ std::vector<std::string> batch_files(const std::vector<std::string>& inputs) {
   return files;
 }
 
+// The texels of a batch input, from its header alone (0 when unreadable: its conversion then
+// names the cause). The header, not the file size: EXR compression makes bytes a poor measure of
+// texels, and texels are what time and memory follow.
+size_t header_texels(const std::string& file) {
+  try {
+    const ImageFileInfo info = read_image_info(file);
+    return size_t(std::max(info.width, 0)) * size_t(std::max(info.height, 0));
+  } catch (const std::exception&) {
+    return 0;
+  }
+}
+
 // `convert IN1 IN2 … -o OUTDIR/` (or one folder, or -o an existing folder): every file into OUTDIR
-// with its own manifest, one after the other (each conversion uses every thread in every heavy
-// stage), past failures; one summary table; exit 1 naming the failed files.
+// with its own manifest, past failures; small files side by side with one thread each, large ones
+// one at a time with every thread (batch_schedule.h); the bytes of each output are those of the
+// file converted alone. One summary table in input order; exit 1 naming the failed files.
 void run_batch(const ConvertArgs& a, const std::vector<std::string>& inputs) {
   const std::vector<std::string> files = batch_files(inputs);
   const fs::path dir = a.output.empty() ? fs::path("ahdpack-out") : fs::path(a.output);
@@ -240,29 +269,57 @@ void run_batch(const ConvertArgs& a, const std::vector<std::string>& inputs) {
     BatchRow row;
     double seconds = 0;
     std::string error;
+    bool same_name = false;  // a second input whose outputs would collide with an earlier one's
   };
-  std::vector<Done> done;
+  std::vector<Done> done(files.size());
   std::set<std::string> stems;
-  for (const std::string& f : files) {
-    Done d{f};
+  std::vector<size_t> texels(files.size());
+  for (size_t i = 0; i < files.size(); ++i) {
+    done[i].file = files[i];
+    done[i].same_name = !stems.insert(fs::path(files[i]).stem().string()).second;
+    texels[i] = header_texels(files[i]);
+  }
+  const BatchPlan plan = plan_batch(texels, resolve_threads(a.conv.options.threads));
+  install_interrupt_handler();
+  BatchProgress progress(files.size(), a.conv.quiet);
+  std::mutex publish_lock;
+  const auto t_batch = std::chrono::steady_clock::now();
+  const auto convert_one = [&](size_t i, int threads) {
+    if (interrupt_flag()->load()) throw Cancelled();  // Ctrl-C: start no further file
+    Done& d = done[i];
     const auto t0 = std::chrono::steady_clock::now();
     try {
-      const std::string stem = fs::path(f).stem().string();
-      if (!stems.insert(stem).second) throw file_error(f, "another input has the same name: its outputs would collide");
+      if (d.same_name) throw file_error(d.file, "another input has the same name: its outputs would collide");
       ConvertArgs one = a;
-      one.input = f;
-      one.output = (dir / (stem + ext)).string();
+      one.input = d.file;
+      one.output = (dir / (fs::path(d.file).stem().string() + ext)).string();
       one.conv.quiet = true;
-      d.row = run_convert(std::move(one));
+      one.conv.options.threads = threads;
+      BatchJob job;
+      if (plan.jobs == 1 || threads > 1) job.progress = progress.stage_of(d.file);  // alone: its stages
+      job.publish_lock = &publish_lock;
+      d.row = run_convert(std::move(one), &job);
     } catch (const Cancelled&) {
       throw;
     } catch (const std::exception& e) {
       d.error = e.what();
-      std::fprintf(stderr, "ahdpack: error: %s\n", d.error.c_str());
+      progress.error(d.error);
     }
     d.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    done.push_back(std::move(d));
+    progress.file_done();
+  };
+  try {
+    run_batch_plan(plan, convert_one);
+  } catch (const Cancelled&) {  // main then says the running conversions wrote nothing
+    progress.finish();
+    size_t converted = 0;
+    for (const Done& d : done) converted += d.seconds > 0 && d.error.empty();
+    std::fprintf(stderr, "ahdpack: %zu of %zu file(s) were converted before the interruption (complete outputs); of the others:\n",
+                 converted, done.size());
+    throw;
   }
+  progress.finish();
+  const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_batch).count();
   std::string failed;
   size_t n_failed = 0;
   if (!a.conv.quiet) std::printf("%-40s %-11s %-12s %-21s %8s\n", "file", "size", "planes", "rel. error mean / p99", "seconds");
@@ -275,6 +332,13 @@ void run_batch(const ConvertArgs& a, const std::vector<std::string>& inputs) {
     if (d.row.rel_mean >= 0) std::snprintf(err, sizeof err, "%.2e / %.2e", d.row.rel_mean, d.row.rel_p99);
     std::printf("%-40s %-11s %-12s %-21s %8.2f\n", d.file.c_str(), size.c_str(), planes.c_str(), err, d.seconds);
   }
+  if (!a.conv.quiet && plan.small.empty())
+    std::printf("%zu file(s) in %.2f s, one at a time (%d thread(s) each)\n", done.size(), total, plan.threads);
+  else if (!a.conv.quiet)
+    std::printf("%zu file(s) in %.2f s: %zu small (at most %dx%d texels) %d at a time with 1 thread each, %zu larger (or "
+                "unread) one at a time with %d threads\n",
+                done.size(), total, plan.small.size(), kSmallBatchSide, kSmallBatchSide, plan.jobs, plan.large.size(),
+                plan.threads);
   if (n_failed)
     throw Error(std::to_string(n_failed) + " of " + std::to_string(done.size()) + " conversions failed: " + failed);
 }

@@ -55,4 +55,51 @@ void attach_terminal_progress(ConversionOptions* options, bool quiet) {
   options->progress = [p](const char* stage, double fraction) { (*p)(stage, fraction); };
 }
 
+BatchProgress::BatchProgress(size_t files, bool quiet)
+    : on_(!quiet && isatty(STDERR_FILENO)), files_(files), start_(std::chrono::steady_clock::now()) {
+  std::lock_guard<std::mutex> l(lock_);
+  draw(true);
+}
+
+void BatchProgress::draw(bool force) {
+  if (!on_) return;
+  const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  if (!force && t - last_draw_ < 0.1) return;  // at most 10 redraws/s
+  last_draw_ = t;
+  std::fprintf(stderr, "\r\033[Kfiles %zu/%zu done  %.1f s%s%s", done_, files_, t, stage_.empty() ? "" : "  ",
+               stage_.c_str());
+  std::fflush(stderr);
+}
+
+void BatchProgress::file_done() {
+  std::lock_guard<std::mutex> l(lock_);
+  ++done_;
+  stage_.clear();
+  draw(true);
+}
+
+std::function<void(const char*, double)> BatchProgress::stage_of(const std::string& file) {
+  if (!on_) return {};
+  return [this, file](const char* stage, double fraction) {
+    char pct[16];
+    std::snprintf(pct, sizeof pct, " %.0f %%", fraction * 100);
+    std::lock_guard<std::mutex> l(lock_);
+    stage_ = file + ": " + stage + pct;
+    draw(fraction >= 1);
+  };
+}
+
+void BatchProgress::error(const std::string& what) {
+  std::lock_guard<std::mutex> l(lock_);
+  if (on_) std::fputs("\r\033[K", stderr);
+  std::fprintf(stderr, "ahdpack: error: %s\n", what.c_str());
+  draw(true);
+}
+
+void BatchProgress::finish() {
+  std::lock_guard<std::mutex> l(lock_);
+  if (on_) std::fputs("\r\033[K", stderr), std::fflush(stderr);
+  on_ = false;
+}
+
 }  // namespace ahd::cli

@@ -41,6 +41,7 @@ namespace ahd::bc6h {
 namespace {
 
 std::atomic<bool> g_force_portable{false};
+std::atomic<bool> g_force_scalar{false};
 
 void to_half_portable(const float* in, uint16_t* out, int n) {
   for (int i = 0; i < n; ++i) out[i] = Imath::half(in[i]).bits();
@@ -82,6 +83,9 @@ bool cpu_has_f16c() {
 
 void force_portable_half(bool portable) { g_force_portable.store(portable, std::memory_order_relaxed); }
 
+void force_scalar(bool scalar) { g_force_scalar.store(scalar, std::memory_order_relaxed); }
+bool scalar_forced() { return g_force_scalar.load(std::memory_order_relaxed); }
+
 void floats_to_half(const float* in, uint16_t* out, int n) {
 #ifdef AHD_HAVE_X86
   if (cpu_has_f16c() && !g_force_portable.load(std::memory_order_relaxed)) return to_half_f16c(in, out, n);
@@ -95,7 +99,15 @@ namespace {
 
 // Sum of 16 floats in four lanes (t mod 4), a fixed order the compiler can vectorise.
 inline float sum16(const float v[16]) {
-  float l[4] = {0, 0, 0, 0};
+  alignas(16) float l[4] = {0, 0, 0, 0};
+#ifdef __SSE2__
+  if (!g_force_scalar.load(std::memory_order_relaxed)) {
+    __m128 acc = _mm_setzero_ps();
+    for (int t = 0; t < 16; t += 4) acc = _mm_add_ps(acc, _mm_loadu_ps(v + t));
+    _mm_store_ps(l, acc);
+    return (l[0] + l[1]) + (l[2] + l[3]);
+  }
+#endif
   for (int t = 0; t < 16; t += 4)
     for (int i = 0; i < 4; ++i) l[i] += v[t + i];
   return (l[0] + l[1]) + (l[2] + l[3]);
@@ -163,6 +175,13 @@ struct Endpoints {
   int e[2][3];
 };
 
+void store(const Endpoints& ep, const uint8_t idx[16], float err, OneRegionFit* out) {
+  out->mode = kModes[ep.m].mode;
+  std::memcpy(out->e, ep.e, sizeof out->e);
+  std::memcpy(out->idx, idx, 16);
+  out->err = err;
+}
+
 // Palette (decoded half bits) of two quantised endpoints, per channel.
 inline void palette(const Endpoints& ep, float P[3][16]) {
   const int bits = kModes[ep.m].epb;
@@ -172,21 +191,109 @@ inline void palette(const Endpoints& ep, float P[3][16]) {
   }
 }
 
+// Each texel's position on the palette's segment, 0..128, by weighted projection.
+void project(const Fit& f, const float P[3][16], int pos[16]) {
+  const float d0 = P[0][15] - P[0][0], d1 = P[1][15] - P[1][0], d2 = P[2][15] - P[2][0];
+  for (int t = 0; t < 16; ++t) {
+    const float w0 = f.W[0][t], w1 = f.W[1][t], w2 = f.W[2][t];
+    const float num = w0 * d0 * (f.H[0][t] - P[0][0]) + w1 * d1 * (f.H[1][t] - P[1][0]) + w2 * d2 * (f.H[2][t] - P[2][0]);
+    const float den = w0 * d0 * d0 + w1 * d1 * d1 + w2 * d2 * d2;
+    const float p = 128.0f * num / (den > 0 ? den : 1.0f);
+    pos[t] = int(std::min(std::max(p, 0.0f), 128.0f) + 0.5f);
+  }
+}
+
+#ifdef __SSE2__
+// palette() and project() four lanes at a time: the same operations in the same order. (GCC
+// keeps the plain loops scalar: it will not turn their float selects into blends while
+// comparisons may trap.) Integers stay exact in floats here: every intermediate is below 2^23.
+void palette_sse2(const Endpoints& ep, float P[3][16]) {
+  const int bits = kModes[ep.m].epb;
+  const __m128 inv64 = _mm_set1_ps(1.0f / 64.0f), k31 = _mm_set1_ps(31.0f), k32 = _mm_set1_ps(32.0f);
+  for (int c = 0; c < 3; ++c) {
+    const __m128 a = _mm_set1_ps(float(unquantize_u(ep.e[0][c], bits)));
+    const __m128 b = _mm_set1_ps(float(unquantize_u(ep.e[1][c], bits)));
+    for (int v = 0; v < 4; ++v) {
+      const __m128 w = _mm_setr_ps(float(kW4[4 * v]), float(kW4[4 * v + 1]), float(kW4[4 * v + 2]), float(kW4[4 * v + 3]));
+      const __m128 sum = _mm_add_ps(_mm_add_ps(_mm_mul_ps(a, _mm_sub_ps(_mm_set1_ps(64.0f), w)), _mm_mul_ps(b, w)), k32);
+      const __m128 cv = _mm_cvtepi32_ps(_mm_cvttps_epi32(_mm_mul_ps(sum, inv64)));  // >> 6 (non-negative)
+      _mm_storeu_ps(&P[c][4 * v], _mm_cvtepi32_ps(_mm_cvttps_epi32(_mm_mul_ps(_mm_mul_ps(cv, k31), inv64))));
+    }
+  }
+}
+
+void project_sse2(const Fit& f, const float P[3][16], int pos[16]) {
+  const __m128 d0 = _mm_set1_ps(P[0][15] - P[0][0]), d1 = _mm_set1_ps(P[1][15] - P[1][0]),
+               d2 = _mm_set1_ps(P[2][15] - P[2][0]);
+  const __m128 p0 = _mm_set1_ps(P[0][0]), p1 = _mm_set1_ps(P[1][0]), p2 = _mm_set1_ps(P[2][0]);
+  const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f), k128 = _mm_set1_ps(128.0f), half = _mm_set1_ps(0.5f);
+  for (int t = 0; t < 16; t += 4) {
+    const __m128 wd0 = _mm_mul_ps(_mm_loadu_ps(&f.W[0][t]), d0), wd1 = _mm_mul_ps(_mm_loadu_ps(&f.W[1][t]), d1),
+                 wd2 = _mm_mul_ps(_mm_loadu_ps(&f.W[2][t]), d2);
+    const __m128 num = _mm_add_ps(_mm_add_ps(_mm_mul_ps(wd0, _mm_sub_ps(_mm_loadu_ps(&f.H[0][t]), p0)),
+                                             _mm_mul_ps(wd1, _mm_sub_ps(_mm_loadu_ps(&f.H[1][t]), p1))),
+                                  _mm_mul_ps(wd2, _mm_sub_ps(_mm_loadu_ps(&f.H[2][t]), p2)));
+    const __m128 den = _mm_add_ps(_mm_add_ps(_mm_mul_ps(wd0, d0), _mm_mul_ps(wd1, d1)), _mm_mul_ps(wd2, d2));
+    const __m128 pos_den = _mm_cmpgt_ps(den, zero);
+    const __m128 safe = _mm_or_ps(_mm_and_ps(pos_den, den), _mm_andnot_ps(pos_den, one));
+    const __m128 p = _mm_min_ps(_mm_max_ps(_mm_div_ps(_mm_mul_ps(k128, num), safe), zero), k128);
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(&pos[t]), _mm_cvttps_epi32(_mm_add_ps(p, half)));
+  }
+}
+#endif
+
+#ifdef __SSE2__
+// The neighbour check of assign() for four texels at a time (palette entries gathered into
+// lanes); the same operations in the same order, the total summed texel by texel as there.
+float pick_sse2(const Fit& f, const float P[3][16], const int pos[16], uint8_t idx[16]) {
+  float total = 0;
+  for (int t = 0; t < 16; t += 4) {
+    int k[4], km[4], kp[4];
+    for (int l = 0; l < 4; ++l) {
+      k[l] = kNearest.idx[pos[t + l]];
+      km[l] = k[l] - (k[l] > 0), kp[l] = k[l] + (k[l] < 15);
+    }
+    const __m128 w0 = _mm_loadu_ps(&f.W[0][t]), w1 = _mm_loadu_ps(&f.W[1][t]), w2 = _mm_loadu_ps(&f.W[2][t]);
+    const __m128 h0 = _mm_loadu_ps(&f.H[0][t]), h1 = _mm_loadu_ps(&f.H[1][t]), h2 = _mm_loadu_ps(&f.H[2][t]);
+    auto err = [&](const int j[4]) {
+      const __m128 e0 = _mm_sub_ps(_mm_setr_ps(P[0][j[0]], P[0][j[1]], P[0][j[2]], P[0][j[3]]), h0);
+      const __m128 e1 = _mm_sub_ps(_mm_setr_ps(P[1][j[0]], P[1][j[1]], P[1][j[2]], P[1][j[3]]), h1);
+      const __m128 e2 = _mm_sub_ps(_mm_setr_ps(P[2][j[0]], P[2][j[1]], P[2][j[2]], P[2][j[3]]), h2);
+      return _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_mul_ps(w0, e0), e0), _mm_mul_ps(_mm_mul_ps(w1, e1), e1)),
+                        _mm_mul_ps(_mm_mul_ps(w2, e2), e2));
+    };
+    alignas(16) float ek[4], em[4], ep[4];
+    _mm_store_ps(ek, err(k));
+    _mm_store_ps(em, err(km));
+    _mm_store_ps(ep, err(kp));
+    for (int l = 0; l < 4; ++l) {
+      int kb = em[l] < ek[l] ? km[l] : k[l];
+      float best = em[l] < ek[l] ? em[l] : ek[l];
+      kb = ep[l] < best ? kp[l] : kb;
+      best = ep[l] < best ? ep[l] : best;
+      idx[t + l] = uint8_t(kb);
+      total += best;
+    }
+  }
+  return total;
+}
+#endif
+
 // Indices by weighted projection on the palette's segment, then the better neighbour; returns
 // the weighted squared error in half steps. Every palette entry lies within the block's range
 // (the endpoints do), so any index is allowed.
 float assign(const Fit& f, const Endpoints& ep, uint8_t idx[16]) {
   float P[3][16];
-  palette(ep, P);
-  const float d0 = P[0][15] - P[0][0], d1 = P[1][15] - P[1][0], d2 = P[2][15] - P[2][0];
-  float pos[16];
-  for (int t = 0; t < 16; ++t) {  // vectorised: no branches, no gathers
-    const float w0 = f.W[0][t], w1 = f.W[1][t], w2 = f.W[2][t];
-    const float num = w0 * d0 * (f.H[0][t] - P[0][0]) + w1 * d1 * (f.H[1][t] - P[1][0]) + w2 * d2 * (f.H[2][t] - P[2][0]);
-    const float den = w0 * d0 * d0 + w1 * d1 * d1 + w2 * d2 * d2;
-    const float p = 128.0f * num / (den > 0 ? den : 1.0f);
-    pos[t] = std::min(std::max(p, 0.0f), 128.0f) + 0.5f;
+  int pos[16];
+#ifdef __SSE2__
+  if (!g_force_scalar.load(std::memory_order_relaxed)) {
+    palette_sse2(ep, P);
+    project_sse2(f, P, pos);
+    return pick_sse2(f, P, pos, idx);
   }
+#endif
+  palette(ep, P);
+  project(f, P, pos);
   float total = 0;
   for (int t = 0; t < 16; ++t) {
     const float w0 = f.W[0][t], w1 = f.W[1][t], w2 = f.W[2][t];
@@ -196,7 +303,7 @@ float assign(const Fit& f, const Endpoints& ep, uint8_t idx[16]) {
       return w0 * e0 * e0 + w1 * e1 * e1 + w2 * e2 * e2;
     };
     // Both neighbours, branch-free (at the ends the "neighbour" is k itself and never wins).
-    const int k = kNearest.idx[int(pos[t])], km = k - (k > 0), kp = k + (k < 15);
+    const int k = kNearest.idx[pos[t]], km = k - (k > 0), kp = k + (k < 15);
     const float ek = err(k), em = err(km), ep = err(kp);
     int kb = em < ek ? km : k;
     float best = em < ek ? em : ek;
@@ -244,14 +351,28 @@ bool refit(const Fit& f, const uint8_t idx[16], float a[3], float b[3]) {
   float g[16];
   for (int t = 0; t < 16; ++t) g[t] = float(kW4[idx[t]]) * (1.0f / 64.0f);
   for (int c = 0; c < 3; ++c) {
-    // Four partial sums (lanes t mod 4) so the loop vectorises without reassociating floats.
-    float p00[4] = {}, p01[4] = {}, p11[4] = {}, q0[4] = {}, q1[4] = {};
-    for (int t = 0; t < 16; t += 4)
-      for (int l = 0; l < 4; ++l) {
-        const float gg = g[t + l], w = f.W[c][t + l], hh = f.H[c][t + l], wa = w * (1 - gg), wb = w * gg;
-        p00[l] += wa * (1 - gg), p01[l] += wa * gg, p11[l] += wb * gg;
-        q0[l] += wa * hh, q1[l] += wb * hh;
+    // Four partial sums (lanes t mod 4): the same sums with SSE2 or without.
+    alignas(16) float p00[4] = {}, p01[4] = {}, p11[4] = {}, q0[4] = {}, q1[4] = {};
+#ifdef __SSE2__
+    if (!g_force_scalar.load(std::memory_order_relaxed)) {
+      const __m128 one = _mm_set1_ps(1.0f);
+      __m128 s00 = _mm_setzero_ps(), s01 = s00, s11 = s00, r0 = s00, r1 = s00;
+      for (int t = 0; t < 16; t += 4) {
+        const __m128 gg = _mm_loadu_ps(g + t), w = _mm_loadu_ps(&f.W[c][t]), hh = _mm_loadu_ps(&f.H[c][t]);
+        const __m128 om = _mm_sub_ps(one, gg), wa = _mm_mul_ps(w, om), wb = _mm_mul_ps(w, gg);
+        s00 = _mm_add_ps(s00, _mm_mul_ps(wa, om)), s01 = _mm_add_ps(s01, _mm_mul_ps(wa, gg));
+        s11 = _mm_add_ps(s11, _mm_mul_ps(wb, gg));
+        r0 = _mm_add_ps(r0, _mm_mul_ps(wa, hh)), r1 = _mm_add_ps(r1, _mm_mul_ps(wb, hh));
       }
+      _mm_store_ps(p00, s00), _mm_store_ps(p01, s01), _mm_store_ps(p11, s11), _mm_store_ps(q0, r0), _mm_store_ps(q1, r1);
+    } else
+#endif
+      for (int t = 0; t < 16; t += 4)
+        for (int l = 0; l < 4; ++l) {
+          const float gg = g[t + l], w = f.W[c][t + l], hh = f.H[c][t + l], wa = w * (1 - gg), wb = w * gg;
+          p00[l] += wa * (1 - gg), p01[l] += wa * gg, p11[l] += wb * gg;
+          q0[l] += wa * hh, q1[l] += wb * hh;
+        }
     const float s00 = (p00[0] + p00[1]) + (p00[2] + p00[3]), s01 = (p01[0] + p01[1]) + (p01[2] + p01[3]),
                 s11 = (p11[0] + p11[1]) + (p11[2] + p11[3]), t0 = (q0[0] + q0[1]) + (q0[2] + q0[3]),
                 t1 = (q1[0] + q1[1]) + (q1[2] + q1[3]);
@@ -265,27 +386,31 @@ bool refit(const Fit& f, const uint8_t idx[16], float a[3], float b[3]) {
 
 // Writes a one-region block: 5 mode bits, the low 10 bits of each base endpoint, then per channel
 // the delta (or second endpoint) followed by the base's high bits from the highest down, then the
-// indices (texel 0 without its top bit). This is the spec's layout of modes 11–14.
+// indices (texel 0 without its top bit). This is the spec's layout of modes 11–14. In every one of
+// them a channel's second field (delta + high bits) is 10 bits, so the header is 65 bits with
+// every field at a fixed place: 64-bit ORs, no 128-bit shifts.
 void pack(const Endpoints& ep, const uint8_t idx[16], uint8_t out[16]) {
   const OneRegionMode& md = kModes[ep.m];
-  unsigned __int128 v = unsigned(md.code);
-  int pos = 5;
-  for (int c = 0; c < 3; ++c, pos += 10) v |= (unsigned __int128)(ep.e[0][c] & 0x3FF) << pos;
+  uint64_t lo = uint64_t(md.code);
+  for (int c = 0; c < 3; ++c) lo |= uint64_t(ep.e[0][c] & 0x3FF) << (5 + 10 * c);
+  uint64_t second[3];
   for (int c = 0; c < 3; ++c) {
     const int d = (ep.e[1][c] - (md.delta < md.epb ? ep.e[0][c] : 0)) & ((1 << md.delta) - 1);
-    v |= (unsigned __int128)unsigned(d) << pos;
-    pos += md.delta;
-    for (int bit = md.epb - 1; bit >= 10; --bit, ++pos) v |= (unsigned __int128)((ep.e[0][c] >> bit) & 1) << pos;
+    uint64_t f = unsigned(d);
+    int pos = md.delta;
+    for (int bit = md.epb - 1; bit >= 10; --bit, ++pos) f |= uint64_t((ep.e[0][c] >> bit) & 1) << pos;
+    second[c] = f;
   }
-  v |= (unsigned __int128)idx[0] << pos;
-  pos += 3;
-  for (int t = 1; t < 16; ++t, pos += 4) v |= (unsigned __int128)idx[t] << pos;
-  for (int i = 0; i < 16; ++i) out[i] = uint8_t(v >> (8 * i));
+  lo |= second[0] << 35 | second[1] << 45 | second[2] << 55;  // bit 9 of the blue field is bit 64
+  // The indices fill the high 64 bits from bit 1 (texel 0's 3 bits).
+  uint64_t hi = (second[2] >> 9) | uint64_t(idx[0]) << 1;
+  for (int t = 1; t < 16; ++t) hi |= uint64_t(idx[t]) << (4 * t);
+  for (int i = 0; i < 8; ++i) out[i] = uint8_t(lo >> (8 * i)), out[8 + i] = uint8_t(hi >> (8 * i));
 }
 
 }  // namespace
 
-void encode_block_fast(const uint16_t h[48], const float x[48], const uint8_t valid[16], uint8_t out[16]) {
+void fit_one_region_fast(const uint16_t h[48], const float x[48], const uint8_t valid[16], OneRegionFit* out) {
   Fit f;
   // Channel planes. Padding texels take the values of the first real one, so that plain minima
   // and maxima over all 16 are those of the real texels; their weight is 0.
@@ -316,7 +441,7 @@ void encode_block_fast(const uint16_t h[48], const float x[48], const uint8_t va
     Endpoints ep;
     ep.m = 0;
     for (int c = 0; c < 3; ++c) ep.e[0][c] = ep.e[1][c] = (int(f.hi[c]) * 64 + 30) / 31;
-    pack(ep, idx, out);
+    store(ep, idx, 0.0f, out);
     return;
   }
 
@@ -367,13 +492,27 @@ void encode_block_fast(const uint16_t h[48], const float x[48], const uint8_t va
     best = ep, best_err = err;
     std::memcpy(idx, trial, 16);
   }
+  store(best, idx, best_err, out);
+}
+
+void encode_block_fast(const uint16_t h[48], const float x[48], const uint8_t valid[16], uint8_t out[16]) {
+  OneRegionFit fit;
+  fit_one_region_fast(h, x, valid, &fit);
+  pack_one_region(fit, out);
+}
+
+void pack_one_region(OneRegionFit fit, uint8_t out[16]) {
+  Endpoints ep;
+  ep.m = 0;
+  while (kModes[ep.m].mode != fit.mode) ++ep.m;
+  std::memcpy(ep.e, fit.e, sizeof ep.e);
   // Texel 0's index is stored without its top bit: mirror the block when it is set (the palette
   // is symmetric, and quantize() keeps deltas inside the symmetric part of their range).
-  if (idx[0] >= 8) {
-    for (int c = 0; c < 3; ++c) std::swap(best.e[0][c], best.e[1][c]);
-    for (int t = 0; t < 16; ++t) idx[t] = uint8_t(15 - idx[t]);
+  if (fit.idx[0] >= 8) {
+    for (int c = 0; c < 3; ++c) std::swap(ep.e[0][c], ep.e[1][c]);
+    for (int t = 0; t < 16; ++t) fit.idx[t] = uint8_t(15 - fit.idx[t]);
   }
-  pack(best, idx, out);
+  pack(ep, fit.idx, out);
 }
 
 }  // namespace ahd::bc6h

@@ -10,9 +10,31 @@ namespace ahd::bc6h {
 // portable bit-exact path otherwise; both give the same bits.
 void floats_to_half(const float* in, uint16_t* out, int n);
 
+// On x86-64 the fast fit's palette and projection and the search's index step (bc6h_encoder.cpp)
+// run four lanes at a time with SSE2; true = the plain scalar loops instead (tests: both write
+// the same bytes).
+void force_scalar(bool scalar);
+bool scalar_forced();
+
 // Which conversion floats_to_half uses: true = the portable path whatever the CPU (tests).
 void force_portable_half(bool portable);
 bool cpu_has_f16c();
+
+// A one-region fit: mode (10..13, 0-based), absolute endpoints, indices (texel 0's may have its
+// top bit set: the caller mirrors), and the weighted squared error in half steps it minimised.
+struct OneRegionFit {
+  int mode;
+  int e[2][3];
+  uint8_t idx[16];
+  float err;
+};
+
+// The fit encode_block_fast writes, before the anchor mirror and packing (same arguments and
+// guarantees); quality `default` starts its search from it.
+void fit_one_region_fast(const uint16_t h[48], const float x[48], const uint8_t valid[16], OneRegionFit* out);
+
+// Writes a one-region fit as a block (mirrored first when texel 0's index has its top bit set).
+void pack_one_region(OneRegionFit fit, uint8_t out[16]);
 
 // Encodes one UF16 block without search (see bc6h_fast.cpp). h: the texels' half bits
 // (h[t*3+c], finite, non-negative), x: the same values as floats, valid: 1 for real texels, 0 for

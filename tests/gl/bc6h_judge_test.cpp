@@ -102,13 +102,15 @@ TEST_F(Bc6hJudge, EveryBlockWeWriteForTheTestImagesDecodesAsWeBelieve) {
     const std::string path = std::string(AHD_SHARED_DIR) + "/data/bc6h/" + file;
     if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " missing";
     const ImageF src = read_image(path);
-    for (bool is_signed : {false, true}) {
-      Bc6hOptions o;
-      o.is_signed = is_signed;
-      o.quality = Bc6hQuality::Fast;
-      const std::vector<uint8_t> blocks = bc6h_encode_image(src, o);
-      std::string example;
-      EXPECT_EQ(compare(blocks, src.width, src.height, is_signed, &example), 0u) << file << ": " << example;
-    }
+    for (bool is_signed : {false, true})
+      for (Bc6hQuality q : {Bc6hQuality::Fast, Bc6hQuality::Default}) {
+        Bc6hOptions o;
+        o.is_signed = is_signed;
+        o.quality = q;
+        const std::vector<uint8_t> blocks = bc6h_encode_image(src, o);
+        std::string example;
+        EXPECT_EQ(compare(blocks, src.width, src.height, is_signed, &example), 0u)
+            << file << " " << bc6h_quality_name(q) << ": " << example;
+      }
   }
 }
