@@ -61,6 +61,21 @@ void fit_channel_unconstrained(const HemisphereMoments& m, double* ca, double* c
   *cd = (m.g0 * m.f1 - m.g1 * m.f0) / det;
 }
 
+namespace {
+
+// True when no channel's irradiance depends on the normal (only e0 is nonzero).
+bool irradiance_is_constant(const IrradiancePoly p[3]) {
+  for (int c = 0; c < 3; ++c) {
+    if (p[c].e[0] != 0.0 || p[c].e[1] != 0.0 || p[c].e[2] != 0.0) return false;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        if (p[c].q[i][j] != 0.0) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
 AhdFit fit_texel(const IrradiancePoly p[3], const FitOptions& opt) {
   AhdFit out{};
   out.d[2] = 1.0f;
@@ -82,6 +97,16 @@ AhdFit fit_texel(const IrradiancePoly p[3], const FitOptions& opt) {
       iz[c] = 0.0;  // SH ringing: no non-negative lobe reaches a negative I_z
       negative = true;
     }
+  }
+  // Irradiance the same for every normal (a plain lightmap, or no L1/L2 at this texel): the pure
+  // ambient lobe C_a = I_z, C_d = 0, d = z is exact, so there is nothing to fit (and plain maps skip
+  // the per-channel solve, most of their conversion time).
+  if (!directional && irradiance_is_constant(p)) {
+    for (int c = 0; c < 3; ++c) out.iz[c] = float(iz[c]);
+    const double lum_iz = opt.luma[0] * iz[0] + opt.luma[1] * iz[1] + opt.luma[2] * iz[2];
+    if (!(lum_iz > 0.0)) out.flags |= kFitBlack;
+    if (negative) out.flags |= kFitNegativeIz;
+    return out;
   }
   // Refinement keeps d_z ≥ dz_min itself; kFitDirClamped still says whether the linear d needed it.
   if (directional && opt.direction_fit == DirectionFit::Refined) refine_direction(p, iz, opt, d);

@@ -26,6 +26,9 @@ void compare_reports(const nlohmann::json& want, const nlohmann::json& got, cons
       ASSERT_TRUE(got.contains(it.key())) << where << "." << it.key();
       compare_reports(*it, got[it.key()], where + "." + it.key());
     }
+  } else if (want.is_array()) {  // per-level figures: element by element, with the same tolerance
+    ASSERT_TRUE(got.is_array() && got.size() == want.size()) << where;
+    for (size_t i = 0; i < want.size(); ++i) compare_reports(want[i], got[i], where + "[" + std::to_string(i) + "]");
   } else if (want.is_number_float()) {
     const double a = want.get<double>(), b = got.get<double>();
     EXPECT_NEAR(a, b, 1e-9 * std::max(std::fabs(a), 1e-30)) << where;
