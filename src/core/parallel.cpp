@@ -11,7 +11,9 @@ namespace ahd {
 
 int resolve_threads(int requested) {
   if (requested > 0) return requested;
-  unsigned hw = std::thread::hardware_concurrency();
+  // Asked once: glibc reads /sys for it, and small calls (one block decoded for the error
+  // estimate) would otherwise open a file each.
+  static const unsigned hw = std::thread::hardware_concurrency();
   return hw == 0 ? 1 : int(hw);
 }
 
