@@ -4,29 +4,15 @@
 #include <cmath>
 #include <cstdio>
 
+#include "cli/markup.h"
 #include "cli/preview_images.h"
 #include "core/pixel_format.h"
 
 namespace ahd::cli {
 namespace {
 
-std::string esc(const std::string& s) {
-  std::string o;
-  for (char c : s) {
-    if (c == '&') o += "&amp;";
-    else if (c == '<') o += "&lt;";
-    else if (c == '>') o += "&gt;";
-    else if (c == '"') o += "&quot;";
-    else o += c;
-  }
-  return o;
-}
-
-std::string fmt(double v, const char* f = "%.3g") {
-  char b[64];
-  std::snprintf(b, sizeof b, f, v);
-  return b;
-}
+std::string esc(const std::string& s) { return xml_escape(s); }
+std::string fmt(double v, const char* f = "%.3g") { return format_number(v, f); }
 
 // Displayed width of a level: level 0 scaled by a whole factor to about 256–512 px, mips alike.
 int display_width(int w0) { return w0 >= 256 ? std::min(w0, 512) : w0 * std::max(1, 256 / w0); }

@@ -4,26 +4,13 @@
 #include <cmath>
 #include <cstdio>
 
+#include "cli/markup.h"
+
 namespace ahd::cli {
 namespace {
 
-std::string esc(const std::string& s) {
-  std::string o;
-  for (char c : s) {
-    if (c == '&') o += "&amp;";
-    else if (c == '<') o += "&lt;";
-    else if (c == '>') o += "&gt;";
-    else if (c == '"') o += "&quot;";
-    else o += c;
-  }
-  return o;
-}
-
-std::string num(double v, const char* fmt = "%.1f") {
-  char b[64];
-  std::snprintf(b, sizeof b, fmt, v);
-  return b;
-}
+std::string esc(const std::string& s) { return xml_escape(s); }
+std::string num(double v, const char* f = "%.1f") { return format_number(v, f); }
 
 // One axis: data range → pixel range, with its tick values.
 struct Axis {
