@@ -158,7 +158,16 @@ struct Case {
   std::string base;  // what ahdpack reads (the file, or the layout's base path)
   bool plain = false;
   int size = 0;
+  int coeffs = 9;  // of the SH input (plain: 1)
 };
+
+// The L1 part of an L2 image (the first 4 coefficients of every texel).
+ShImage l1_of(const ShImage& l2) {
+  ShImage l1 = make_sh_image(l2.width, l2.height, 4);
+  l1.coverage = l2.coverage;
+  for (size_t i = 0; i < l2.texels(); ++i) std::copy_n(l2.texel(i), 12, l1.texel(i));
+  return l1;
+}
 
 std::string fmt(const char* f, double v) {
   char b[64];
@@ -223,6 +232,7 @@ void add_bench_convert_command(CLI::App& bench) {
   struct Args {
     std::vector<int> sizes = {1024, 2048};
     std::vector<int> plain = {2048};
+    std::vector<int> l1;
     int threads = 0;
     std::string dir;
     bool full_measure = false;
@@ -232,6 +242,8 @@ void add_bench_convert_command(CLI::App& bench) {
   auto a = std::make_shared<Args>();
   CLI::App* c = bench.add_subcommand("convert", "Whole-pipeline time, OIIO read time and peak memory on generated inputs");
   c->add_option("--sizes", a->sizes, "Sizes of the generated L2 inputs (default 1024 2048; add 4096, slow)")
+      ->check(CLI::Range(4, 16384));
+  c->add_option("--l1", a->l1, "Sizes of generated L1 inputs (the L2 inputs' first band; default none)")
       ->check(CLI::Range(4, 16384));
   c->add_option("--plain", a->plain, "Sizes of the generated plain lightmaps (default 2048; 0 = none)")
       ->check(CLI::Range(0, 16384));
@@ -266,11 +278,16 @@ void add_bench_convert_command(CLI::App& bench) {
       write_canonical_sh(f, generated_l2(s, threads));
       cases.push_back({"L2 " + std::to_string(s) + "²", f, f, false, s});
     }
+    for (int s : a->l1) {
+      const std::string f = (dir / ("l1_" + std::to_string(s) + ".exr")).string();
+      write_canonical_sh(f, l1_of(generated_l2(s, threads)));
+      cases.push_back({"L1 " + std::to_string(s) + "²", f, f, false, s, 4});
+    }
     for (int s : a->plain) {
       if (s == 0) continue;
       const std::string base = (dir / ("plain_" + std::to_string(s))).string();
       write_plain(base + ".exr", generated_l2(s, threads));
-      cases.push_back({"plain " + std::to_string(s) + "²", base + ".exr", base, true, s});
+      cases.push_back({"plain " + std::to_string(s) + "²", base + ".exr", base, true, s, 1});
     }
     std::printf("ahdpack bench convert: pc-bc, default options, full mips, %d thread(s)%s\n", threads,
                 a->full_measure ? ", full error measurement" : ", error estimate (the default)");
@@ -285,7 +302,7 @@ void add_bench_convert_command(CLI::App& bench) {
       const double texels = double(cs.size) * cs.size, total = std::stod(cv.at("total"));
       const double oiio = std::stod(rd.at("seconds")), est = std::stod(cv.at("estimate"));
       const double peak = std::stod(cv.at("peak_rss_kb")) * 1024.0;
-      const double decoded = texels * (cs.plain ? 3 : 27) * 4.0;  // the input as float: RGB, or 27 SH coefficients
+      const double decoded = texels * (cs.plain ? 3 : cs.coeffs * 3) * 4.0;  // the input as float: RGB, or the SH
       std::printf("%-12s %8.2f %9.2f %9.2f %7.2f %9.2f %10.1f %8.1f %9.2f %5.2fs %.1f%%\n", cs.label.c_str(), texels / 1e6,
                   total, oiio, total / oiio, texels / 1e6 / total, peak / 1048576.0, peak / texels, peak / decoded, est,
                   100.0 * est / total);

@@ -110,7 +110,6 @@ LevelPlanes quantise_level(const FittedLevel& lv, const Profile& profile, const 
                            PlaneCodecStats* stats) {
   const ShImage& sh = lv.sh;
   const AhdImage& fit = lv.ahd;
-  const size_t n = sh.texels();
   const int w = sh.width, h = sh.height;
   const bool ratio_rgb = opt.fit.ratio_form == RatioForm::Rgb;
   PlaneCodecOptions codec = opt.codec;
@@ -124,22 +123,24 @@ LevelPlanes quantise_level(const FittedLevel& lv, const Profile& profile, const 
     });
   });
   if (!directional) return out;
-  ImageF uv(w, h, 2);
-  parallel_for(n, opt.threads, 4096, [&](size_t i) { dir_to_unit_uv(fit.texels[i].d, &uv.data[i * 2]); });
-  if (!profile.packed_dir_ratio) out.dir = encode_plane(profile.dir, uv, codec);
+  // The direction and ratio planes are made a band of rows at a time too: no float image of the
+  // whole level beside the fit (8 + 4 bytes a texel at level 0).
+  auto uv_rows = [&](int y0, ImageF& band) {
+    const size_t first = size_t(y0) * size_t(w);
+    parallel_for(band.texels(), opt.threads, 4096,
+                 [&](size_t j) { dir_to_unit_uv(fit.texels[first + j].d, &band.data[j * 2]); });
+  };
+  if (!profile.packed_dir_ratio) out.dir = encode_banded(profile.dir, w, h, 2, codec, nullptr, uv_rows);
   const int rch = ratio_rgb ? 3 : 1;
-  const bool open_too = opt.measuring_baselines();  // the open-loop plane, for the report only
-  ImageF ratio_closed(w, h, rch), ratio_open(open_too ? w : 0, open_too ? h : 0, rch);
-  parallel_for(n, opt.threads, 4096, [&](size_t i) {
-    const AhdFit& f = fit.texels[i];
-    for (int c = 0; c < rch; ++c) ratio_closed.data[i * rch + c] = f.ratio[c];
-    if (open_too)
-      for (int c = 0; c < rch; ++c) ratio_open.data[i * rch + c] = f.ratio[c];
-  });
-  // Closed loop: the coded direction and I_z are decoded a band of rows at a time (blocks decode on
-  // their own, so the values are those of whole-plane decoding) rather than as whole float images.
-  for (int y0 = 0; opt.closed_loop && y0 < h; y0 += kBandRows) {
-    const int y1 = std::min(h, y0 + kBandRows);
+  // The ratio of rows [y0, y0 + ratio.height): the fit's (open loop) or, closed loop, refitted for
+  // the covered texels against the DECODED direction and I_z of those rows (blocks decode on their
+  // own, so the values are those of whole-plane decoding); uncovered texels keep their dilated ratio.
+  auto ratio_rows = [&](int y0, ImageF& ratio, bool closed) {
+    const int y1 = y0 + ratio.height;
+    const size_t first = size_t(y0) * size_t(w);
+    for (size_t j = 0; j < ratio.texels(); ++j)
+      for (int c = 0; c < rch; ++c) ratio.data[j * rch + c] = fit.texels[first + j].ratio[c];
+    if (!closed) return;
     const ImageF iz_dec = decode_plane(profile.iz, level_rows(profile.iz, out.iz, y0, y1));
     ImageF dir_dec;
     if (!profile.packed_dir_ratio) {
@@ -147,11 +148,11 @@ LevelPlanes quantise_level(const FittedLevel& lv, const Profile& profile, const 
     } else {
       // The packed plane is RGBA8: the direction's decoded value is its 8-bit rounding.
       dir_dec = ImageF(w, y1 - y0, 2);
-      for (size_t j = 0; j < dir_dec.data.size(); ++j)
-        dir_dec.data[j] = float(std::lround(uv.data[size_t(y0) * w * 2 + j] * 255.0f)) / 255.0f;
+      uv_rows(y0, dir_dec);
+      for (float& v : dir_dec.data) v = float(std::lround(v * 255.0f)) / 255.0f;
     }
-    parallel_for(size_t(y1 - y0) * w, opt.threads, 1024, [&](size_t j) {
-      const size_t i = size_t(y0) * w + j;
+    parallel_for(ratio.texels(), opt.threads, 1024, [&](size_t j) {
+      const size_t i = first + j;
       if (!sh.coverage[i]) return;
       float dq[3];
       unit_uv_to_dir(&dir_dec.data[j * dir_dec.channels], dq);
@@ -162,25 +163,30 @@ LevelPlanes quantise_level(const FittedLevel& lv, const Profile& profile, const 
       IrradiancePoly p[3];
       local_polys(sh, i, p);
       const AhdFit g = fit_colours(p, d, iz, opt.fit);
-      for (int c = 0; c < rch; ++c) ratio_closed.data[i * rch + c] = g.ratio[c];
+      for (int c = 0; c < rch; ++c) ratio.data[j * rch + c] = g.ratio[c];
     });
-  }
-  auto packed = [&](const ImageF& ratio) {
-    ImageF img(w, h, 4);
-    for (size_t i = 0; i < n; ++i) {
-      img.data[i * 4 + 0] = uv.data[i * 2 + 0];
-      img.data[i * 4 + 1] = uv.data[i * 2 + 1];
-      img.data[i * 4 + 2] = ratio.data[i * rch];
-      img.data[i * 4 + 3] = 1.0f;
-    }
-    return encode_plane(profile.dirratio, img, codec);
   };
+  const bool open_too = opt.measuring_baselines();  // the open-loop plane, for the report only
   if (profile.packed_dir_ratio) {
-    out.dirratio = packed(ratio_closed);
-    if (open_too) out.dirratio_open = packed(ratio_open);
+    auto packed_rows = [&](bool closed) {
+      return [&, closed](int y0, ImageF& band) {
+        ImageF uv(w, band.height, 2), ratio(w, band.height, rch);
+        uv_rows(y0, uv);
+        ratio_rows(y0, ratio, closed);
+        for (size_t j = 0; j < band.texels(); ++j) {
+          band.data[j * 4 + 0] = uv.data[j * 2 + 0];
+          band.data[j * 4 + 1] = uv.data[j * 2 + 1];
+          band.data[j * 4 + 2] = ratio.data[j * rch];
+          band.data[j * 4 + 3] = 1.0f;
+        }
+      };
+    };
+    out.dirratio = encode_banded(profile.dirratio, w, h, 4, codec, nullptr, packed_rows(opt.closed_loop));
+    if (open_too) out.dirratio_open = encode_banded(profile.dirratio, w, h, 4, codec, nullptr, packed_rows(false));
   } else {
-    out.ratio = encode_plane(profile.ratio, ratio_closed, codec);
-    if (open_too) out.ratio_open = encode_plane(profile.ratio, ratio_open, codec);
+    auto plane_rows = [&](bool closed) { return [&, closed](int y0, ImageF& band) { ratio_rows(y0, band, closed); }; };
+    out.ratio = encode_banded(profile.ratio, w, h, rch, codec, nullptr, plane_rows(opt.closed_loop));
+    if (open_too) out.ratio_open = encode_banded(profile.ratio, w, h, rch, codec, nullptr, plane_rows(false));
   }
   return out;
 }
