@@ -49,6 +49,9 @@ enum class NormalRule {
 // Number of levels of the full chain for a w×h image: 1 + floor(log2(max(w, h))).
 int mip_level_count(int width, int height);
 
+// Levels of a chain limited to `max_levels` (0 = the full chain). Throws ahd::Error when negative.
+int chain_level_count(int width, int height, int max_levels);
+
 // Size of level `level` along an axis of size n0: max(1, n0 >> level).
 int mip_size(int n0, int level);
 

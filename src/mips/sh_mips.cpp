@@ -64,6 +64,12 @@ int mip_level_count(int width, int height) {
   return levels;
 }
 
+int chain_level_count(int width, int height, int max_levels) {
+  if (max_levels < 0) throw Error("SH mips: max_levels must be ≥ 0");
+  const int full = mip_level_count(width, height);
+  return max_levels == 0 ? full : std::min(full, max_levels);
+}
+
 int mip_size(int n0, int level) { return std::max(1, n0 >> level); }
 
 int mip_taps(int n_src, int i, MipTap taps[3]) {
@@ -144,9 +150,7 @@ ShImage downsample_sh(const ShImage& src, int threads, NormalRule rule) {
 
 std::vector<ShImage> build_sh_mips(const ShImage& level0, int max_levels, int threads, NormalRule rule) {
   check_image(level0);
-  if (max_levels < 0) throw Error("SH mips: max_levels must be ≥ 0");
-  const int full = mip_level_count(level0.width, level0.height);
-  const int levels = max_levels == 0 ? full : std::min(full, max_levels);
+  const int levels = chain_level_count(level0.width, level0.height, max_levels);
   std::vector<ShImage> chain;
   chain.reserve(size_t(levels));
   chain.push_back(level0);
@@ -158,9 +162,7 @@ std::vector<FittedLevel> fit_mip_chain(ShImage&& level0, const FitOptions& opt, 
                                        std::vector<FitStats>* stats, std::vector<DilateStats>* dilate_stats,
                                        NormalRule rule) {
   check_image(level0);
-  if (max_levels < 0) throw Error("SH mips: max_levels must be ≥ 0");
-  const int full = mip_level_count(level0.width, level0.height);
-  const int levels = max_levels == 0 ? full : std::min(full, max_levels);
+  const int levels = chain_level_count(level0.width, level0.height, max_levels);
   std::vector<FittedLevel> out;
   out.reserve(size_t(levels));
   if (stats) stats->clear();

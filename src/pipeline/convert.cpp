@@ -384,13 +384,6 @@ class ChainEncoder {
   double decide_ = 0, quantise_ = 0, measure_ = 0;
 };
 
-// Levels of the chain the options ask for, for a w×h level 0.
-int chain_levels(int width, int height, int max_levels) {
-  if (max_levels < 0) throw Error("SH mips: max_levels must be ≥ 0");
-  const int full = mip_level_count(width, height);
-  return max_levels == 0 ? full : std::min(full, max_levels);
-}
-
 double chain_texels(int width, int height, int levels) {
   double n = 0;
   for (int l = 0; l < levels; ++l) n += double(mip_size(width, l)) * double(mip_size(height, l));
@@ -437,7 +430,7 @@ ConvertResult convert(const ShImage& sh, const Profile& profile, const ConvertOp
 ConvertResult convert(ShImage&& sh, const Profile& profile, const ConvertOptions& opt) {
   check_profile(profile, opt);
   ConvertResult r;
-  const int levels = chain_levels(sh.width, sh.height, opt.max_levels);
+  const int levels = chain_level_count(sh.width, sh.height, opt.max_levels);
   ChainEncoder chain(profile, opt, &r, chain_texels(sh.width, sh.height, levels));
   double fit = 0, measure = 0;
   ShImage next = std::move(sh);
