@@ -42,7 +42,6 @@ ShImage read_source_for(const std::string& source, const ConversionView& v) {
 }
 
 TexelErrorMaps texel_error_maps(const ShImage& sh, const DecodedPlanes& p, double dz_min) {
-  const double luma[3] = {0.2126, 0.7152, 0.0722};  // as fit/hemisphere_error.cpp
   const int nd = 64;
   const std::vector<double> dirs = hemisphere_directions(nd);
   const std::vector<AhdLobe> lobes = lobes_from_planes(p, dz_min);
@@ -50,34 +49,11 @@ TexelErrorMaps texel_error_maps(const ShImage& sh, const DecodedPlanes& p, doubl
   const size_t n = sh.texels();
   out.hemisphere.assign(n, std::numeric_limits<float>::quiet_NaN());
   out.normal = out.hemisphere;
-  parallel_for(size_t(sh.height), 0, 1, [&](size_t y) {
-    for (size_t i = size_t(y) * sh.width; i < size_t(y + 1) * sh.width; ++i) {
-      if (!sh.coverage[i]) continue;
-      IrradiancePoly poly[3];
-      local_polys(sh, i, poly);
-      const AhdLobe& l = lobes[i];
-      double se = 0, lum = 0;
-      for (int k = 0; k < nd; ++k) {
-        const double* w = &dirs[size_t(k) * 3];
-        const double cosine = std::max(0.0, w[0] * l.d[0] + w[1] * l.d[1] + w[2] * l.d[2]);
-        for (int c = 0; c < 3; ++c) {
-          const double ref = eval_irradiance(poly[c], w), got = l.ca[c] + cosine * l.cd[c];
-          se += (got - ref) * (got - ref);
-          lum += luma[c] * ref;
-        }
-      }
-      lum /= nd;
-      out.hemisphere[i] = lum > 0 ? float(std::sqrt(se / (3.0 * nd)) / lum) : 0.0f;
-      const double z[3] = {0, 0, 1};
-      double zl = 0, ze = 0;
-      for (int c = 0; c < 3; ++c) {
-        const double ref = std::max(0.0, eval_irradiance(poly[c], z));
-        const double got = l.ca[c] + std::max(0.0, l.d[2]) * l.cd[c];
-        zl += luma[c] * ref;
-        ze = std::max(ze, std::fabs(got - ref));
-      }
-      out.normal[i] = zl > 0 ? float(ze / zl) : 0.0f;
-    }
+  parallel_for(n, 0, 1024, [&](size_t i) {
+    if (!sh.coverage[i]) return;
+    const TexelError e = texel_error(sh, i, lobes[i], dirs.data(), nd);  // the reports' own figures
+    out.hemisphere[i] = float(e.rel);
+    out.normal[i] = float(e.nrel);
   });
   return out;
 }

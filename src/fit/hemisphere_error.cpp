@@ -39,11 +39,35 @@ double texel_relative(double se, double mean_lum_sum, int directions) {
   return mean_lum > 0 ? rmse / mean_lum : 0.0;
 }
 
-// The figures of one texel (see ErrorReport).
-struct TexelError {
-  double rmse, rel, lg, nrel;
-  bool negative;
-};
+
+
+// The report over measured texels; `population` = the covered texels they stand for.
+ErrorReport summarise_texels(const std::vector<TexelError>& e, size_t population) {
+  ErrorReport r;
+  r.texels = e.size();
+  r.population = population;
+  std::vector<double> v(e.size());
+  auto stat = [&](double TexelError::*m) {
+    for (size_t i = 0; i < e.size(); ++i) v[i] = e[i].*m;
+    return summarise(v);
+  };
+  for (const TexelError& t : e) r.negative += t.negative;
+  r.rmse = stat(&TexelError::rmse);
+  r.relative = stat(&TexelError::rel);
+  r.log2 = stat(&TexelError::lg);
+  r.normal_rel = stat(&TexelError::nrel);
+  return r;
+}
+
+// splitmix64: a fixed hash for the sample's offsets within strata (no global random state).
+uint64_t mix(uint64_t x) {
+  x += 0x9e3779b97f4a7c15ull;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+  return x ^ (x >> 31);
+}
+
+}  // namespace
 
 TexelError texel_error(const ShImage& sh, size_t i, const AhdLobe& l, const double* dirs, int directions) {
   IrradiancePoly p[3];
@@ -77,34 +101,6 @@ TexelError texel_error(const ShImage& sh, size_t i, const AhdLobe& l, const doub
   for (int c = 0; c < 3; ++c) e.negative |= (l.ca[c] < 0 || l.cd[c] < 0);
   return e;
 }
-
-// The report over measured texels; `population` = the covered texels they stand for.
-ErrorReport summarise_texels(const std::vector<TexelError>& e, size_t population) {
-  ErrorReport r;
-  r.texels = e.size();
-  r.population = population;
-  std::vector<double> v(e.size());
-  auto stat = [&](double TexelError::*m) {
-    for (size_t i = 0; i < e.size(); ++i) v[i] = e[i].*m;
-    return summarise(v);
-  };
-  for (const TexelError& t : e) r.negative += t.negative;
-  r.rmse = stat(&TexelError::rmse);
-  r.relative = stat(&TexelError::rel);
-  r.log2 = stat(&TexelError::lg);
-  r.normal_rel = stat(&TexelError::nrel);
-  return r;
-}
-
-// splitmix64: a fixed hash for the sample's offsets within strata (no global random state).
-uint64_t mix(uint64_t x) {
-  x += 0x9e3779b97f4a7c15ull;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
-  return x ^ (x >> 31);
-}
-
-}  // namespace
 
 std::vector<double> hemisphere_directions(int count) {
   std::vector<double> dirs(size_t(count) * 3);

@@ -45,6 +45,16 @@ using LobeAt = std::function<AhdLobe(size_t texel)>;
 // identical figures, without an image of 72-byte lobes beside the SH.
 ErrorReport measure_error(const ShImage& sh, const LobeAt& lobe, int threads, int directions = 64);
 
+// The figures of one texel that the reports summarise: rmse, rel (`relative`), lg (`log2`),
+// nrel (`iz_relative`, along the normal) and whether the lobe has a negative colour.
+struct TexelError {
+  double rmse, rel, lg, nrel;
+  bool negative;
+};
+
+// Texel i's figures against the SH, over `directions` directions dirs = hemisphere_directions(directions).
+TexelError texel_error(const ShImage& sh, size_t i, const AhdLobe& lobe, const double* dirs, int directions);
+
 // True when measure_error(sh, lobes, …, directions).relative.p99 would exceed `threshold` — the
 // same per-texel figure and percentile — found texel by texel with an early exit, so a clearly
 // directional lightmap is decided after a few hundred texels. Single-threaded, deterministic.
