@@ -342,16 +342,27 @@ Moments texel_moments(const Block& b, int t) {
   return {w, {w * q[0], w * q[1], w * q[2]}, {w * q[0] * q[0], w * q[1] * q[1], w * q[2] * q[2], w * q[0] * q[1], w * q[0] * q[2], w * q[1] * q[2]}};
 }
 
+// A region's (weighted) covariance of the half-bit values and its trace, from its moments (m.w > 0).
+struct Covariance {
+  double xx, yy, zz, xy, xz, yz, trace;
+};
+Covariance covariance_of(const Moments& m) {
+  const double inv = 1.0 / m.w;
+  Covariance k;
+  k.xx = m.ss[0] - m.s[0] * m.s[0] * inv, k.yy = m.ss[1] - m.s[1] * m.s[1] * inv;
+  k.zz = m.ss[2] - m.s[2] * m.s[2] * inv, k.xy = m.ss[3] - m.s[0] * m.s[1] * inv;
+  k.xz = m.ss[4] - m.s[0] * m.s[2] * inv, k.yz = m.ss[5] - m.s[1] * m.s[2] * inv;
+  k.trace = k.xx + k.yy + k.zz;
+  return k;
+}
+
 // Residual of fitting a region's texels by a line: trace of the covariance minus its principal
 // eigenvalue, estimated by the Rayleigh quotient after three power steps (no square roots: this
 // runs for all 64 regions of every block).
 double line_residual(const Moments& m) {
   if (m.w <= 0) return 0;
-  const double inv = 1.0 / m.w;
-  const double xx = m.ss[0] - m.s[0] * m.s[0] * inv, yy = m.ss[1] - m.s[1] * m.s[1] * inv,
-               zz = m.ss[2] - m.s[2] * m.s[2] * inv, xy = m.ss[3] - m.s[0] * m.s[1] * inv,
-               xz = m.ss[4] - m.s[0] * m.s[2] * inv, yz = m.ss[5] - m.s[1] * m.s[2] * inv;
-  const double trace = xx + yy + zz;
+  const Covariance k = covariance_of(m);
+  const double xx = k.xx, yy = k.yy, zz = k.zz, xy = k.xy, xz = k.xz, yz = k.yz, trace = k.trace;
   if (!(trace > 0)) return 0;
   // Power steps from three orthogonal starts in turn: one of them is not orthogonal to the
   // principal axis. Scaled by 1/trace each step so that nothing overflows.
@@ -379,11 +390,8 @@ double line_residual(const Moments& m) {
 // it is that axis), no scaling inside the loop (double cannot overflow on half-range values).
 double line_residual_quick(const Moments& m) {
   if (m.w <= 0) return 0;
-  const double inv = 1.0 / m.w;
-  const double xx = m.ss[0] - m.s[0] * m.s[0] * inv, yy = m.ss[1] - m.s[1] * m.s[1] * inv,
-               zz = m.ss[2] - m.s[2] * m.s[2] * inv, xy = m.ss[3] - m.s[0] * m.s[1] * inv,
-               xz = m.ss[4] - m.s[0] * m.s[2] * inv, yz = m.ss[5] - m.s[1] * m.s[2] * inv;
-  const double trace = xx + yy + zz;
+  const Covariance k = covariance_of(m);
+  const double xx = k.xx, yy = k.yy, zz = k.zz, xy = k.xy, xz = k.xz, yz = k.yz, trace = k.trace;
   if (!(trace > 0)) return 0;
   double v[3] = {xx, xy, xz};
   if (yy > xx && yy >= zz) v[0] = xy, v[1] = yy, v[2] = yz;
