@@ -34,16 +34,6 @@ std::map<std::string, std::string> outputs_in(const fs::path& d) {
   return m;
 }
 
-std::string shell(const std::string& cmd) {
-  std::string out;
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return out;
-  char buf[4096];
-  size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
-  pclose(p);
-  return out;
-}
 
 }  // namespace
 
@@ -143,18 +133,18 @@ TEST(Cli, BatchProgressIsOneLineOnATerminalOnly) {
   const std::string batch = std::string("'") + AHD_CLI_PATH + "' convert '" + (d / "a.exr").string() + "' '" +
                             (d / "b.exr").string() + "' -o '" + (d / "out").string() + "/' --threads ";
   const std::string convert = batch + "2";
-  const std::string tty = shell("script -qec \"" + convert + "\" /dev/null 2>&1");
+  const std::string tty = ahd_test::run_shell("script -qec \"" + convert + "\" /dev/null 2>&1");
   EXPECT_NE(tty.find("\r\033[Kfiles 2/2 done"), std::string::npos) << tty;
   EXPECT_EQ(tty.find("encode"), std::string::npos) << tty;  // no stage of files side by side
   EXPECT_NE(tty.find("2 at a time"), std::string::npos) << tty;
-  const std::string alone = shell("script -qec \"" + batch + "1\" /dev/null 2>&1");
+  const std::string alone = ahd_test::run_shell("script -qec \"" + batch + "1\" /dev/null 2>&1");
   EXPECT_NE(alone.find("a.exr: write 100 %"), std::string::npos) << alone;
   EXPECT_NE(alone.find("one at a time"), std::string::npos) << alone;
-  const std::string piped = shell(convert + " 2>&1 | cat");
+  const std::string piped = ahd_test::run_shell(convert + " 2>&1 | cat");
   EXPECT_EQ(piped.find("\r\033[K"), std::string::npos) << piped;
   EXPECT_EQ(piped.find("files "), std::string::npos) << piped;
   EXPECT_NE(piped.find("2 file(s) in"), std::string::npos) << piped;  // the summary still prints
-  const std::string quiet = shell("script -qec \"" + convert + " -q\" /dev/null 2>&1");
+  const std::string quiet = ahd_test::run_shell("script -qec \"" + convert + " -q\" /dev/null 2>&1");
   EXPECT_TRUE(quiet.empty()) << quiet;
   fs::remove_all(d);
 }

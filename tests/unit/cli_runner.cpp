@@ -34,6 +34,17 @@ CliResult run_cli(const std::vector<std::string>& args) {
   return r;
 }
 
+std::string run_shell(const std::string& command) {
+  std::string out;
+  FILE* p = popen(command.c_str(), "r");
+  if (!p) return out;
+  std::array<char, 4096> buf;
+  size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) out.append(buf.data(), n);
+  pclose(p);
+  return out;
+}
+
 std::string plane_file(const std::string& manifest, const std::string& plane) {
   std::ifstream f(manifest);
   if (!f) return "";

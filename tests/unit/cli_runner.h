@@ -13,6 +13,9 @@ struct CliResult {
 // Runs AHD_CLI_PATH with the arguments (each shell-quoted).
 CliResult run_cli(const std::vector<std::string>& args);
 
+// Runs a shell command line; returns what it writes to stdout (redirect 2>&1 for stderr too).
+std::string run_shell(const std::string& command);
+
 // The path of plane `plane` of the conversion whose manifest is `manifest` (plane files are
 // content-addressed, NAME.<plane>.<hash>.<ext>; the manifest names them). "" when absent.
 std::string plane_file(const std::string& manifest, const std::string& plane);

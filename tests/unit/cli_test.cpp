@@ -281,16 +281,7 @@ TEST(Cli, BatchConvertsEveryInputPastAFailureAndNamesIt) {
 // by util-linux's `script` — and nothing of it in a pipe or with -q.
 TEST(Cli, ProgressOnATerminalOnlyNotInPipes) {
   const fs::path d = ahd_test::temp_dir("cli_progress");
-  auto shell = [](const std::string& cmd) {
-    std::string out;
-    FILE* p = popen(cmd.c_str(), "r");
-    if (!p) return out;
-    char buf[4096];
-    size_t n;
-    while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
-    pclose(p);
-    return out;
-  };
+  const auto shell = ahd_test::run_shell;
   const std::string convert = std::string("'") + AHD_CLI_PATH + "' convert --sample-size 64 -o '" + (d / "t.ktx2").string() + "'";
   const std::string tty = shell("script -qec \"" + convert + "\" /dev/null 2>&1");
   EXPECT_NE(tty.find("fit"), std::string::npos) << tty;
