@@ -76,42 +76,57 @@ bool irradiance_is_constant(const IrradiancePoly p[3]) {
 
 }  // namespace
 
-AhdFit fit_texel(const IrradiancePoly p[3], const FitOptions& opt) {
-  AhdFit out{};
-  out.d[2] = 1.0f;
-  for (int c = 0; c < 3; ++c) out.ratio[c] = 1.0f;
+namespace {
 
-  double d[3];
-  const bool directional = optimal_direction(p, opt, d);
-  if (!directional) out.flags |= kFitNoDirection;
-  // Decoding divides by d_z: grazing / below-horizon directions are tilted up (ahd_decode.h).
-  if (tilt_above_horizon(d, opt.dz_min)) out.flags |= kFitDirClamped;
-  double iz[3];
-  bool negative = false;
+// I_z = E(z) per channel, made usable: non-finite → 0 (kFitNonFinite in *flags), negative (SH
+// ringing: no non-negative lobe reaches it) → 0 with *negative set.
+void iz_along_normal(const IrradiancePoly p[3], double iz[3], uint8_t* flags, bool* negative) {
+  *negative = false;
   for (int c = 0; c < 3; ++c) {
     iz[c] = p[c].e0 + p[c].e[2] + p[c].q[2][2];  // E(z)
     if (!std::isfinite(iz[c])) {
       iz[c] = 0.0;  // readers sanitise; this keeps the fit total even when called directly
-      out.flags |= kFitNonFinite;
+      *flags |= kFitNonFinite;
     } else if (iz[c] < 0.0) {
-      iz[c] = 0.0;  // SH ringing: no non-negative lobe reaches a negative I_z
-      negative = true;
+      iz[c] = 0.0;
+      *negative = true;
     }
   }
+}
+
+}  // namespace
+
+AhdFit fit_texel_constant(const IrradiancePoly p[3], const FitOptions& opt) {
+  AhdFit out{};
+  out.d[2] = 1.0f;
+  for (int c = 0; c < 3; ++c) out.ratio[c] = 1.0f;
+  out.flags = kFitNoDirection;
+  double iz[3];
+  bool negative;
+  iz_along_normal(p, iz, &out.flags, &negative);
+  for (int c = 0; c < 3; ++c) out.iz[c] = float(iz[c]);
+  const double lum_iz = opt.luma[0] * iz[0] + opt.luma[1] * iz[1] + opt.luma[2] * iz[2];
+  if (!(lum_iz > 0.0)) out.flags |= kFitBlack;
+  if (negative) out.flags |= kFitNegativeIz;
+  return out;
+}
+
+AhdFit fit_texel(const IrradiancePoly p[3], const FitOptions& opt) {
+  double d[3];
+  const bool directional = optimal_direction(p, opt, d);
   // Irradiance the same for every normal (a plain lightmap, or no L1/L2 at this texel): the pure
-  // ambient lobe C_a = I_z, C_d = 0, d = z is exact, so there is nothing to fit (and plain maps skip
-  // the per-channel solve, most of their conversion time).
-  if (!directional && irradiance_is_constant(p)) {
-    for (int c = 0; c < 3; ++c) out.iz[c] = float(iz[c]);
-    const double lum_iz = opt.luma[0] * iz[0] + opt.luma[1] * iz[1] + opt.luma[2] * iz[2];
-    if (!(lum_iz > 0.0)) out.flags |= kFitBlack;
-    if (negative) out.flags |= kFitNegativeIz;
-    return out;
-  }
+  // ambient lobe is exact, so there is nothing to fit (and plain maps skip the per-channel solve).
+  if (!directional && irradiance_is_constant(p)) return fit_texel_constant(p, opt);
+  uint8_t flags = directional ? 0 : kFitNoDirection;
+  // Decoding divides by d_z: grazing / below-horizon directions are tilted up (ahd_decode.h).
+  if (tilt_above_horizon(d, opt.dz_min)) flags |= kFitDirClamped;
+  double iz[3];
+  bool negative;
+  iz_along_normal(p, iz, &flags, &negative);
   // Refinement keeps d_z ≥ dz_min itself; kFitDirClamped still says whether the linear d needed it.
   if (directional && opt.direction_fit == DirectionFit::Refined) refine_direction(p, iz, opt, d);
   AhdFit colours = fit_colours(p, d, iz, opt);
-  colours.flags |= out.flags | (negative ? kFitNegativeIz : 0);
+  colours.flags |= flags | (negative ? kFitNegativeIz : 0);
   return colours;
 }
 

@@ -85,6 +85,11 @@ AhdFit fit_colours(const IrradiancePoly p[3], const double d[3], const double iz
 // finite input; constraints always hold (C_a, C_d ≥ 0, ratio in [0,1], d_z ≥ dz_min).
 AhdFit fit_texel(const IrradiancePoly p[3], const FitOptions& opt);
 
+// What fit_texel returns for a texel whose irradiance is the same for every normal (only e0
+// nonzero: every texel of an L0 image): the pure ambient lobe, exact with nothing to solve —
+// I_z = E(z) (non-finite or negative → 0, flagged), d = z, ratio = 1, flag kFitNoDirection.
+AhdFit fit_texel_constant(const IrradiancePoly p[3], const FitOptions& opt);
+
 // The unconstrained least-squares fit over the hemisphere (Sloan 2008 style) with the same d:
 // free C_a, C_d minimising E; may be negative and does not preserve I_z. For comparison only.
 void fit_channel_unconstrained(const HemisphereMoments& m, double* ca, double* cd);

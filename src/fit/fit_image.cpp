@@ -1,5 +1,6 @@
 #include "fit/fit_image.h"
 
+#include "core/error.h"
 #include "core/parallel.h"
 
 namespace ahd {
@@ -29,6 +30,41 @@ AhdImage fit_image(const ShImage& sh, const FitOptions& opt, int threads, FitSta
     }
   }
   return out;
+}
+
+ImageF fit_ambient_iz(const ShImage& sh, const FitOptions& opt, int threads, FitStats* stats) {
+  if (sh.coeffs != 1) throw Error("fit_ambient_iz: needs an L0 image (1 coefficient)");
+  ImageF iz(sh.width, sh.height, 3);
+  // The rules' counts per row, summed in row order after (no shared counters between threads).
+  struct RowCounts {
+    size_t covered = 0, negative = 0, black = 0;
+  };
+  std::vector<RowCounts> rows(size_t(sh.height));
+  const size_t w = size_t(sh.width);
+  parallel_for(size_t(sh.height), threads, 8, [&](size_t y) {
+    RowCounts& n = rows[y];
+    for (size_t i = y * w; i < (y + 1) * w; ++i) {
+      IrradiancePoly p[3];
+      local_polys(sh, i, p);
+      const AhdFit f = fit_texel_constant(p, opt);
+      for (int c = 0; c < 3; ++c) iz.data[i * 3 + size_t(c)] = f.iz[c];
+      if (!sh.coverage[i]) continue;
+      n.covered++;
+      n.negative += (f.flags & kFitNegativeIz) != 0;
+      n.black += (f.flags & kFitBlack) != 0;
+    }
+  });
+  if (stats) {
+    *stats = FitStats{};
+    stats->texels = sh.texels();
+    for (const RowCounts& n : rows) {
+      stats->covered += n.covered;
+      stats->negative_iz += n.negative;
+      stats->black += n.black;
+    }
+    stats->no_direction = stats->covered;
+  }
+  return iz;
 }
 
 }  // namespace ahd

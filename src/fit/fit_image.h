@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/image.h"
 #include "fit/ahd_fit.h"
 #include "sh/sh_image.h"
 
@@ -30,10 +31,29 @@ struct FitStats {
 // The quantiser needs both: the closed loop refits the ratio against the SH.
 struct FittedLevel {
   ShImage sh;
-  AhdImage ahd;
+  AhdImage ahd;  // the fitted texels; empty in an ambient-only level
+  ImageF iz;     // an ambient-only level's fit (an L0 image's: mips.h fit_ambient_level): I_z alone
 };
+
+// Texel i's fit, whichever form the level holds (ambient-only: d = z, ratio = 1, flags 0).
+inline AhdFit fitted_texel(const FittedLevel& l, size_t i) {
+  if (!l.ahd.texels.empty()) return l.ahd.texels[i];
+  AhdFit f{};
+  for (int c = 0; c < 3; ++c) {
+    f.iz[c] = l.iz.data[i * 3 + size_t(c)];
+    f.ratio[c] = 1.0f;
+  }
+  f.d[2] = 1.0f;
+  return f;
+}
 
 // Fits every texel (uncovered ones too; their values are replaced by dilation later).
 AhdImage fit_image(const ShImage& sh, const FitOptions& opt, int threads, FitStats* stats = nullptr);
+
+// The fit of an L0 image (plain lightmaps: sh.coeffs == 1) as its I_z plane alone: every texel's
+// fit is the pure ambient lobe (fit_texel_constant: d = z, ratio = 1), so the 3-channel plane holds
+// bit for bit the iz that fit_image's texels would, in 12 bytes a texel instead of 40. stats as
+// fit_image (every covered texel counts as "no direction"). Throws ahd::Error when sh.coeffs != 1.
+ImageF fit_ambient_iz(const ShImage& sh, const FitOptions& opt, int threads, FitStats* stats = nullptr);
 
 }  // namespace ahd

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "core/parallel.h"
 #include "sh/sh.h"
 #include "core/json_number.h"
 #include "io/paths.h"
@@ -284,14 +285,45 @@ double to_radiance(LayoutForm form, size_t k, double v) {
   return k == 0 ? v / kY00 : 1.5 * v / kY1;
 }
 
-ShImage to_canonical(const LayoutPreset& layout, const std::vector<SetImage>& set) {
+// One 3-channel image whose R, G, B are coefficient 0 as stored, up to a scale (plain lightmaps):
+// it can be decoded in place, its buffer becoming the SH image's.
+bool decodes_in_place(const LayoutPreset& layout, const std::vector<SetImage>& set) {
+  if (set.size() != 1 || layout.coeffs != 1 || layout.coefficients.size() != 1) return false;
+  if (layout.files.at(0).slices != 1 || set[0].img.channels != 3 || set[0].img.height != set[0].slice_height)
+    return false;
+  const LayoutCoefficient& c = layout.coefficients[0];
+  if (c.ratio || c.divided || c.multiplied) return false;
+  for (int i = 0; i < 3; ++i)
+    if (c.source[i].file != 0 || c.source[i].slice != 0 || set[0].channel.at(c.source[i].channel) != i) return false;
+  return true;
+}
+
+// The decoded set as canonical SH. A set that decodes in place gives its image's buffer up (the
+// arithmetic is decode()'s, so the values are the same): no second copy of the largest buffer.
+ShImage to_canonical(const LayoutPreset& layout, std::vector<SetImage>& set) {
   const int width = set[0].width, height = set[0].slice_height;
+  const size_t w = size_t(width);
+  if (decodes_in_place(layout, set)) {
+    ShImage sh;
+    sh.width = width;
+    sh.height = height;
+    sh.coeffs = 1;
+    sh.data = std::move(set[0].img.data);
+    sh.coverage.assign(sh.texels(), 1);
+    const double scale = layout.coefficients[0].scale;
+    parallel_for(size_t(height), 0, 16, [&](size_t y) {
+      for (size_t j = y * w * 3; j < (y + 1) * w * 3; ++j)
+        sh.data[j] = float(to_radiance(layout.form, 0, double(sh.data[j]) * scale));
+    });
+    return sh;
+  }
   ShImage sh = make_sh_image(width, height, layout.coeffs);
   std::vector<ResolvedCoefficient> coeffs;
   for (const LayoutCoefficient& c : layout.coefficients) coeffs.push_back(resolve(set, c));
-  for (int y = 0; y < height; ++y)
+  parallel_for(size_t(height), 0, 16, [&](size_t yy) {
+    const int y = int(yy);
     for (int x = 0; x < width; ++x) {
-      float* t = sh.texel(size_t(y) * width + x);
+      float* t = sh.texel(size_t(y) * w + size_t(x));
       for (int ch = 0; ch < 3; ++ch) {
         const double l0 = decode(coeffs[0], ch, 0, x, y);  // coefficient 0 is never ratio-encoded
         t[ch] = float(to_radiance(layout.form, 0, l0));
@@ -299,6 +331,7 @@ ShImage to_canonical(const LayoutPreset& layout, const std::vector<SetImage>& se
           t[k * 3 + ch] = float(to_radiance(layout.form, k, decode(coeffs[k], ch, l0, x, y)));
       }
     }
+  });
   return sh;
 }
 

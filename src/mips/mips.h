@@ -85,6 +85,13 @@ std::vector<FittedLevel> fit_mip_chain(const ShImage& level0, const FitOptions& 
 FittedLevel fit_level(ShImage&& sh, const FitOptions& opt, int threads, FitStats* stats = nullptr,
                       DilateStats* dilate_stats = nullptr);
 
+// fit_level for an L0 image (sh.coeffs == 1, plain lightmaps), whose fit is the pure ambient lobe
+// everywhere: the result holds I_z alone (FittedLevel::iz; ahd left empty), bit for bit the iz of
+// fit_level's texels, in 12 bytes a texel instead of 40. Throws ahd::Error on a malformed image
+// or one with L1/L2 coefficients.
+FittedLevel fit_ambient_level(ShImage&& sh, const FitOptions& opt, int threads, FitStats* stats = nullptr,
+                              DilateStats* dilate_stats = nullptr);
+
 // The same, taking level 0 over (moved into the result's level 0): no copy of the largest level.
 std::vector<FittedLevel> fit_mip_chain(ShImage&& level0, const FitOptions& opt, int max_levels, int threads,
                                        std::vector<FitStats>* stats = nullptr,

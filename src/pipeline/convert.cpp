@@ -109,7 +109,6 @@ struct LevelPlanes {
 LevelPlanes quantise_level(const FittedLevel& lv, const Profile& profile, const ConvertOptions& opt, bool directional,
                            PlaneCodecStats* stats) {
   const ShImage& sh = lv.sh;
-  const AhdImage& fit = lv.ahd;
   const int w = sh.width, h = sh.height;
   const bool ratio_rgb = opt.fit.ratio_form == RatioForm::Rgb;
   PlaneCodecOptions codec = opt.codec;
@@ -118,8 +117,12 @@ LevelPlanes quantise_level(const FittedLevel& lv, const Profile& profile, const 
   // I_z: a float copy of one band of rows at a time, never of the whole level.
   out.iz = encode_banded(profile.iz, w, h, 3, codec, stats, [&](int y0, ImageF& band) {
     const size_t first = size_t(y0) * size_t(w);
+    if (lv.ahd.texels.empty()) {  // an ambient-only level holds the plane already
+      std::copy_n(lv.iz.data.begin() + std::ptrdiff_t(first * 3), band.data.size(), band.data.begin());
+      return;
+    }
     parallel_for(band.texels(), opt.threads, 4096, [&](size_t j) {
-      for (int c = 0; c < 3; ++c) band.data[j * 3 + c] = fit.texels[first + j].iz[c];
+      for (int c = 0; c < 3; ++c) band.data[j * 3 + c] = lv.ahd.texels[first + j].iz[c];
     });
   });
   if (!directional) return out;
@@ -128,7 +131,7 @@ LevelPlanes quantise_level(const FittedLevel& lv, const Profile& profile, const 
   auto uv_rows = [&](int y0, ImageF& band) {
     const size_t first = size_t(y0) * size_t(w);
     parallel_for(band.texels(), opt.threads, 4096,
-                 [&](size_t j) { dir_to_unit_uv(fit.texels[first + j].d, &band.data[j * 2]); });
+                 [&](size_t j) { dir_to_unit_uv(fitted_texel(lv, first + j).d, &band.data[j * 2]); });
   };
   if (!profile.packed_dir_ratio) out.dir = encode_banded(profile.dir, w, h, 2, codec, nullptr, uv_rows);
   const int rch = ratio_rgb ? 3 : 1;
@@ -139,7 +142,7 @@ LevelPlanes quantise_level(const FittedLevel& lv, const Profile& profile, const 
     const int y1 = y0 + ratio.height;
     const size_t first = size_t(y0) * size_t(w);
     for (size_t j = 0; j < ratio.texels(); ++j)
-      for (int c = 0; c < rch; ++c) ratio.data[j * rch + c] = fit.texels[first + j].ratio[c];
+      for (int c = 0; c < rch; ++c) ratio.data[j * rch + c] = fitted_texel(lv, first + j).ratio[c];
     if (!closed) return;
     const ImageF iz_dec = decode_plane(profile.iz, level_rows(profile.iz, out.iz, y0, y1));
     ImageF dir_dec;
@@ -275,12 +278,11 @@ void decide_direction(const FittedLevel& level0, const ConvertOptions& opt, Conv
       if (sh_is_constant(level0.sh)) {
         r->directional = false;
       } else {
-        const AhdImage& a = level0.ahd;
         r->directional = sampled_relative_p99_exceeds(
-            level0.sh, [&](size_t i) { return ambient_only_lobe(a.texels[i]); }, opt.ambient_threshold);
+            level0.sh, [&](size_t i) { return ambient_only_lobe(fitted_texel(level0, i)); }, opt.ambient_threshold);
       }
       if (opt.measuring())
-        r->ambient_error = measure_lobes(level0.sh, [&](size_t i) { return ambient_only_lobe(level0.ahd.texels[i]); }, opt);
+        r->ambient_error = measure_lobes(level0.sh, [&](size_t i) { return ambient_only_lobe(fitted_texel(level0, i)); }, opt);
       std::snprintf(why, sizeof why, "%s: I_z alone differs from the SH by %s threshold %.3g (relative RMSE p99)",
                     r->directional ? "kept" : "dropped", r->directional ? "more than the" : "no more than the",
                     opt.ambient_threshold);
@@ -293,8 +295,8 @@ void decide_direction(const FittedLevel& level0, const ConvertOptions& opt, Conv
 }  // namespace
 
 std::vector<AhdLobe> ambient_only_lobes(const FittedLevel& level) {
-  std::vector<AhdLobe> lobes(level.ahd.texels.size());
-  for (size_t i = 0; i < lobes.size(); ++i) lobes[i] = ambient_only_lobe(level.ahd.texels[i]);
+  std::vector<AhdLobe> lobes(level.sh.texels());
+  for (size_t i = 0; i < lobes.size(); ++i) lobes[i] = ambient_only_lobe(fitted_texel(level, i));
   return lobes;
 }
 
@@ -311,15 +313,15 @@ namespace {
 // The fitted level 0 against its SH (and the unconstrained baseline), as the options ask.
 void measure_fit(const FittedLevel& level0, const ConvertOptions& opt, ConvertResult* r) {
   const ShImage& sh = level0.sh;
-  const AhdImage& fit = level0.ahd;
   // Lobes made texel by texel as they are measured: no image of them (72 bytes a texel).
-  r->fit_error = measure_lobes(sh, [&](size_t i) { return lobe_of_fit(fit.texels[i], opt.fit.dz_min); }, opt);
+  r->fit_error = measure_lobes(sh, [&](size_t i) { return lobe_of_fit(fitted_texel(level0, i), opt.fit.dz_min); }, opt);
   if (!opt.measuring_baselines()) return;
   r->unconstrained_error = measure_error(sh, [&](size_t i) {
     AhdLobe l;
     IrradiancePoly p[3];
     local_polys(sh, i, p);
-    const double d[3] = {fit.texels[i].d[0], fit.texels[i].d[1], fit.texels[i].d[2]};
+    const AhdFit f = fitted_texel(level0, i);
+    const double d[3] = {f.d[0], f.d[1], f.d[2]};
     for (int c = 0; c < 3; ++c) {
       fit_channel_unconstrained(hemisphere_moments(p[c], d), &l.ca[c], &l.cd[c]);
       l.d[c] = d[c];
@@ -346,7 +348,7 @@ class ChainEncoder {
     opt_.step("encode", done_ / all_);
     levels_.push_back(quantise_level(level, profile_, opt_, r_->directional, &r_->codec_stats));
     if (opt_.coverage_plane) {
-      const Image8 c = coverage_plane(level.sh.width, level.sh.height, level.ahd.coverage);
+      const Image8 c = coverage_plane(level.sh.width, level.sh.height, level.sh.coverage);
       coverage_.levels.push_back({uint32_t(c.width), uint32_t(c.height), c.data});
     }
     quantise_ += seconds_since(t0);
@@ -439,7 +441,10 @@ ConvertResult convert(ShImage&& sh, const Profile& profile, const ConvertOptions
     auto t0 = Clock::now();
     FitStats fs;
     DilateStats ds;
-    FittedLevel level = fit_level(std::move(next), opt.fit, opt.threads, &fs, &ds);
+    // L0 images (plain lightmaps) are fitted as their I_z plane alone: the fit is the pure
+    // ambient lobe at every texel, and 12 bytes a texel instead of 40 is most of their memory.
+    FittedLevel level = next.coeffs == 1 ? fit_ambient_level(std::move(next), opt.fit, opt.threads, &fs, &ds)
+                                         : fit_level(std::move(next), opt.fit, opt.threads, &fs, &ds);
     r.dilate_stats.push_back(ds);
     fit += seconds_since(t0);
     if (l == 0) {
@@ -451,6 +456,7 @@ ConvertResult convert(ShImage&& sh, const Profile& profile, const ConvertOptions
     }
     chain.add(level);
     level.ahd = AhdImage();  // the fit is done with before the next level is filtered
+    level.iz = ImageF();
     t0 = Clock::now();
     if (l + 1 < levels) next = downsample_sh(level.sh, opt.threads);
     fit += seconds_since(t0);

@@ -2,6 +2,7 @@
 // and re-quantising from it gives the same planes as the direct conversion.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 
 #include "core/error.h"
@@ -53,4 +54,37 @@ TEST(Intermediate, RoundTripIsExactAndTranscodeMatchesConvert) {
 
 TEST(Intermediate, RefusesOtherFiles) {
   EXPECT_THROW(read_intermediate("/nonexistent/x.ahd.exr", nullptr), Error);
+}
+
+// convert() fits L0 images (plain lightmaps) as their I_z plane alone; the stored chain
+// (fit_levels, what --keep-intermediate writes) fits them in full. Both must write the same bytes.
+TEST(Intermediate, PlainL0ConversionWritesTheStoredChainsBytes) {
+  BakerOptions bo;
+  bo.width = 29;
+  bo.height = 19;
+  bo.area_samples = 2;
+  const ShImage l2 = bake_analytic_scene(bo);
+  ShImage sh = make_sh_image(l2.width, l2.height, 1);
+  for (size_t i = 0; i < sh.texels(); ++i)
+    for (int c = 0; c < 3; ++c) sh.texel(i)[c] = l2.texel(i)[c];
+  sh.coverage = l2.coverage;
+  ASSERT_GT(std::count(sh.coverage.begin(), sh.coverage.end(), 0), 0);  // dilated texels are in the blocks
+  for (const char* profile : {"pc-bc", "uncompressed"}) {
+    for (DirectionPlanes dir : {DirectionPlanes::Auto, DirectionPlanes::Keep}) {
+      ConvertOptions opt;
+      opt.threads = 2;
+      opt.direction = dir;
+      const Profile p = load_profile(profile);
+      ConvertResult stored;
+      quantise_levels(fit_levels(sh, opt, &stored), p, opt, &stored);
+      const ConvertResult streamed = convert(sh, p, opt);
+      ASSERT_EQ(streamed.planes.size(), stored.planes.size()) << profile;
+      for (size_t k = 0; k < stored.planes.size(); ++k)
+        for (size_t l = 0; l < stored.planes[k].texture.levels.size(); ++l)
+          EXPECT_EQ(streamed.planes[k].texture.levels[l].data, stored.planes[k].texture.levels[l].data)
+              << profile << " " << stored.planes[k].name << " level " << l;
+      EXPECT_EQ(streamed.fit_stats.covered, stored.fit_stats.covered);
+      EXPECT_EQ(streamed.fit_stats.no_direction, stored.fit_stats.no_direction);
+    }
+  }
 }

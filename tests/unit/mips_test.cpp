@@ -395,3 +395,37 @@ TEST(Mips, RejectsMalformedImages) {
   EXPECT_THROW(build_sh_mips(n, 0, 1), Error);
   EXPECT_THROW(build_sh_mips(make_sh_image(4, 4, 9), -1, 1), Error);
 }
+
+// L0 images (plain lightmaps) are fitted as their I_z plane alone (fit_ambient_level): it must hold
+// bit for bit the iz of the full fit's texels, dilated texels included, with the same counts.
+TEST(Mips, AmbientLevelHoldsTheFullFitsIz) {
+  for (bool world : {false, true}) {
+    ShImage img = atlas(37, 29, 1, 5, world);
+    img.texel(40)[1] = -0.25f;  // SH ringing: negative I_z, clamped and counted
+    img.texel(41)[0] = -0.0f;   // the sign of a zero must come out as the full fit's
+    for (int k = 0; k < 3; ++k) img.texel(42)[k] = 0.0f;  // black
+    img.coverage[40] = img.coverage[41] = img.coverage[42] = 1;
+    FitStats fa, ff;
+    DilateStats da, df;
+    const FittedLevel a = fit_ambient_level(ShImage(img), FitOptions{}, 2, &fa, &da);
+    const FittedLevel f = fit_level(ShImage(img), FitOptions{}, 2, &ff, &df);
+    ASSERT_TRUE(a.ahd.texels.empty());
+    ASSERT_EQ(a.iz.data.size(), f.ahd.texels.size() * 3);
+    for (size_t i = 0; i < f.ahd.texels.size(); ++i) {
+      ASSERT_EQ(std::memcmp(&a.iz.data[i * 3], f.ahd.texels[i].iz, sizeof(float) * 3), 0) << world << " " << i;
+      const AhdFit t = fitted_texel(a, i);
+      ASSERT_EQ(std::memcmp(t.d, f.ahd.texels[i].d, sizeof t.d), 0) << i;
+      ASSERT_EQ(std::memcmp(t.ratio, f.ahd.texels[i].ratio, sizeof t.ratio), 0) << i;
+    }
+    EXPECT_EQ(a.sh.data, img.data);
+    EXPECT_EQ(fa.covered, ff.covered);
+    EXPECT_EQ(fa.no_direction, ff.no_direction);
+    EXPECT_EQ(fa.negative_iz, ff.negative_iz);
+    EXPECT_EQ(fa.black, ff.black);
+    EXPECT_GE(fa.negative_iz, 1u);
+    EXPECT_GE(fa.black, 1u);
+    EXPECT_EQ(da.filled, df.filled);
+    EXPECT_EQ(da.rings, df.rings);
+  }
+  EXPECT_THROW(fit_ambient_level(atlas(8, 8, 9, 1), FitOptions{}, 1), Error);
+}
