@@ -80,10 +80,10 @@ namespace {
 
 // I_z = E(z) per channel, made usable: non-finite → 0 (kFitNonFinite in *flags), negative (SH
 // ringing: no non-negative lobe reaches it) → 0 with *negative set.
-void iz_along_normal(const IrradiancePoly p[3], double iz[3], uint8_t* flags, bool* negative) {
+void usable_iz(const double ez[3], double iz[3], uint8_t* flags, bool* negative) {
   *negative = false;
   for (int c = 0; c < 3; ++c) {
-    iz[c] = p[c].e0 + p[c].e[2] + p[c].q[2][2];  // E(z)
+    iz[c] = ez[c];
     if (!std::isfinite(iz[c])) {
       iz[c] = 0.0;  // readers sanitise; this keeps the fit total even when called directly
       *flags |= kFitNonFinite;
@@ -94,21 +94,32 @@ void iz_along_normal(const IrradiancePoly p[3], double iz[3], uint8_t* flags, bo
   }
 }
 
+// E(z), the irradiance along the normal, per channel.
+void irradiance_along_z(const IrradiancePoly p[3], double ez[3]) {
+  for (int c = 0; c < 3; ++c) ez[c] = p[c].e0 + p[c].e[2] + p[c].q[2][2];
+}
+
 }  // namespace
 
-AhdFit fit_texel_constant(const IrradiancePoly p[3], const FitOptions& opt) {
+AhdFit fit_constant_irradiance(const double ez[3], const FitOptions& opt) {
   AhdFit out{};
   out.d[2] = 1.0f;
   for (int c = 0; c < 3; ++c) out.ratio[c] = 1.0f;
   out.flags = kFitNoDirection;
   double iz[3];
   bool negative;
-  iz_along_normal(p, iz, &out.flags, &negative);
+  usable_iz(ez, iz, &out.flags, &negative);
   for (int c = 0; c < 3; ++c) out.iz[c] = float(iz[c]);
   const double lum_iz = opt.luma[0] * iz[0] + opt.luma[1] * iz[1] + opt.luma[2] * iz[2];
   if (!(lum_iz > 0.0)) out.flags |= kFitBlack;
   if (negative) out.flags |= kFitNegativeIz;
   return out;
+}
+
+AhdFit fit_texel_constant(const IrradiancePoly p[3], const FitOptions& opt) {
+  double ez[3];
+  irradiance_along_z(p, ez);
+  return fit_constant_irradiance(ez, opt);
 }
 
 AhdFit fit_texel(const IrradiancePoly p[3], const FitOptions& opt) {
@@ -120,9 +131,10 @@ AhdFit fit_texel(const IrradiancePoly p[3], const FitOptions& opt) {
   uint8_t flags = directional ? 0 : kFitNoDirection;
   // Decoding divides by d_z: grazing / below-horizon directions are tilted up (ahd_decode.h).
   if (tilt_above_horizon(d, opt.dz_min)) flags |= kFitDirClamped;
-  double iz[3];
+  double ez[3], iz[3];
   bool negative;
-  iz_along_normal(p, iz, &flags, &negative);
+  irradiance_along_z(p, ez);
+  usable_iz(ez, iz, &flags, &negative);
   // Refinement keeps d_z ≥ dz_min itself; kFitDirClamped still says whether the linear d needed it.
   if (directional && opt.direction_fit == DirectionFit::Refined) refine_direction(p, iz, opt, d);
   AhdFit colours = fit_colours(p, d, iz, opt);

@@ -90,6 +90,9 @@ AhdFit fit_texel(const IrradiancePoly p[3], const FitOptions& opt);
 // I_z = E(z) (non-finite or negative → 0, flagged), d = z, ratio = 1, flag kFitNoDirection.
 AhdFit fit_texel_constant(const IrradiancePoly p[3], const FitOptions& opt);
 
+// The same from E(z) per channel (ez: the irradiance along the normal, any value).
+AhdFit fit_constant_irradiance(const double ez[3], const FitOptions& opt);
+
 // The unconstrained least-squares fit over the hemisphere (Sloan 2008 style) with the same d:
 // free C_a, C_d minimising E; may be negative and does not preserve I_z. For comparison only.
 void fit_channel_unconstrained(const HemisphereMoments& m, double* ca, double* cd);

@@ -41,12 +41,21 @@ ImageF fit_ambient_iz(const ShImage& sh, const FitOptions& opt, int threads, Fit
   };
   std::vector<RowCounts> rows(size_t(sh.height));
   const size_t w = size_t(sh.width);
+  const bool world = !sh.normals.empty();
   parallel_for(size_t(sh.height), threads, 8, [&](size_t y) {
     RowCounts& n = rows[y];
     for (size_t i = y * w; i < (y + 1) * w; ++i) {
-      IrradiancePoly p[3];
-      local_polys(sh, i, p);
-      const AhdFit f = fit_texel_constant(p, opt);
+      AhdFit f;
+      if (world) {  // rotated zeros may be −0 and decide the sign of a zero I_z: the general route
+        IrradiancePoly p[3];
+        local_polys(sh, i, p);
+        f = fit_texel_constant(p, opt);
+      } else {
+        // E(z) = e0 + e_z + q_zz with e_z = q_zz = +0 (which also turns −0 into +0).
+        const float* t = sh.texel(i);
+        const double ez[3] = {l0_irradiance(t[0]) + 0.0, l0_irradiance(t[1]) + 0.0, l0_irradiance(t[2]) + 0.0};
+        f = fit_constant_irradiance(ez, opt);
+      }
       for (int c = 0; c < 3; ++c) iz.data[i * 3 + size_t(c)] = f.iz[c];
       if (!sh.coverage[i]) continue;
       n.covered++;

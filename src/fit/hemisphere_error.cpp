@@ -73,7 +73,10 @@ TexelError texel_error(const ShImage& sh, size_t i, const AhdLobe& l, const doub
   IrradiancePoly p[3];
   local_polys(sh, i, p);
   double se = 0, sl = 0, lum_sum = 0;
-  for (int k = 0; k < directions; ++k) {
+  // An L0 texel (plain lightmaps) against a pure ambient lobe: both are the same for every
+  // direction, so one direction stands for all and its terms are counted `directions` times.
+  const bool constant = sh.coeffs == 1 && l.cd[0] == 0 && l.cd[1] == 0 && l.cd[2] == 0;
+  for (int k = 0; k < (constant ? 1 : directions); ++k) {
     double got[3], ref[3];
     evaluate_both(p, l, &dirs[size_t(k) * 3], got, ref);
     for (int c = 0; c < 3; ++c) {
@@ -84,6 +87,7 @@ TexelError texel_error(const ShImage& sh, size_t i, const AhdLobe& l, const doub
       lum_sum += kLuma[c] * ref[c];
     }
   }
+  if (constant) se *= directions, sl *= directions, lum_sum *= directions;
   TexelError e;
   e.rmse = std::sqrt(se / (3.0 * directions));
   e.rel = texel_relative(se, lum_sum, directions);

@@ -6,9 +6,18 @@
 
 namespace ahd {
 
+namespace {
+
+std::string plane_file_name_of_digest(const std::string& name, const std::string& plane, const std::string& ext,
+                                      const std::string& sha256) {
+  return name + "." + plane + "." + sha256.substr(0, 12) + "." + ext;
+}
+
+}  // namespace
+
 std::string plane_file_name(const std::string& name, const std::string& plane, const std::string& ext,
                             const std::vector<uint8_t>& bytes) {
-  return name + "." + plane + "." + sha256_hex(bytes.data(), bytes.size()).substr(0, 12) + "." + ext;
+  return plane_file_name_of_digest(name, plane, ext, sha256_hex(bytes.data(), bytes.size()));
 }
 
 const char* container_extension(ContainerKind kind) { return kind == ContainerKind::KTX2 ? "ktx2" : "dds"; }
@@ -33,7 +42,8 @@ PackagedConversion package_conversion(ConvertResult& r, const Profile& profile, 
     if (opt.plane_metadata) p.texture.metadata = plane_metadata(m, p.name);
     else p.texture.metadata.clear();
     std::vector<uint8_t> bytes = encode_container(opt.container, p.texture, opt.zstd);
-    const std::string file = plane_file_name(opt.name, p.name, ext, bytes);
+    const std::string sha256 = sha256_hex(bytes.data(), bytes.size());  // once: the name and the manifest
+    const std::string file = plane_file_name_of_digest(opt.name, p.name, ext, sha256);
     out.files.push_back({file, std::move(bytes)});
     ManifestPlane mp;
     mp.name = p.name;
@@ -44,7 +54,7 @@ PackagedConversion package_conversion(ConvertResult& r, const Profile& profile, 
     mp.levels = uint32_t(p.texture.levels.size());
     mp.layers = p.texture.layers;
     mp.bytes = out.files.back().bytes.size();
-    mp.sha256 = sha256_hex(out.files.back().bytes.data(), out.files.back().bytes.size());
+    mp.sha256 = sha256;
     m.planes.push_back(mp);
   }
   const std::string manifest_text = manifest_to_json(m);

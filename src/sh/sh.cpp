@@ -20,7 +20,7 @@ void sh_basis(double x, double y, double z, int count, double* out) {
 IrradiancePoly irradiance_poly(const float* sh, int count, int stride) {
   IrradiancePoly p;
   auto c = [&](int k) { return double(sh[k * stride]); };
-  p.e0 = kA0 * kY00 * c(0);
+  p.e0 = l0_irradiance(c(0));
   if (count >= 4) {  // L0 images (plain lightmaps) have no L1: e stays 0
     p.e[0] = kA1 * kY1 * c(3);
     p.e[1] = kA1 * kY1 * c(1);

@@ -46,6 +46,10 @@ struct IrradiancePoly {
   double q[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
 };
 
+// The constant part of the irradiance from the L0 coefficient c0: IrradiancePoly::e0 of an L0 or
+// L1 texel (an L0 texel's irradiance for every normal).
+inline double l0_irradiance(double c0) { return kA0 * kY00 * c0; }
+
 // Converts `count` (4 or 9) radiance-SH coefficients of one channel, read at stride `stride`
 // (coeff k at sh[k * stride]), into the irradiance polynomial.
 IrradiancePoly irradiance_poly(const float* sh, int count, int stride);
