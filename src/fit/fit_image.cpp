@@ -32,48 +32,45 @@ AhdImage fit_image(const ShImage& sh, const FitOptions& opt, int threads, FitSta
   return out;
 }
 
-ImageF fit_ambient_iz(const ShImage& sh, const FitOptions& opt, int threads, FitStats* stats) {
-  if (sh.coeffs != 1) throw Error("fit_ambient_iz: needs an L0 image (1 coefficient)");
-  ImageF iz(sh.width, sh.height, 3);
+AhdFit fit_ambient_texel(const ShImage& sh, size_t i, const FitOptions& opt) {
+  if (!sh.normals.empty()) {  // rotated zeros may be −0 and decide the sign of a zero I_z: the general route
+    IrradiancePoly p[3];
+    local_polys(sh, i, p);
+    return fit_texel_constant(p, opt);
+  }
+  // E(z) = e0 + e_z + q_zz with e_z = q_zz = +0 (which also turns −0 into +0).
+  const float* t = sh.texel(i);
+  const double ez[3] = {l0_irradiance(t[0]) + 0.0, l0_irradiance(t[1]) + 0.0, l0_irradiance(t[2]) + 0.0};
+  return fit_constant_irradiance(ez, opt);
+}
+
+FitStats ambient_fit_stats(const ShImage& sh, const FitOptions& opt, int threads) {
+  if (sh.coeffs != 1) throw Error("ambient_fit_stats: needs an L0 image (1 coefficient)");
   // The rules' counts per row, summed in row order after (no shared counters between threads).
   struct RowCounts {
     size_t covered = 0, negative = 0, black = 0;
   };
   std::vector<RowCounts> rows(size_t(sh.height));
   const size_t w = size_t(sh.width);
-  const bool world = !sh.normals.empty();
   parallel_for(size_t(sh.height), threads, 8, [&](size_t y) {
     RowCounts& n = rows[y];
     for (size_t i = y * w; i < (y + 1) * w; ++i) {
-      AhdFit f;
-      if (world) {  // rotated zeros may be −0 and decide the sign of a zero I_z: the general route
-        IrradiancePoly p[3];
-        local_polys(sh, i, p);
-        f = fit_texel_constant(p, opt);
-      } else {
-        // E(z) = e0 + e_z + q_zz with e_z = q_zz = +0 (which also turns −0 into +0).
-        const float* t = sh.texel(i);
-        const double ez[3] = {l0_irradiance(t[0]) + 0.0, l0_irradiance(t[1]) + 0.0, l0_irradiance(t[2]) + 0.0};
-        f = fit_constant_irradiance(ez, opt);
-      }
-      for (int c = 0; c < 3; ++c) iz.data[i * 3 + size_t(c)] = f.iz[c];
       if (!sh.coverage[i]) continue;
+      const AhdFit f = fit_ambient_texel(sh, i, opt);
       n.covered++;
       n.negative += (f.flags & kFitNegativeIz) != 0;
       n.black += (f.flags & kFitBlack) != 0;
     }
   });
-  if (stats) {
-    *stats = FitStats{};
-    stats->texels = sh.texels();
-    for (const RowCounts& n : rows) {
-      stats->covered += n.covered;
-      stats->negative_iz += n.negative;
-      stats->black += n.black;
-    }
-    stats->no_direction = stats->covered;
+  FitStats stats;
+  stats.texels = sh.texels();
+  for (const RowCounts& n : rows) {
+    stats.covered += n.covered;
+    stats.negative_iz += n.negative;
+    stats.black += n.black;
   }
-  return iz;
+  stats.no_direction = stats.covered;
+  return stats;
 }
 
 }  // namespace ahd

@@ -4,7 +4,6 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/image.h"
 #include "fit/ahd_fit.h"
 #include "sh/sh_image.h"
 
@@ -27,20 +26,28 @@ struct FitStats {
   size_t black = 0;
 };
 
+// The fit of texel i of an L0 image (plain lightmaps: sh.coeffs == 1), bit for bit fit_image's:
+// every texel's fit is the pure ambient lobe (fit_texel_constant: d = z, ratio = 1).
+AhdFit fit_ambient_texel(const ShImage& sh, size_t i, const FitOptions& opt);
+
 // One mip level after the fit stage: the SH it was fitted from and the fitted (dilated) AHD.
 // The quantiser needs both: the closed loop refits the ratio against the SH.
+// An ambient-only level (an L0 image's: mips.h fit_ambient_level) stores no fit: a covered
+// texel's is computed from its SH when asked (fit_ambient_texel), and an uncovered texel's SH slot
+// (used by nothing else: filtering and measures read covered texels only) holds its dilated I_z.
 struct FittedLevel {
   ShImage sh;
   AhdImage ahd;  // the fitted texels; empty in an ambient-only level
-  ImageF iz;     // an ambient-only level's fit (an L0 image's: mips.h fit_ambient_level): I_z alone
 };
 
-// Texel i's fit, whichever form the level holds (ambient-only: d = z, ratio = 1, flags 0).
+// Texel i's fit, whichever form the level holds (ambient-only: d = z, ratio = 1, flags 0 where
+// dilated).
 inline AhdFit fitted_texel(const FittedLevel& l, size_t i) {
   if (!l.ahd.texels.empty()) return l.ahd.texels[i];
+  if (l.sh.coverage[i]) return fit_ambient_texel(l.sh, i, FitOptions{});  // I_z, d, ratio need no options
   AhdFit f{};
   for (int c = 0; c < 3; ++c) {
-    f.iz[c] = l.iz.data[i * 3 + size_t(c)];
+    f.iz[c] = l.sh.texel(i)[c];
     f.ratio[c] = 1.0f;
   }
   f.d[2] = 1.0f;
@@ -50,10 +57,8 @@ inline AhdFit fitted_texel(const FittedLevel& l, size_t i) {
 // Fits every texel (uncovered ones too; their values are replaced by dilation later).
 AhdImage fit_image(const ShImage& sh, const FitOptions& opt, int threads, FitStats* stats = nullptr);
 
-// The fit of an L0 image (plain lightmaps: sh.coeffs == 1) as its I_z plane alone: every texel's
-// fit is the pure ambient lobe (fit_texel_constant: d = z, ratio = 1), so the 3-channel plane holds
-// bit for bit the iz that fit_image's texels would, in 12 bytes a texel instead of 40. stats as
-// fit_image (every covered texel counts as "no direction"). Throws ahd::Error when sh.coeffs != 1.
-ImageF fit_ambient_iz(const ShImage& sh, const FitOptions& opt, int threads, FitStats* stats = nullptr);
+// fit_image's counts for an L0 image, whose fit is never stored (every covered texel counts as
+// "no direction"). Throws ahd::Error when sh.coeffs != 1.
+FitStats ambient_fit_stats(const ShImage& sh, const FitOptions& opt, int threads);
 
 }  // namespace ahd

@@ -42,6 +42,12 @@ void dilate(ImageF& plane, const std::vector<uint8_t>& coverage, int threads, Di
 // encoding, and the 3-vector mean is encoding-independent.
 void dilate_ahd(AhdImage& img, double dz_min, int threads, DilateStats* stats = nullptr);
 
+// The dilation of an L0 image's fit (fit_image.h, ambient-only levels) without a plane of it: the
+// covered texels' I_z are computed from their SH (fit_ambient_texel), and each uncovered texel's
+// dilated I_z (as dilate_ahd gives it: filled, then clamped at 0) is written into its own SH slot.
+// Throws ahd::Error on a malformed image or one with L1/L2 coefficients.
+void dilate_ambient(ShImage& sh, int threads, DilateStats* stats = nullptr);
+
 // The optional coverage plane for engines that want it: R8, 255 = covered, 0 = not.
 Image8 coverage_plane(int width, int height, const std::vector<uint8_t>& coverage);
 

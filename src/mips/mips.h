@@ -86,8 +86,8 @@ FittedLevel fit_level(ShImage&& sh, const FitOptions& opt, int threads, FitStats
                       DilateStats* dilate_stats = nullptr);
 
 // fit_level for an L0 image (sh.coeffs == 1, plain lightmaps), whose fit is the pure ambient lobe
-// everywhere: the result holds I_z alone (FittedLevel::iz; ahd left empty), bit for bit the iz of
-// fit_level's texels, in 12 bytes a texel instead of 40. Throws ahd::Error on a malformed image
+// everywhere: an ambient-only level (fit_image.h FittedLevel) that stores no fit at all — its
+// texels' fits (fitted_texel) are bit for bit fit_level's. Throws ahd::Error on a malformed image
 // or one with L1/L2 coefficients.
 FittedLevel fit_ambient_level(ShImage&& sh, const FitOptions& opt, int threads, FitStats* stats = nullptr,
                               DilateStats* dilate_stats = nullptr);

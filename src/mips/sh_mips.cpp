@@ -190,16 +190,10 @@ FittedLevel fit_level(ShImage&& sh, const FitOptions& opt, int threads, FitStats
 FittedLevel fit_ambient_level(ShImage&& sh, const FitOptions& opt, int threads, FitStats* stats,
                               DilateStats* dilate_stats) {
   check_image(sh);
-  FittedLevel l;
-  l.iz = fit_ambient_iz(sh, opt, threads, stats);
-  // dilate_ahd's rule for I_z: each channel is filled on its own, then clamped at 0.
-  dilate(l.iz, sh.coverage, threads, dilate_stats);
-  parallel_for(sh.texels(), threads, 4096, [&](size_t i) {
-    if (sh.coverage[i]) return;
-    for (int c = 0; c < 3; ++c) l.iz.data[i * 3 + size_t(c)] = std::max(0.0f, l.iz.data[i * 3 + size_t(c)]);
-  });
-  l.sh = std::move(sh);
-  return l;
+  if (sh.coeffs != 1) throw Error("fit_ambient_level: needs an L0 image (1 coefficient)");
+  if (stats) *stats = ambient_fit_stats(sh, opt, threads);
+  dilate_ambient(sh, threads, dilate_stats);
+  return {std::move(sh), AhdImage()};
 }
 
 std::vector<FittedLevel> fit_mip_chain(const ShImage& level0, const FitOptions& opt, int max_levels, int threads,

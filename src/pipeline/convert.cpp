@@ -117,12 +117,9 @@ LevelPlanes quantise_level(const FittedLevel& lv, const Profile& profile, const 
   // I_z: a float copy of one band of rows at a time, never of the whole level.
   out.iz = encode_banded(profile.iz, w, h, 3, codec, stats, [&](int y0, ImageF& band) {
     const size_t first = size_t(y0) * size_t(w);
-    if (lv.ahd.texels.empty()) {  // an ambient-only level holds the plane already
-      std::copy_n(lv.iz.data.begin() + std::ptrdiff_t(first * 3), band.data.size(), band.data.begin());
-      return;
-    }
     parallel_for(band.texels(), opt.threads, 4096, [&](size_t j) {
-      for (int c = 0; c < 3; ++c) band.data[j * 3 + c] = lv.ahd.texels[first + j].iz[c];
+      const AhdFit f = fitted_texel(lv, first + j);
+      for (int c = 0; c < 3; ++c) band.data[j * 3 + c] = f.iz[c];
     });
   });
   if (!directional) return out;
@@ -441,8 +438,8 @@ ConvertResult convert(ShImage&& sh, const Profile& profile, const ConvertOptions
     auto t0 = Clock::now();
     FitStats fs;
     DilateStats ds;
-    // L0 images (plain lightmaps) are fitted as their I_z plane alone: the fit is the pure
-    // ambient lobe at every texel, and 12 bytes a texel instead of 40 is most of their memory.
+    // L0 images (plain lightmaps) store no fit: it is the pure ambient lobe at every texel,
+    // computed from the SH where needed (40 bytes a texel would be most of their memory).
     FittedLevel level = next.coeffs == 1 ? fit_ambient_level(std::move(next), opt.fit, opt.threads, &fs, &ds)
                                          : fit_level(std::move(next), opt.fit, opt.threads, &fs, &ds);
     r.dilate_stats.push_back(ds);
@@ -456,7 +453,6 @@ ConvertResult convert(ShImage&& sh, const Profile& profile, const ConvertOptions
     }
     chain.add(level);
     level.ahd = AhdImage();  // the fit is done with before the next level is filtered
-    level.iz = ImageF();
     t0 = Clock::now();
     if (l + 1 < levels) next = downsample_sh(level.sh, opt.threads);
     fit += seconds_since(t0);
