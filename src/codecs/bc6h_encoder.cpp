@@ -542,42 +542,47 @@ void polish(const Block& b, Candidate& best, int rounds) {
   const float* L = log_table();
   const int ends = mi.regions * 2;
   const int maxv = (1 << mi.epb) - 1;  // UF16 only
-  int wt[16], reg[16];
-  for (int t = 0; t < 16; ++t) wt[t] = weights[best.idx[t]], reg[t] = (mask >> t) & 1;
+  int wa[16], wb[16], reg[16];
+  for (int t = 0; t < 16; ++t) wb[t] = weights[best.idx[t]], wa[t] = 64 - wb[t], reg[t] = 2 * ((mask >> t) & 1);
   Candidate c = best;
   bool moved = false;
   for (int ch = 0; ch < 3; ++ch) {
-    // The judged error of channel ch for the current components; +inf when a texel leaves the range.
-    auto channel_error = [&](const int e[4][3]) {
-      int u[4];
-      for (int k = 0; k < ends; ++k) u[k] = unquantize(e[k][ch], mi.epb, false);
+    float target[16];
+    for (int t = 0; t < 16; ++t) target[t] = b.L[t][ch];
+    const int cap = b.cap[ch];
+    // The judged error of channel ch for unquantised components u; +inf when a texel leaves the range.
+    auto channel_error = [&](const int u[4]) {
       float total = 0;
+      int hmax = 0;
       for (int t = 0; t < 16; ++t) {
-        const int h = decoded_h(interpolate(u[2 * reg[t]], u[2 * reg[t] + 1], wt[t]), false);
-        if (h > b.cap[ch]) return std::numeric_limits<float>::infinity();
-        const float d = L[h] - b.L[t][ch];
+        const int h = (((u[reg[t]] * wa[t] + u[reg[t] + 1] * wb[t] + 32) >> 6) * 31) >> 6;
+        hmax = std::max(hmax, h);
+        const float d = L[h] - target[t];
         total += b.valid[t] * d * d;
       }
-      return total;
+      return hmax > cap ? std::numeric_limits<float>::infinity() : total;
     };
-    float cur = channel_error(c.e);
+    int u[4] = {};
+    for (int k = 0; k < ends; ++k) u[k] = unquantize(c.e[k][ch], mi.epb, false);
+    float cur = channel_error(u);
+    const int dlo = mi.transformed ? -(1 << (mi.delta[ch] - 1)) : -maxv, dhi = mi.transformed ? -dlo - 1 : maxv;
     for (int round = 0; round < rounds; ++round) {
       bool step = false;
       for (int k = 0; k < ends; ++k)
         for (int d : {-1, 1}) {
           const int v = c.e[k][ch] + d;
           if (v < 0 || v > maxv) continue;
-          int e[4][3];
-          std::memcpy(e, c.e, sizeof e);
-          e[k][ch] = v;
-          if (mi.transformed) {  // every delta from endpoint 0 must still fit
-            const int lo = -(1 << (mi.delta[ch] - 1)), hi = (1 << (mi.delta[ch] - 1)) - 1;
-            bool fits = true;
-            for (int j = 1; j < ends; ++j) fits &= e[j][ch] - e[0][ch] >= lo && e[j][ch] - e[0][ch] <= hi;
-            if (!fits) continue;
+          bool fits = true;  // every delta from endpoint 0 must still fit
+          for (int j = 1; j < ends; ++j) {
+            const int dj = (j == k ? v : c.e[j][ch]) - (k == 0 ? v : c.e[0][ch]);
+            fits &= dj >= dlo && dj <= dhi;
           }
-          const float err = channel_error(e);
+          if (!fits) continue;
+          const int keep = u[k];
+          u[k] = unquantize(v, mi.epb, false);
+          const float err = channel_error(u);
           if (err < cur) cur = err, c.e[k][ch] = v, step = moved = true;
+          else u[k] = keep;
         }
       if (!step) break;
     }
@@ -672,7 +677,8 @@ void try_two_regions(const Block& b, int n_parts, int max_exact, int refine_top,
 constexpr float kFastGood = 3000.0f;
 constexpr double kTwoRegionWorth = 6e-3;
 constexpr double kTwoLineGain = 0.30;
-constexpr int kOneRegionPasses = 2, kPartitionsTried = 2, kTwoRegionPasses = 2, kPolishRounds = 2;
+constexpr double kNoiseBand[2] = {1.0 / 8192, 1.0 / 512}, kNoiseErr = 0.5;
+constexpr int kOneRegionPasses = 2, kPartitionsTried = 2, kTwoRegionPasses = 2, kPolishRounds = 1;
 
 Candidate search(const Block& b, Bc6hQuality q) {
   Candidate best = in_range_candidate(b);
@@ -715,6 +721,12 @@ void try_two_regions(const Block& b, int n_parts, int max_exact, int refine_top,
     all.add(per_texel[t], 1.0);
   }
   if (quick) {
+    // The cheap bound first: a block whose texels lie near one line but not on it (the off-line
+    // share of its variance within [kNoiseBand[0], kNoiseBand[1])) is noise along that line, which
+    // no partition's two lines explain; ranking them all is skipped.
+    const double trace = covariance_of(all).trace;
+    const double off_line = line_residual_quick(all);
+    if (best.err < kNoiseErr && off_line >= kNoiseBand[0] * trace && off_line < kNoiseBand[1] * trace) return;
     // Region 1's moments for all 32 partitions from the subset sums of the four rows of texels
     // (4 × 15 sums, then 3 additions per partition instead of one per texel).
     Moments rows[4][16];
