@@ -535,7 +535,7 @@ void refine(const Block& b, Candidate& best, int passes, bool perturb) {
 // instead of a whole evaluation. A step is kept when it lowers its channel's judged error and
 // every texel's decoded value stays inside the block's range (no specks); the deltas must still
 // fit. `best` is replaced only when the re-picked candidate is better, so the error never rises.
-void polish(const Block& b, Candidate& best, int rounds) {
+bool polish_steps(const Block& b, Candidate& best, int rounds) {
   const ModeInfo& mi = mode(best.mode);
   const uint16_t mask = mi.regions == 2 ? kPartitions[best.partition] : 0;
   const uint8_t* weights = mi.index_bits == 3 ? kWeights3 : kWeights4;
@@ -562,7 +562,7 @@ void polish(const Block& b, Candidate& best, int rounds) {
     q.n += 1;
     for (int c = 0; c < 3; ++c) q.S[c] += b.L[t][c];
   }
-  Candidate c = best;
+  Candidate& c = best;
   bool moved = false;
   for (int ch = 0; ch < 3; ++ch) {
     const int cap = b.cap[ch];
@@ -604,7 +604,13 @@ void polish(const Block& b, Candidate& best, int rounds) {
       if (!step) break;
     }
   }
-  if (!moved) return;
+  return moved;
+}
+
+// polish_steps on a copy of `best`, then the indices re-picked; kept only when better.
+void polish(const Block& b, Candidate& best, int rounds) {
+  Candidate c = best;
+  if (!polish_steps(b, c, rounds)) return;
   evaluate(b, c);
   fix_anchors(b, c);
   if (c.err < best.err) best = c;
@@ -838,24 +844,17 @@ inline float apply_input_rule(float v, bool is_signed, size_t* counts) {
 
 // The search's view of a block of ruled values.
 // `half`, when given, holds the values' half bits (UF16: the fast fit's conversion, reused).
-void fill_block(const float rgb[48], const uint8_t valid[16], bool is_signed, Block& b, const uint16_t* half = nullptr) {
+// The search's targets of a block of ruled values: half bits, the metric's targets, the range.
+// `half`, when given, holds the values' half bits (UF16: the fast fit's conversion, reused).
+void fill_targets(const float rgb[48], const uint8_t valid[16], bool is_signed, Block& b, const uint16_t* half = nullptr) {
   b.is_signed = is_signed;
   const float* L = log_table();
   for (int t = 0; t < 16; ++t) {
-    double tw = 0;
     b.valid[t] = valid[t] ? 1.0f : 0.0f;
     for (int c = 0; c < 3; ++c) {
-      const float v = rgb[t * 3 + c];
-      b.h[t][c] = half ? int(half[t * 3 + c]) : half_signed_int(v);
+      b.h[t][c] = half ? int(half[t * 3 + c]) : half_signed_int(rgb[t * 3 + c]);
       b.L[t][c] = L[half_bits_of(b.h[t][c])];
-      b.q[t][c] = is_signed ? b.h[t][c] * 32.0 / 31.0 : b.h[t][c] * 64.0 / 31.0;
-      // Geometry weight: the slope of log2(1+x) per half step, floored at x = 0.25 so that dark
-      // texels still pull the endpoints (their errors are large ones, where the slope lies).
-      const double x = std::max(double(std::fabs(v)), 0.25);
-      b.w[t][c] = valid[t] ? (x / (1 + x)) * (x / (1 + x)) : 0.0;
-      tw += b.w[t][c];
     }
-    b.tw[t] = valid[t] ? tw / 3 + 1e-12 : 0.0;
   }
 
   // No decoded value may exceed its channel's brightest input in the block by more than one
@@ -869,9 +868,28 @@ void fill_block(const float rgb[48], const uint8_t valid[16], bool is_signed, Bl
   }
 }
 
+// The search's geometry (after fill_targets): c-domain values and least-squares weights, which
+// the principal axes, the partition ranking and the least squares use.
+void fill_geometry(const float rgb[48], const uint8_t valid[16], Block& b) {
+  for (int t = 0; t < 16; ++t) {
+    double tw = 0;
+    for (int c = 0; c < 3; ++c) {
+      const float v = rgb[t * 3 + c];
+      b.q[t][c] = b.is_signed ? b.h[t][c] * 32.0 / 31.0 : b.h[t][c] * 64.0 / 31.0;
+      // Geometry weight: the slope of log2(1+x) per half step, floored at x = 0.25 so that dark
+      // texels still pull the endpoints (their errors are large ones, where the slope lies).
+      const double x = std::max(double(std::fabs(v)), 0.25);
+      b.w[t][c] = valid[t] ? (x / (1 + x)) * (x / (1 + x)) : 0.0;
+      tw += b.w[t][c];
+    }
+    b.tw[t] = valid[t] ? tw / 3 + 1e-12 : 0.0;
+  }
+}
+
 void encode_block_searched(const float rgb[48], const uint8_t valid[16], bool is_signed, Bc6hQuality q, uint8_t out[16]) {
   Block b;
-  fill_block(rgb, valid, is_signed, b);
+  fill_targets(rgb, valid, is_signed, b);
+  fill_geometry(rgb, valid, b);
   Candidate best = search(b, q);
   pack(best, is_signed, out);
 }
@@ -900,18 +918,25 @@ void encode_block_default(const uint16_t h[48], const float rgb[48], const uint8
     return;
   }
   Block b;
-  fill_block(rgb, valid, false, b, h);
+  fill_targets(rgb, valid, false, b, h);
   Candidate best;
   best.mode = fit.mode;
   std::memcpy(best.e, fit.e, sizeof fit.e);
   evaluate(b, best);  // inside the block's range by construction: never rejected
   fix_anchors(b, best);
   if (best.err >= 1e300) best = in_range_candidate(b);  // defensive: the bound holds regardless
-  refine(b, best, kOneRegionPasses, false);
-  if (best.err > kTwoRegionWorth)
-    try_two_regions(b, kPartitionsTried, /*max_exact=*/1, /*refine_top=*/1, kTwoRegionPasses, false, best, true);
   polish(b, best, kPolishRounds);
-  pack(best, false, out);
+  if (best.err > kTwoRegionWorth) {
+    fill_geometry(rgb, valid, b);
+    refine(b, best, kOneRegionPasses, false);
+    try_two_regions(b, kPartitionsTried, /*max_exact=*/1, /*refine_top=*/1, kTwoRegionPasses, false, best, true);
+    if (mode(best.mode).regions == 2) polish(b, best, kPolishRounds);
+  }
+  if (best.mode < 10) return pack(best, false, out);
+  fit.mode = best.mode;  // one region: the fast path's packing (anchor already fixed)
+  std::memcpy(fit.e, best.e, sizeof fit.e);
+  std::memcpy(fit.idx, best.idx, sizeof fit.idx);
+  pack_one_region(fit, out);
 }
 
 // A block whose values already follow the input rule: `fast` UF16 takes the real-time path
