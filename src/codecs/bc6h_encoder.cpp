@@ -744,12 +744,6 @@ void try_two_regions(const Block& b, int n_parts, int max_exact, int refine_top,
     all.add(per_texel[t], 1.0);
   }
   if (quick) {
-    // The cheap bound first: a block whose texels lie near one line but not on it (the off-line
-    // share of its variance within [kNoiseBand[0], kNoiseBand[1])) is noise along that line, which
-    // no partition's two lines explain; ranking them all is skipped.
-    const double trace = covariance_of(all).trace;
-    const double off_line = line_residual_quick(all);
-    if (best.err < kNoiseErr && off_line >= kNoiseBand[0] * trace && off_line < kNoiseBand[1] * trace) return;
     // Region 1's moments for all 32 partitions from the subset sums of the four rows of texels
     // (4 × 15 sums, then 3 additions per partition instead of one per texel).
     Moments rows[4][16];
@@ -894,6 +888,55 @@ void encode_block_searched(const float rgb[48], const uint8_t valid[16], bool is
   pack(best, is_signed, out);
 }
 
+// Quality `default`'s cheap bound before the partition ranking: true when the block's texels lie
+// near one line but not on it — the off-line share of their weighted variance (half-bit domain,
+// the geometry weights of fill_geometry) within [kNoiseBand[0], kNoiseBand[1]). That is noise
+// along the line, which no partition's two lines explain (on ../shared/data/bc6h no such block
+// gained from two regions on the noisy or hard image). Float, centred, plain loops (vectorised).
+bool noise_along_one_line(const float rgb[48], const Block& b) {
+  float tw[16], q[3][16];
+  for (int t = 0; t < 16; ++t) {
+    float sum = 0;
+    for (int c = 0; c < 3; ++c) {
+      const float x = std::max(rgb[t * 3 + c], 0.25f), s = x / (1.0f + x);
+      sum += s * s;
+      q[c][t] = float(b.h[t][c]);
+    }
+    tw[t] = b.valid[t] * sum;
+  }
+  float w = 0, m[3] = {0, 0, 0};
+  for (int t = 0; t < 16; ++t) w += tw[t];
+  for (int c = 0; c < 3; ++c) {
+    for (int t = 0; t < 16; ++t) m[c] += tw[t] * q[c][t];
+    m[c] /= w;
+    for (int t = 0; t < 16; ++t) q[c][t] -= m[c];
+  }
+  float xx = 0, yy = 0, zz = 0, xy = 0, xz = 0, yz = 0;
+  for (int t = 0; t < 16; ++t) {
+    xx += tw[t] * q[0][t] * q[0][t], yy += tw[t] * q[1][t] * q[1][t], zz += tw[t] * q[2][t] * q[2][t];
+    xy += tw[t] * q[0][t] * q[1][t], xz += tw[t] * q[0][t] * q[2][t], yz += tw[t] * q[1][t] * q[2][t];
+  }
+  const float trace = xx + yy + zz;
+  if (!(trace > 0)) return false;
+  // Two power steps from the column of largest variance, then the Rayleigh quotient (as
+  // line_residual_quick), scaled by 1/trace so that float cannot overflow.
+  float v[3] = {xx, xy, xz};
+  if (yy > xx && yy >= zz) v[0] = xy, v[1] = yy, v[2] = yz;
+  else if (zz > xx && zz > yy) v[0] = xz, v[1] = yz, v[2] = zz;
+  const float inv = 1.0f / trace;
+  for (int it = 0; it < 2; ++it) {
+    const float u0 = (xx * v[0] + xy * v[1] + xz * v[2]) * inv, u1 = (xy * v[0] + yy * v[1] + yz * v[2]) * inv,
+                u2 = (xz * v[0] + yz * v[1] + zz * v[2]) * inv;
+    v[0] = u0, v[1] = u1, v[2] = u2;
+  }
+  const float vv = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+  if (!(vv > 0)) return false;
+  const float lambda = (v[0] * (xx * v[0] + xy * v[1] + xz * v[2]) + v[1] * (xy * v[0] + yy * v[1] + yz * v[2]) +
+                        v[2] * (xz * v[0] + yz * v[1] + zz * v[2])) / vv;
+  const float off_line = trace - lambda;
+  return off_line >= float(kNoiseBand[0]) * trace && off_line < float(kNoiseBand[1]) * trace;
+}
+
 // Quality `default`, UF16: the real-time one-region fit (bc6h_fast.cpp) is the incumbent, and
 // the search runs only where it can pay:
 //  * a block whose fit error is at most kFastGood (weighted squared half steps, the fast path's
@@ -926,7 +969,7 @@ void encode_block_default(const uint16_t h[48], const float rgb[48], const uint8
   fix_anchors(b, best);
   if (best.err >= 1e300) best = in_range_candidate(b);  // defensive: the bound holds regardless
   polish(b, best, kPolishRounds);
-  if (best.err > kTwoRegionWorth) {
+  if (best.err > kTwoRegionWorth && !(best.err < kNoiseErr && noise_along_one_line(rgb, b))) {
     fill_geometry(rgb, valid, b);
     refine(b, best, kOneRegionPasses, false);
     try_two_regions(b, kPartitionsTried, /*max_exact=*/1, /*refine_top=*/1, kTwoRegionPasses, false, best, true);
