@@ -545,37 +545,36 @@ bool polish_steps(const Block& b, Candidate& best, int rounds) {
   // Texels sharing a region and an index decode to the same value v, so their error is
   // n·v² − 2·v·S + Q with n their count, S the sum of their targets and Q (constant here) the sum
   // of their squares: one palette lookup per group instead of one per texel.
-  struct Group {
-    int r, wa, wb;
-    double n, S[3];
-  } g[16];
-  int ng = 0, slot[32];
+  int ng = 0, slot[32], greg[16], gwa[16], gwb[16];
+  double gn[16] = {}, gS[3][16] = {};
   std::fill(slot, slot + 32, -1);
   for (int t = 0; t < 16; ++t) {
     if (!(b.valid[t] > 0)) continue;
     const int r = (mask >> t) & 1, key = r * 16 + best.idx[t];
     if (slot[key] < 0) {
       slot[key] = ng;
-      g[ng++] = {2 * r, 64 - weights[best.idx[t]], weights[best.idx[t]], 0, {0, 0, 0}};
+      greg[ng] = 2 * r, gwb[ng] = weights[best.idx[t]], gwa[ng] = 64 - gwb[ng];
+      ++ng;
     }
-    Group& q = g[slot[key]];
-    q.n += 1;
-    for (int c = 0; c < 3; ++c) q.S[c] += b.L[t][c];
+    const int i = slot[key];
+    gn[i] += 1;
+    for (int c = 0; c < 3; ++c) gS[c][i] += b.L[t][c];
   }
   Candidate& c = best;
   bool moved = false;
   for (int ch = 0; ch < 3; ++ch) {
     const int cap = b.cap[ch];
+    const double* S = gS[ch];
     // Channel ch's judged error, less its constant Q, for unquantised components u; +inf when a
     // decoded value leaves the block's range.
     auto channel_error = [&](const int u[4]) {
       double total = 0;
       int hmax = 0;
       for (int i = 0; i < ng; ++i) {
-        const int h = (((u[g[i].r] * g[i].wa + u[g[i].r + 1] * g[i].wb + 32) >> 6) * 31) >> 6;
+        const int h = (((u[greg[i]] * gwa[i] + u[greg[i] + 1] * gwb[i] + 32) >> 6) * 31) >> 6;
         hmax = std::max(hmax, h);
         const double v = L[h];
-        total += v * (g[i].n * v - 2 * g[i].S[ch]);
+        total += v * (gn[i] * v - 2 * S[i]);
       }
       return hmax > cap ? std::numeric_limits<double>::infinity() : total;
     };
@@ -583,25 +582,35 @@ bool polish_steps(const Block& b, Candidate& best, int rounds) {
     for (int k = 0; k < ends; ++k) u[k] = unquantize(c.e[k][ch], mi.epb, false);
     double cur = channel_error(u);
     const int dlo = mi.transformed ? -(1 << (mi.delta[ch] - 1)) : -maxv, dhi = mi.transformed ? -dlo - 1 : maxv;
-    for (int round = 0; round < rounds; ++round) {
-      bool step = false;
+    // Tries endpoint k's component one step in direction d; keeps it when the error drops.
+    auto step = [&](int k, int d) {
+      const int v = c.e[k][ch] + d;
+      if (v < 0 || v > maxv) return false;
+      for (int j = 1; j < ends; ++j) {  // every delta from endpoint 0 must still fit
+        const int dj = (j == k ? v : c.e[j][ch]) - (k == 0 ? v : c.e[0][ch]);
+        if (dj < dlo || dj > dhi) return false;
+      }
+      const int keep = u[k];
+      u[k] = unquantize(v, mi.epb, false);
+      const double err = channel_error(u);
+      if (!(err < cur)) {
+        u[k] = keep;
+        return false;
+      }
+      cur = err, c.e[k][ch] = v, moved = true;
+      return true;
+    };
+    // Both directions once per component, then further steps only where a step paid.
+    int dir[4] = {0, 0, 0, 0};
+    for (int k = 0; k < ends; ++k) dir[k] = step(k, -1) ? -1 : step(k, 1) ? 1 : 0;
+    for (int round = 1; round < rounds; ++round) {
+      bool any = false;
       for (int k = 0; k < ends; ++k)
-        for (int d : {-1, 1}) {
-          const int v = c.e[k][ch] + d;
-          if (v < 0 || v > maxv) continue;
-          bool fits = true;  // every delta from endpoint 0 must still fit
-          for (int j = 1; j < ends; ++j) {
-            const int dj = (j == k ? v : c.e[j][ch]) - (k == 0 ? v : c.e[0][ch]);
-            fits &= dj >= dlo && dj <= dhi;
-          }
-          if (!fits) continue;
-          const int keep = u[k];
-          u[k] = unquantize(v, mi.epb, false);
-          const double err = channel_error(u);
-          if (err < cur) cur = err, c.e[k][ch] = v, step = moved = true;
-          else u[k] = keep;
+        if (dir[k] != 0) {
+          if (!step(k, dir[k])) dir[k] = 0;
+          any |= dir[k] != 0;
         }
-      if (!step) break;
+      if (!any) break;
     }
   }
   return moved;
@@ -701,7 +710,7 @@ constexpr float kFastGood = 3000.0f;
 constexpr double kTwoRegionWorth = 6e-3;
 constexpr double kTwoLineGain = 0.30;
 constexpr double kNoiseBand[2] = {1.0 / 8192, 1.0 / 512}, kNoiseErr = 0.5;
-constexpr int kOneRegionPasses = 0, kPartitionsTried = 2, kTwoRegionPasses = 2, kPolishRounds = 2;
+constexpr int kOneRegionPasses = 0, kPartitionsTried = 2, kTwoRegionPasses = 2, kPolishRounds = 4;
 
 Candidate search(const Block& b, Bc6hQuality q) {
   Candidate best = in_range_candidate(b);
