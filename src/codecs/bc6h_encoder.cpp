@@ -535,7 +535,7 @@ void refine(const Block& b, Candidate& best, int passes, bool perturb) {
 // instead of a whole evaluation. A step is kept when it lowers its channel's judged error and
 // every texel's decoded value stays inside the block's range (no specks); the deltas must still
 // fit. `best` is replaced only when the re-picked candidate is better, so the error never rises.
-bool polish_steps(const Block& b, Candidate& best, int rounds) {
+bool polish_steps(const Block& b, Candidate& best, int rounds, double* gain = nullptr) {
   const ModeInfo& mi = mode(best.mode);
   const uint16_t mask = mi.regions == 2 ? kPartitions[best.partition] : 0;
   const uint8_t* weights = mi.index_bits == 3 ? kWeights3 : kWeights4;
@@ -581,6 +581,7 @@ bool polish_steps(const Block& b, Candidate& best, int rounds) {
     int u[4] = {};
     for (int k = 0; k < ends; ++k) u[k] = unquantize(c.e[k][ch], mi.epb, false);
     double cur = channel_error(u);
+    const double start = cur;
     const int dlo = mi.transformed ? -(1 << (mi.delta[ch] - 1)) : -maxv, dhi = mi.transformed ? -dlo - 1 : maxv;
     // Tries endpoint k's component one step in direction d; keeps it when the error drops.
     auto step = [&](int k, int d) {
@@ -612,6 +613,7 @@ bool polish_steps(const Block& b, Candidate& best, int rounds) {
         }
       if (!any) break;
     }
+    if (gain) *gain += start - cur;
   }
   return moved;
 }
@@ -977,8 +979,20 @@ void encode_block_default(const uint16_t h[48], const float rgb[48], const uint8
   evaluate(b, best);  // inside the block's range by construction: never rejected
   fix_anchors(b, best);
   if (best.err >= 1e300) best = in_range_candidate(b);  // defensive: the bound holds regardless
-  polish(b, best, kPolishRounds);
-  if (best.err > kTwoRegionWorth && !(best.err < kNoiseErr && noise_along_one_line(rgb, b))) {
+  // Polished with the indices held; the error follows from the per-channel gains.
+  Candidate held = best;
+  double gain = 0;
+  const bool moved = polish_steps(b, held, kPolishRounds, &gain);
+  held.err -= gain;
+  best = held;
+  if (held.err > kTwoRegionWorth && !(held.err < kNoiseErr && noise_along_one_line(rgb, b))) {
+    // A block that may need two regions: the polished endpoints' indices re-picked first.
+    if (moved) {
+      Candidate c = held;
+      evaluate(b, c);
+      fix_anchors(b, c);
+      if (c.err < best.err) best = c;
+    }
     fill_geometry(rgb, valid, b);
     refine(b, best, kOneRegionPasses, false);
     try_two_regions(b, kPartitionsTried, /*max_exact=*/1, /*refine_top=*/1, kTwoRegionPasses, false, best, true);
