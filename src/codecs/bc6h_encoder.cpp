@@ -604,6 +604,13 @@ bool polish_steps(const Block& b, Candidate& best, int rounds, double* gain = nu
     gn[i] += 1;
     for (int c = 0; c < 3; ++c) gS[c][i] += b.L[t][c];
   }
+  // The groups' weights and regions as float lanes (padding lanes repeat group 0, never summed).
+  alignas(16) float fwa[16], fwb[16], fr[16];
+  for (int i = 0; i < 16; ++i) {
+    const int j = i < ng ? i : 0;
+    fwa[i] = float(gwa[j]), fwb[i] = float(gwb[j]), fr[i] = float(greg[j] / 2);
+  }
+  [[maybe_unused]] const bool simd = !scalar_forced();
   Candidate& c = best;
   bool moved = false;
   for (int ch = 0; ch < 3; ++ch) {
@@ -612,12 +619,27 @@ bool polish_steps(const Block& b, Candidate& best, int rounds, double* gain = nu
     // Channel ch's judged error, less its constant Q, for unquantised components u; +inf when a
     // decoded value leaves the block's range.
     auto channel_error = [&](const int u[4]) {
+      alignas(16) int hv[16];
+#ifdef __SSE2__
+      if (simd) {  // the decoded values four groups at a time in exact float lanes (as evaluate_default)
+        const __m128 a0 = _mm_set1_ps(float(u[0])), b0 = _mm_set1_ps(float(u[1]));
+        const __m128 da = _mm_set1_ps(float(u[2] - u[0])), db = _mm_set1_ps(float(u[3] - u[1]));
+        const __m128 inv64 = _mm_set1_ps(1.0f / 64.0f), k31 = _mm_set1_ps(31.0f), k32 = _mm_set1_ps(32.0f);
+        for (int i = 0; i < ng; i += 4) {
+          const __m128 r = _mm_load_ps(&fr[i]);
+          const __m128 a = _mm_add_ps(a0, _mm_mul_ps(r, da)), bb = _mm_add_ps(b0, _mm_mul_ps(r, db));
+          const __m128 sum = _mm_add_ps(_mm_add_ps(_mm_mul_ps(a, _mm_load_ps(&fwa[i])), _mm_mul_ps(bb, _mm_load_ps(&fwb[i]))), k32);
+          const __m128 ci = _mm_cvtepi32_ps(_mm_cvttps_epi32(_mm_mul_ps(sum, inv64)));
+          _mm_store_si128(reinterpret_cast<__m128i*>(&hv[i]), _mm_cvttps_epi32(_mm_mul_ps(_mm_mul_ps(ci, k31), inv64)));
+        }
+      } else
+#endif
+        for (int i = 0; i < ng; ++i) hv[i] = (((u[greg[i]] * gwa[i] + u[greg[i] + 1] * gwb[i] + 32) >> 6) * 31) >> 6;
       double total = 0;
       int hmax = 0;
       for (int i = 0; i < ng; ++i) {
-        const int h = (((u[greg[i]] * gwa[i] + u[greg[i] + 1] * gwb[i] + 32) >> 6) * 31) >> 6;
-        hmax = std::max(hmax, h);
-        const double v = L[h];
+        hmax = std::max(hmax, hv[i]);
+        const double v = L[hv[i]];
         total += v * (gn[i] * v - 2 * S[i]);
       }
       return hmax > cap ? std::numeric_limits<double>::infinity() : total;
