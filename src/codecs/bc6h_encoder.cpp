@@ -777,8 +777,8 @@ void try_two_regions(const Block& b, int n_parts, int max_exact, int refine_top,
 constexpr float kFastGood = 3000.0f;
 constexpr double kTwoRegionWorth = 6e-3;
 constexpr double kTwoLineGain = 0.30;
-constexpr double kNoiseBand[2] = {1.0 / 8192, 1.0 / 512}, kNoiseErr = 0.5;
-constexpr int kOneRegionPasses = 0, kPartitionsTried = 2, kTwoRegionPasses = 2, kPolishRounds = 4;
+constexpr double kNoiseBand[2] = {1.0 / 8192, 1.0 / 256}, kNoiseErr = 0.5;
+constexpr int kOneRegionPasses = 2, kPartitionsTried = 2, kTwoRegionPasses = 2, kPolishRounds = 4;
 
 Candidate search(const Block& b, Bc6hQuality q) {
   Candidate best = in_range_candidate(b);
@@ -1062,7 +1062,7 @@ void encode_block_default(const uint16_t h[48], const float rgb[48], const uint8
     fill_geometry(rgb, valid, b);
     refine(b, best, kOneRegionPasses, false);
     try_two_regions(b, kPartitionsTried, /*max_exact=*/1, /*refine_top=*/1, kTwoRegionPasses, false, best, true);
-    if (mode(best.mode).regions == 2) polish(b, best, kPolishRounds);
+    polish(b, best, kPolishRounds);
   }
   if (best.mode < 10) return pack(best, false, out);
   fit.mode = best.mode;  // one region: the fast path's packing (anchor already fixed)
