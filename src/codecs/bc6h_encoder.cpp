@@ -586,10 +586,10 @@ bool polish_steps(const Block& b, Candidate& best, int rounds, double* gain = nu
   const int ends = mi.regions * 2;
   const int maxv = (1 << mi.epb) - 1;  // UF16 only
   // Texels sharing a region and an index decode to the same value v, so their error is
-  // n·v² − 2·v·S + Q with n their count, S the sum of their targets and Q (constant here) the sum
-  // of their squares: one palette lookup per group instead of one per texel.
+  // n·(v − m)² plus a constant, with n their count and m the mean of their targets: one palette
+  // lookup per group instead of one per texel, and no cancellation in float.
   int ng = 0, slot[32], greg[16], gwa[16], gwb[16];
-  double gn[16], gS[3][16];
+  alignas(16) float gn[16], gm[3][16];
   std::fill(slot, slot + 32, -1);
   for (int t = 0; t < 16; ++t) {
     if (!(b.valid[t] > 0)) continue;
@@ -597,57 +597,72 @@ bool polish_steps(const Block& b, Candidate& best, int rounds, double* gain = nu
     if (slot[key] < 0) {
       slot[key] = ng;
       greg[ng] = 2 * r, gwb[ng] = weights[best.idx[t]], gwa[ng] = 64 - gwb[ng];
-      gn[ng] = 0, gS[0][ng] = gS[1][ng] = gS[2][ng] = 0;
+      gn[ng] = 0, gm[0][ng] = gm[1][ng] = gm[2][ng] = 0;
       ++ng;
     }
     const int i = slot[key];
     gn[i] += 1;
-    for (int c = 0; c < 3; ++c) gS[c][i] += b.L[t][c];
+    for (int c = 0; c < 3; ++c) gm[c][i] += b.L[t][c];
   }
-  // The groups' weights and regions as float lanes (padding lanes repeat group 0, never summed).
+  // Group means; padding up to a multiple of four repeats group 0 with no weight (adds 0).
+  const int ng4 = (ng + 3) & ~3;
+  for (int i = 0; i < ng4; ++i) {
+    if (i >= ng) {
+      greg[i] = greg[0], gwa[i] = gwa[0], gwb[i] = gwb[0], gn[i] = 0;
+      for (auto& m : gm) m[i] = 0;
+      continue;
+    }
+    for (auto& m : gm) m[i] /= gn[i];
+  }
+  // The groups' weights and regions as float lanes.
   alignas(16) float fwa[16], fwb[16], fr[16];
-  for (int i = 0; i < 16; ++i) {
-    const int j = i < ng ? i : 0;
-    fwa[i] = float(gwa[j]), fwb[i] = float(gwb[j]), fr[i] = float(greg[j] / 2);
-  }
+  for (int i = 0; i < ng4; ++i) fwa[i] = float(gwa[i]), fwb[i] = float(gwb[i]), fr[i] = float(greg[i] / 2);
   [[maybe_unused]] const bool simd = !scalar_forced();
   Candidate& c = best;
   bool moved = false;
   for (int ch = 0; ch < 3; ++ch) {
     const int cap = b.cap[ch];
-    const double* S = gS[ch];
     // Channel ch's judged error, less its constant Q, for unquantised components u; +inf when a
     // decoded value leaves the block's range.
     auto channel_error = [&](const int u[4]) {
-      alignas(16) int hv[16];
+      alignas(16) float part[4] = {0, 0, 0, 0};
+      bool over = false;
 #ifdef __SSE2__
-      if (simd) {  // the decoded values four groups at a time in exact float lanes (as evaluate_default)
+      if (simd) {  // four groups at a time; the decoded values in exact float lanes (as evaluate_default)
         const __m128 a0 = _mm_set1_ps(float(u[0])), b0 = _mm_set1_ps(float(u[1]));
         const __m128 da = _mm_set1_ps(float(u[2] - u[0])), db = _mm_set1_ps(float(u[3] - u[1]));
         const __m128 inv64 = _mm_set1_ps(1.0f / 64.0f), k31 = _mm_set1_ps(31.0f), k32 = _mm_set1_ps(32.0f);
+        const __m128i capv = _mm_set1_epi32(cap);
+        __m128 acc = _mm_setzero_ps();
+        __m128i out = _mm_setzero_si128();
+        alignas(16) int hv[4];
         for (int i = 0; i < ng; i += 4) {
           const __m128 r = _mm_load_ps(&fr[i]);
           const __m128 a = _mm_add_ps(a0, _mm_mul_ps(r, da)), bb = _mm_add_ps(b0, _mm_mul_ps(r, db));
           const __m128 sum = _mm_add_ps(_mm_add_ps(_mm_mul_ps(a, _mm_load_ps(&fwa[i])), _mm_mul_ps(bb, _mm_load_ps(&fwb[i]))), k32);
           const __m128 ci = _mm_cvtepi32_ps(_mm_cvttps_epi32(_mm_mul_ps(sum, inv64)));
-          _mm_store_si128(reinterpret_cast<__m128i*>(&hv[i]), _mm_cvttps_epi32(_mm_mul_ps(_mm_mul_ps(ci, k31), inv64)));
+          const __m128i h = _mm_cvttps_epi32(_mm_mul_ps(_mm_mul_ps(ci, k31), inv64));
+          out = _mm_or_si128(out, _mm_cmpgt_epi32(h, capv));
+          _mm_store_si128(reinterpret_cast<__m128i*>(hv), h);
+          const __m128 d = _mm_sub_ps(_mm_setr_ps(L[hv[0]], L[hv[1]], L[hv[2]], L[hv[3]]), _mm_load_ps(&gm[ch][i]));
+          acc = _mm_add_ps(acc, _mm_mul_ps(_mm_mul_ps(_mm_load_ps(&gn[i]), d), d));
         }
+        _mm_store_ps(part, acc);
+        over = _mm_movemask_epi8(out) != 0;
       } else
 #endif
-        for (int i = 0; i < ng; ++i) hv[i] = (((u[greg[i]] * gwa[i] + u[greg[i] + 1] * gwb[i] + 32) >> 6) * 31) >> 6;
-      double total = 0;
-      int hmax = 0;
-      for (int i = 0; i < ng; ++i) {
-        hmax = std::max(hmax, hv[i]);
-        const double v = L[hv[i]];
-        total += v * (gn[i] * v - 2 * S[i]);
-      }
-      return hmax > cap ? std::numeric_limits<double>::infinity() : total;
+        for (int i = 0; i < ng4; ++i) {
+          const int h = (((u[greg[i]] * gwa[i] + u[greg[i] + 1] * gwb[i] + 32) >> 6) * 31) >> 6;
+          over |= h > cap;
+          const float d = L[h] - gm[ch][i];
+          part[i & 3] += (gn[i] * d) * d;
+        }
+      return over ? std::numeric_limits<float>::infinity() : (part[0] + part[1]) + (part[2] + part[3]);
     };
     int u[4] = {};
     for (int k = 0; k < ends; ++k) u[k] = unquantize(c.e[k][ch], mi.epb, false);
-    double cur = channel_error(u);
-    const double start = cur;
+    float cur = channel_error(u);
+    const float start = cur;
     const int dlo = mi.transformed ? -(1 << (mi.delta[ch] - 1)) : -maxv, dhi = mi.transformed ? -dlo - 1 : maxv;
     // Tries endpoint k's component one step in direction d; keeps it when the error drops.
     auto step = [&](int k, int d) {
@@ -659,7 +674,7 @@ bool polish_steps(const Block& b, Candidate& best, int rounds, double* gain = nu
       }
       const int keep = u[k];
       u[k] = unquantize(v, mi.epb, false);
-      const double err = channel_error(u);
+      const float err = channel_error(u);
       if (!(err < cur)) {
         u[k] = keep;
         return false;
