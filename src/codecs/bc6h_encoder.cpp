@@ -11,8 +11,9 @@
 // Quality levels choose how many candidates are tried:
 //   fast    UF16: the real-time path of bc6h_fast.cpp (one region, no search). SF16: one region +
 //           the best two-region partition, the 2 most precise modes whose deltas fit, no refinement
-//   default UF16: the real-time fit as the incumbent; the judged-metric refinement and 2 partitions
-//           only where that fit is poor (encode_block_default). SF16: one region + 2 best
+//   default UF16: the real-time fit as the incumbent; where that fit is poor, its indices re-picked
+//           in the judged metric and its endpoints polished, and 2 partitions only for blocks
+//           that are not noise along one line (encode_block_default). SF16: one region + 2 best
 //           partitions, 2 refinement passes on the best candidate of each
 //   high    one region + 6 partitions, 3 modes each, 4 refinement passes on the 2 best
 //   max     one region + all 32 partitions, every mode, 6 passes, ±1 endpoint perturbation
@@ -572,12 +573,15 @@ double evaluate_default(const Block& b, Candidate& cand) {
   return evaluate(b, cand);
 }
 
-// Quality `default`'s polish: coordinate descent over the quantised endpoints with the indices
-// held, then one re-pick of the indices. With the indices held, each channel's error depends only
-// on that channel's endpoint components, so a ±1 step costs one channel's 16 palette lookups
-// instead of a whole evaluation. A step is kept when it lowers its channel's judged error and
-// every texel's decoded value stays inside the block's range (no specks); the deltas must still
-// fit. `best` is replaced only when the re-picked candidate is better, so the error never rises.
+// Quality `default`'s polish: coordinate descent over `best`'s quantised endpoints with its
+// indices held. With the indices held, each channel's error depends only on that channel's
+// endpoint components, so a ±1 step costs one lookup per (region, index) group of that channel
+// instead of a whole evaluation. Each component is tried one step each way, then moved further
+// while that pays, up to `rounds` steps. A step is kept when it lowers its channel's judged error,
+// every texel's held palette entry stays inside the block's range (no specks) and the deltas
+// still fit. Returns whether anything moved; `gain` (when given) gets the error removed, so
+// best.err − gain is the polished block's judged error with the held indices. Anchors are
+// unchanged (the indices are).
 bool polish_steps(const Block& b, Candidate& best, int rounds, double* gain = nullptr) {
   const ModeInfo& mi = mode(best.mode);
   const uint16_t mask = mi.regions == 2 ? kPartitions[best.partition] : 0;
@@ -591,8 +595,7 @@ bool polish_steps(const Block& b, Candidate& best, int rounds, double* gain = nu
   int ng = 0, slot[32], greg[16], gwa[16], gwb[16];
   alignas(16) float gn[16], gm[3][16];
   std::fill(slot, slot + 32, -1);
-  for (int t = 0; t < 16; ++t) {
-    if (!(b.valid[t] > 0)) continue;
+  for (int t = 0; t < 16; ++t) {  // padding texels too, with no weight: their entries stay in range
     const int r = (mask >> t) & 1, key = r * 16 + best.idx[t];
     if (slot[key] < 0) {
       slot[key] = ng;
@@ -601,8 +604,8 @@ bool polish_steps(const Block& b, Candidate& best, int rounds, double* gain = nu
       ++ng;
     }
     const int i = slot[key];
-    gn[i] += 1;
-    for (int c = 0; c < 3; ++c) gm[c][i] += b.L[t][c];
+    gn[i] += b.valid[t];
+    for (int c = 0; c < 3; ++c) gm[c][i] += b.valid[t] * b.L[t][c];
   }
   // Group means; padding up to a multiple of four repeats group 0 with no weight (adds 0).
   const int ng4 = (ng + 3) & ~3;
@@ -612,7 +615,7 @@ bool polish_steps(const Block& b, Candidate& best, int rounds, double* gain = nu
       for (auto& m : gm) m[i] = 0;
       continue;
     }
-    for (auto& m : gm) m[i] /= gn[i];
+    for (auto& m : gm) m[i] = gn[i] > 0 ? m[i] / gn[i] : 0.0f;
   }
   // The groups' weights and regions as float lanes.
   alignas(16) float fwa[16], fwb[16], fr[16];
@@ -699,7 +702,8 @@ bool polish_steps(const Block& b, Candidate& best, int rounds, double* gain = nu
   return moved;
 }
 
-// polish_steps on a copy of `best`, then the indices re-picked; kept only when better.
+// polish_steps on a copy of `best`, then the indices re-picked (every palette entry); the copy
+// replaces `best` only when its error is lower, so the error never rises.
 void polish(const Block& b, Candidate& best, int rounds) {
   Candidate c = best;
   if (!polish_steps(b, c, rounds)) return;
@@ -1033,18 +1037,25 @@ bool noise_along_one_line(const float rgb[48], const Block& b) {
 // the search runs only where it can pay:
 //  * a block whose fit error is at most kFastGood (weighted squared half steps, the fast path's
 //    own measure) is written as the fast path writes it;
-//  * otherwise the incumbent is evaluated in the judged metric (every palette entry per texel),
-//    refined by least squares (kOneRegionPasses), and if its error is still above kTwoRegionWorth,
-//    the kPartitionsTried best-ranked partitions are tried in their most precise mode whose
-//    deltas fit, each refined kTwoRegionPasses times — unless no partition's two lines fit the
-//    block kTwoLineGain times better than one line.
-// The constants were chosen on ../shared/data/bc6h (smooth / hard / noisy) so that every image's
-// log-RMSE is at or below the previous `default`'s (a full search of one region and 2 partitions,
-// 2 modes each) at 3–5× its speed. Measured alternatives: kTwoLineGain 0.25 cost hard +7 %
-// log-RMSE, 0.20 +22 %; a two-point pre-ranking of partitions (no eigenvector) +22 % on hard;
-// kFastGood 10 000 +2 %; kTwoRegionWorth 1e-2 +0.6 % on hard (above the old default); one
-// partition instead of two +3 % on smooth; skipping blocks whose texels are far from any one
-// line (a noise test) saved nothing on the noisy image and cost hard +4 %.
+//  * otherwise the incumbent's indices are re-picked in the judged metric (every palette entry per
+//    texel) and its quantised endpoints polished with those indices held (polish_steps: ±1 steps,
+//    one palette lookup per index group);
+//  * only if its error is still above kTwoRegionWorth, and the block is not noise along one line
+//    (noise_along_one_line, for errors below kNoiseErr), are the polished endpoints' indices
+//    re-picked, refined by least squares (kOneRegionPasses), the kPartitionsTried best-ranked
+//    partitions tried in their most precise mode whose deltas fit, each refined kTwoRegionPasses
+//    times (unless no partition's two lines fit the block kTwoLineGain times better than one
+//    line), and the winner polished again.
+// The constants were chosen on ../shared/data/bc6h (smooth / hard / noisy; callgrind instruction
+// counts and log-RMSE, issue 13). Measured alternatives: without the polish 0.00855 / 0.00794 /
+// 0.04617 (the polish gives 0.00827 / 0.00794 / 0.04580 and pays for the pruning below); the
+// 32-partition ranking on every block cost the noisy image 216 M of 679 M instructions for 98
+// winning blocks, none in the noise band; noise band up to 1/512 instead of 1/256: noisy +11 M
+// instructions, same error; the indices re-picked after the polish on every block: noisy
+// +50 M, 0.04572; the polish from the fast fit's own indices (no first re-pick): hard 0.00803,
+// noisy 0.04590; no least squares in the two-region branch: hard 0.00797. Earlier ones:
+// kTwoLineGain 0.25 cost hard +7 % log-RMSE, 0.20 +22 %; kFastGood 10 000 +2 %; one partition
+// instead of two +3 % on smooth.
 void encode_block_default(const uint16_t h[48], const float rgb[48], const uint8_t valid[16], uint8_t out[16]) {
   OneRegionFit fit;
   fit_one_region_fast(h, rgb, valid, &fit);
