@@ -1055,7 +1055,9 @@ bool noise_along_one_line(const float rgb[48], const Block& b) {
 // +50 M, 0.04572; the polish from the fast fit's own indices (no first re-pick): hard 0.00803,
 // noisy 0.04590; no least squares in the two-region branch: hard 0.00797. Earlier ones:
 // kTwoLineGain 0.25 cost hard +7 % log-RMSE, 0.20 +22 %; kFastGood 10 000 +2 %; one partition
-// instead of two +3 % on smooth.
+// instead of two +3 % on smooth; a noise test of texels far from any one line saved nothing on
+// the noisy image (its noise lies along the grey line: off-line shares of 2^-13..2^-8) and cost
+// hard +4 %.
 void encode_block_default(const uint16_t h[48], const float rgb[48], const uint8_t valid[16], uint8_t out[16]) {
   OneRegionFit fit;
   fit_one_region_fast(h, rgb, valid, &fit);
