@@ -11,8 +11,9 @@
 // Quality levels choose how many candidates are tried:
 //   fast    UF16: the real-time path of bc6h_fast.cpp (one region, no search). SF16: one region +
 //           the best two-region partition, the 2 most precise modes whose deltas fit, no refinement
-//   default UF16: the real-time fit as the incumbent; the judged-metric refinement and 2 partitions
-//           only where that fit is poor (encode_block_default). SF16: one region + 2 best
+//   default UF16: the real-time fit as the incumbent; where that fit is poor, its indices re-picked
+//           in the judged metric and its endpoints polished, and 2 partitions only for blocks
+//           that are not noise along one line (encode_block_default). SF16: one region + 2 best
 //           partitions, 2 refinement passes on the best candidate of each
 //   high    one region + 6 partitions, 3 modes each, 4 refinement passes on the 2 best
 //   max     one region + all 32 partitions, every mode, 6 passes, ±1 endpoint perturbation
@@ -529,6 +530,188 @@ void refine(const Block& b, Candidate& best, int passes, bool perturb) {
       }
 }
 
+// evaluate() for quality `default` (UF16): the palette's decoded half bits four entries at a time
+// in float lanes, where every intermediate is an exact integer (below 2^23), so the palette, the
+// indices and the error are evaluate()'s; then its SSE2 index step. The scalar path is evaluate().
+double evaluate_default(const Block& b, Candidate& cand) {
+#ifdef __SSE2__
+  if (!scalar_forced()) {
+    const ModeInfo& mi = mode(cand.mode);
+    const int n = 1 << mi.index_bits;
+    const uint8_t* weights = mi.index_bits == 3 ? kWeights3 : kWeights4;
+    const float* L = log_table();
+    const __m128 inv64 = _mm_set1_ps(1.0f / 64.0f), k31 = _mm_set1_ps(31.0f), k32 = _mm_set1_ps(32.0f),
+                 k64 = _mm_set1_ps(64.0f);
+    alignas(16) float pal[2][3][16];
+    alignas(16) int hv[3][16], out[16];
+    for (int r = 0; r < mi.regions; ++r) {
+      __m128i outside[4] = {_mm_setzero_si128(), _mm_setzero_si128(), _mm_setzero_si128(), _mm_setzero_si128()};
+      for (int c = 0; c < 3; ++c) {
+        const __m128 a = _mm_set1_ps(float(unquantize(cand.e[r * 2][c], mi.epb, false)));
+        const __m128 bb = _mm_set1_ps(float(unquantize(cand.e[r * 2 + 1][c], mi.epb, false)));
+        const __m128i cap = _mm_set1_epi32(b.cap[c]);
+        for (int v = 0; v < n / 4; ++v) {
+          const __m128 w = _mm_setr_ps(float(weights[4 * v]), float(weights[4 * v + 1]), float(weights[4 * v + 2]),
+                                       float(weights[4 * v + 3]));
+          const __m128 sum = _mm_add_ps(_mm_add_ps(_mm_mul_ps(a, _mm_sub_ps(k64, w)), _mm_mul_ps(bb, w)), k32);
+          const __m128 ci = _mm_cvtepi32_ps(_mm_cvttps_epi32(_mm_mul_ps(sum, inv64)));  // >> 6 (non-negative)
+          const __m128i h = _mm_cvttps_epi32(_mm_mul_ps(_mm_mul_ps(ci, k31), inv64));    // (c·31) >> 6
+          _mm_store_si128(reinterpret_cast<__m128i*>(&hv[c][4 * v]), h);
+          outside[v] = _mm_or_si128(outside[v], _mm_cmpgt_epi32(h, cap));
+        }
+      }
+      for (int v = 0; v < n / 4; ++v) _mm_store_si128(reinterpret_cast<__m128i*>(&out[4 * v]), outside[v]);
+      for (int k = 0; k < n; ++k) {
+        for (int c = 0; c < 3; ++c) pal[r][c][k] = L[hv[c][k]];
+        if (out[k]) pal[r][0][k] = kOff;
+      }
+    }
+    const uint16_t mask = mi.regions == 2 ? kPartitions[cand.partition] : 0;
+    return cand.err = pick_indices_sse2(b, pal, mask, n, cand.idx);
+  }
+#endif
+  return evaluate(b, cand);
+}
+
+// Quality `default`'s polish: coordinate descent over `best`'s quantised endpoints with its
+// indices held. With the indices held, each channel's error depends only on that channel's
+// endpoint components, so a ±1 step costs one lookup per (region, index) group of that channel
+// instead of a whole evaluation. Each component is tried one step each way, then moved further
+// while that pays, up to `rounds` steps. A step is kept when it lowers its channel's judged error,
+// every texel's held palette entry stays inside the block's range (no specks) and the deltas
+// still fit. Returns whether anything moved; `gain` (when given) gets the error removed, so
+// best.err − gain is the polished block's judged error with the held indices. Anchors are
+// unchanged (the indices are).
+bool polish_steps(const Block& b, Candidate& best, int rounds, double* gain = nullptr) {
+  const ModeInfo& mi = mode(best.mode);
+  const uint16_t mask = mi.regions == 2 ? kPartitions[best.partition] : 0;
+  const uint8_t* weights = mi.index_bits == 3 ? kWeights3 : kWeights4;
+  const float* L = log_table();
+  const int ends = mi.regions * 2;
+  const int maxv = (1 << mi.epb) - 1;  // UF16 only
+  // Texels sharing a region and an index decode to the same value v, so their error is
+  // n·(v − m)² plus a constant, with n their count and m the mean of their targets: one palette
+  // lookup per group instead of one per texel, and no cancellation in float.
+  int ng = 0, slot[32], greg[16], gwa[16], gwb[16];
+  alignas(16) float gn[16], gm[3][16];
+  std::fill(slot, slot + 32, -1);
+  for (int t = 0; t < 16; ++t) {  // padding texels too, with no weight: their entries stay in range
+    const int r = (mask >> t) & 1, key = r * 16 + best.idx[t];
+    if (slot[key] < 0) {
+      slot[key] = ng;
+      greg[ng] = 2 * r, gwb[ng] = weights[best.idx[t]], gwa[ng] = 64 - gwb[ng];
+      gn[ng] = 0, gm[0][ng] = gm[1][ng] = gm[2][ng] = 0;
+      ++ng;
+    }
+    const int i = slot[key];
+    gn[i] += b.valid[t];
+    for (int c = 0; c < 3; ++c) gm[c][i] += b.valid[t] * b.L[t][c];
+  }
+  // Group means; padding up to a multiple of four repeats group 0 with no weight (adds 0).
+  const int ng4 = (ng + 3) & ~3;
+  for (int i = 0; i < ng4; ++i) {
+    if (i >= ng) {
+      greg[i] = greg[0], gwa[i] = gwa[0], gwb[i] = gwb[0], gn[i] = 0;
+      for (auto& m : gm) m[i] = 0;
+      continue;
+    }
+    for (auto& m : gm) m[i] = gn[i] > 0 ? m[i] / gn[i] : 0.0f;
+  }
+  // The groups' weights and regions as float lanes.
+  alignas(16) float fwa[16], fwb[16], fr[16];
+  for (int i = 0; i < ng4; ++i) fwa[i] = float(gwa[i]), fwb[i] = float(gwb[i]), fr[i] = float(greg[i] / 2);
+  [[maybe_unused]] const bool simd = !scalar_forced();
+  Candidate& c = best;
+  bool moved = false;
+  for (int ch = 0; ch < 3; ++ch) {
+    const int cap = b.cap[ch];
+    // Channel ch's judged error, less its constant Q, for unquantised components u; +inf when a
+    // decoded value leaves the block's range.
+    auto channel_error = [&](const int u[4]) {
+      alignas(16) float part[4] = {0, 0, 0, 0};
+      bool over = false;
+#ifdef __SSE2__
+      if (simd) {  // four groups at a time; the decoded values in exact float lanes (as evaluate_default)
+        const __m128 a0 = _mm_set1_ps(float(u[0])), b0 = _mm_set1_ps(float(u[1]));
+        const __m128 da = _mm_set1_ps(float(u[2] - u[0])), db = _mm_set1_ps(float(u[3] - u[1]));
+        const __m128 inv64 = _mm_set1_ps(1.0f / 64.0f), k31 = _mm_set1_ps(31.0f), k32 = _mm_set1_ps(32.0f);
+        const __m128i capv = _mm_set1_epi32(cap);
+        __m128 acc = _mm_setzero_ps();
+        __m128i out = _mm_setzero_si128();
+        alignas(16) int hv[4];
+        for (int i = 0; i < ng; i += 4) {
+          const __m128 r = _mm_load_ps(&fr[i]);
+          const __m128 a = _mm_add_ps(a0, _mm_mul_ps(r, da)), bb = _mm_add_ps(b0, _mm_mul_ps(r, db));
+          const __m128 sum = _mm_add_ps(_mm_add_ps(_mm_mul_ps(a, _mm_load_ps(&fwa[i])), _mm_mul_ps(bb, _mm_load_ps(&fwb[i]))), k32);
+          const __m128 ci = _mm_cvtepi32_ps(_mm_cvttps_epi32(_mm_mul_ps(sum, inv64)));
+          const __m128i h = _mm_cvttps_epi32(_mm_mul_ps(_mm_mul_ps(ci, k31), inv64));
+          out = _mm_or_si128(out, _mm_cmpgt_epi32(h, capv));
+          _mm_store_si128(reinterpret_cast<__m128i*>(hv), h);
+          const __m128 d = _mm_sub_ps(_mm_setr_ps(L[hv[0]], L[hv[1]], L[hv[2]], L[hv[3]]), _mm_load_ps(&gm[ch][i]));
+          acc = _mm_add_ps(acc, _mm_mul_ps(_mm_mul_ps(_mm_load_ps(&gn[i]), d), d));
+        }
+        _mm_store_ps(part, acc);
+        over = _mm_movemask_epi8(out) != 0;
+      } else
+#endif
+        for (int i = 0; i < ng4; ++i) {
+          const int h = (((u[greg[i]] * gwa[i] + u[greg[i] + 1] * gwb[i] + 32) >> 6) * 31) >> 6;
+          over |= h > cap;
+          const float d = L[h] - gm[ch][i];
+          part[i & 3] += (gn[i] * d) * d;
+        }
+      return over ? std::numeric_limits<float>::infinity() : (part[0] + part[1]) + (part[2] + part[3]);
+    };
+    int u[4] = {};
+    for (int k = 0; k < ends; ++k) u[k] = unquantize(c.e[k][ch], mi.epb, false);
+    float cur = channel_error(u);
+    const float start = cur;
+    const int dlo = mi.transformed ? -(1 << (mi.delta[ch] - 1)) : -maxv, dhi = mi.transformed ? -dlo - 1 : maxv;
+    // Tries endpoint k's component one step in direction d; keeps it when the error drops.
+    auto step = [&](int k, int d) {
+      const int v = c.e[k][ch] + d;
+      if (v < 0 || v > maxv) return false;
+      for (int j = 1; j < ends; ++j) {  // every delta from endpoint 0 must still fit
+        const int dj = (j == k ? v : c.e[j][ch]) - (k == 0 ? v : c.e[0][ch]);
+        if (dj < dlo || dj > dhi) return false;
+      }
+      const int keep = u[k];
+      u[k] = unquantize(v, mi.epb, false);
+      const float err = channel_error(u);
+      if (!(err < cur)) {
+        u[k] = keep;
+        return false;
+      }
+      cur = err, c.e[k][ch] = v, moved = true;
+      return true;
+    };
+    // Both directions once per component, then further steps only where a step paid.
+    int dir[4] = {0, 0, 0, 0};
+    for (int k = 0; k < ends; ++k) dir[k] = step(k, -1) ? -1 : step(k, 1) ? 1 : 0;
+    for (int round = 1; round < rounds; ++round) {
+      bool any = false;
+      for (int k = 0; k < ends; ++k)
+        if (dir[k] != 0) {
+          if (!step(k, dir[k])) dir[k] = 0;
+          any |= dir[k] != 0;
+        }
+      if (!any) break;
+    }
+    if (gain) *gain += start - cur;
+  }
+  return moved;
+}
+
+// polish_steps on a copy of `best`, then the indices re-picked (every palette entry); the copy
+// replaces `best` only when its error is lower, so the error never rises.
+void polish(const Block& b, Candidate& best, int rounds) {
+  Candidate c = best;
+  if (!polish_steps(b, c, rounds)) return;
+  evaluate(b, c);
+  fix_anchors(b, c);
+  if (c.err < best.err) best = c;
+}
+
 // Bits in order from bit 0 of byte 0, in one 128-bit word written out at the end.
 struct BitWriter {
   unsigned __int128 v = 0;
@@ -613,7 +796,8 @@ void try_two_regions(const Block& b, int n_parts, int max_exact, int refine_top,
 constexpr float kFastGood = 3000.0f;
 constexpr double kTwoRegionWorth = 6e-3;
 constexpr double kTwoLineGain = 0.30;
-constexpr int kOneRegionPasses = 2, kPartitionsTried = 2, kTwoRegionPasses = 2;
+constexpr double kNoiseBand[2] = {1.0 / 8192, 1.0 / 256}, kNoiseErr = 0.5;
+constexpr int kOneRegionPasses = 2, kPartitionsTried = 2, kTwoRegionPasses = 2, kPolishRounds = 4;
 
 Candidate search(const Block& b, Bc6hQuality q) {
   Candidate best = in_range_candidate(b);
@@ -750,24 +934,17 @@ inline float apply_input_rule(float v, bool is_signed, size_t* counts) {
 
 // The search's view of a block of ruled values.
 // `half`, when given, holds the values' half bits (UF16: the fast fit's conversion, reused).
-void fill_block(const float rgb[48], const uint8_t valid[16], bool is_signed, Block& b, const uint16_t* half = nullptr) {
+// The search's targets of a block of ruled values: half bits, the metric's targets, the range.
+// `half`, when given, holds the values' half bits (UF16: the fast fit's conversion, reused).
+void fill_targets(const float rgb[48], const uint8_t valid[16], bool is_signed, Block& b, const uint16_t* half = nullptr) {
   b.is_signed = is_signed;
   const float* L = log_table();
   for (int t = 0; t < 16; ++t) {
-    double tw = 0;
     b.valid[t] = valid[t] ? 1.0f : 0.0f;
     for (int c = 0; c < 3; ++c) {
-      const float v = rgb[t * 3 + c];
-      b.h[t][c] = half ? int(half[t * 3 + c]) : half_signed_int(v);
+      b.h[t][c] = half ? int(half[t * 3 + c]) : half_signed_int(rgb[t * 3 + c]);
       b.L[t][c] = L[half_bits_of(b.h[t][c])];
-      b.q[t][c] = is_signed ? b.h[t][c] * 32.0 / 31.0 : b.h[t][c] * 64.0 / 31.0;
-      // Geometry weight: the slope of log2(1+x) per half step, floored at x = 0.25 so that dark
-      // texels still pull the endpoints (their errors are large ones, where the slope lies).
-      const double x = std::max(double(std::fabs(v)), 0.25);
-      b.w[t][c] = valid[t] ? (x / (1 + x)) * (x / (1 + x)) : 0.0;
-      tw += b.w[t][c];
     }
-    b.tw[t] = valid[t] ? tw / 3 + 1e-12 : 0.0;
   }
 
   // No decoded value may exceed its channel's brightest input in the block by more than one
@@ -781,29 +958,106 @@ void fill_block(const float rgb[48], const uint8_t valid[16], bool is_signed, Bl
   }
 }
 
+// The search's geometry (after fill_targets): c-domain values and least-squares weights, which
+// the principal axes, the partition ranking and the least squares use.
+void fill_geometry(const float rgb[48], const uint8_t valid[16], Block& b) {
+  for (int t = 0; t < 16; ++t) {
+    double tw = 0;
+    for (int c = 0; c < 3; ++c) {
+      const float v = rgb[t * 3 + c];
+      b.q[t][c] = b.is_signed ? b.h[t][c] * 32.0 / 31.0 : b.h[t][c] * 64.0 / 31.0;
+      // Geometry weight: the slope of log2(1+x) per half step, floored at x = 0.25 so that dark
+      // texels still pull the endpoints (their errors are large ones, where the slope lies).
+      const double x = std::max(double(std::fabs(v)), 0.25);
+      b.w[t][c] = valid[t] ? (x / (1 + x)) * (x / (1 + x)) : 0.0;
+      tw += b.w[t][c];
+    }
+    b.tw[t] = valid[t] ? tw / 3 + 1e-12 : 0.0;
+  }
+}
+
 void encode_block_searched(const float rgb[48], const uint8_t valid[16], bool is_signed, Bc6hQuality q, uint8_t out[16]) {
   Block b;
-  fill_block(rgb, valid, is_signed, b);
+  fill_targets(rgb, valid, is_signed, b);
+  fill_geometry(rgb, valid, b);
   Candidate best = search(b, q);
   pack(best, is_signed, out);
+}
+
+// Quality `default`'s cheap bound before the partition ranking: true when the block's texels lie
+// near one line but not on it — the off-line share of their weighted variance (half-bit domain,
+// the geometry weights of fill_geometry) within [kNoiseBand[0], kNoiseBand[1]). That is noise
+// along the line, which no partition's two lines explain (on ../shared/data/bc6h no such block
+// gained from two regions on the noisy or hard image). Float, centred, plain loops (vectorised).
+bool noise_along_one_line(const float rgb[48], const Block& b) {
+  float tw[16], q[3][16];
+  for (int t = 0; t < 16; ++t) {
+    float sum = 0;
+    for (int c = 0; c < 3; ++c) {
+      const float x = std::max(rgb[t * 3 + c], 0.25f), s = x / (1.0f + x);
+      sum += s * s;
+      q[c][t] = float(b.h[t][c]);
+    }
+    tw[t] = b.valid[t] * sum;
+  }
+  float w = 0, m[3] = {0, 0, 0};
+  for (int t = 0; t < 16; ++t) w += tw[t];
+  for (int c = 0; c < 3; ++c) {
+    for (int t = 0; t < 16; ++t) m[c] += tw[t] * q[c][t];
+    m[c] /= w;
+    for (int t = 0; t < 16; ++t) q[c][t] -= m[c];
+  }
+  float xx = 0, yy = 0, zz = 0, xy = 0, xz = 0, yz = 0;
+  for (int t = 0; t < 16; ++t) {
+    xx += tw[t] * q[0][t] * q[0][t], yy += tw[t] * q[1][t] * q[1][t], zz += tw[t] * q[2][t] * q[2][t];
+    xy += tw[t] * q[0][t] * q[1][t], xz += tw[t] * q[0][t] * q[2][t], yz += tw[t] * q[1][t] * q[2][t];
+  }
+  const float trace = xx + yy + zz;
+  if (!(trace > 0)) return false;
+  // Two power steps from the column of largest variance, then the Rayleigh quotient (as
+  // line_residual_quick), scaled by 1/trace so that float cannot overflow.
+  float v[3] = {xx, xy, xz};
+  if (yy > xx && yy >= zz) v[0] = xy, v[1] = yy, v[2] = yz;
+  else if (zz > xx && zz > yy) v[0] = xz, v[1] = yz, v[2] = zz;
+  const float inv = 1.0f / trace;
+  for (int it = 0; it < 2; ++it) {
+    const float u0 = (xx * v[0] + xy * v[1] + xz * v[2]) * inv, u1 = (xy * v[0] + yy * v[1] + yz * v[2]) * inv,
+                u2 = (xz * v[0] + yz * v[1] + zz * v[2]) * inv;
+    v[0] = u0, v[1] = u1, v[2] = u2;
+  }
+  const float vv = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+  if (!(vv > 0)) return false;
+  const float lambda = (v[0] * (xx * v[0] + xy * v[1] + xz * v[2]) + v[1] * (xy * v[0] + yy * v[1] + yz * v[2]) +
+                        v[2] * (xz * v[0] + yz * v[1] + zz * v[2])) / vv;
+  const float off_line = trace - lambda;
+  return off_line >= float(kNoiseBand[0]) * trace && off_line < float(kNoiseBand[1]) * trace;
 }
 
 // Quality `default`, UF16: the real-time one-region fit (bc6h_fast.cpp) is the incumbent, and
 // the search runs only where it can pay:
 //  * a block whose fit error is at most kFastGood (weighted squared half steps, the fast path's
 //    own measure) is written as the fast path writes it;
-//  * otherwise the incumbent is evaluated in the judged metric (every palette entry per texel),
-//    refined by least squares (kOneRegionPasses), and if its error is still above kTwoRegionWorth,
-//    the kPartitionsTried best-ranked partitions are tried in their most precise mode whose
-//    deltas fit, each refined kTwoRegionPasses times — unless no partition's two lines fit the
-//    block kTwoLineGain times better than one line.
-// The constants were chosen on ../shared/data/bc6h (smooth / hard / noisy) so that every image's
-// log-RMSE is at or below the previous `default`'s (a full search of one region and 2 partitions,
-// 2 modes each) at 3–5× its speed. Measured alternatives: kTwoLineGain 0.25 cost hard +7 %
-// log-RMSE, 0.20 +22 %; a two-point pre-ranking of partitions (no eigenvector) +22 % on hard;
-// kFastGood 10 000 +2 %; kTwoRegionWorth 1e-2 +0.6 % on hard (above the old default); one
-// partition instead of two +3 % on smooth; skipping blocks whose texels are far from any one
-// line (a noise test) saved nothing on the noisy image and cost hard +4 %.
+//  * otherwise the incumbent's indices are re-picked in the judged metric (every palette entry per
+//    texel) and its quantised endpoints polished with those indices held (polish_steps: ±1 steps,
+//    one palette lookup per index group);
+//  * only if its error is still above kTwoRegionWorth, and the block is not noise along one line
+//    (noise_along_one_line, for errors below kNoiseErr), are the polished endpoints' indices
+//    re-picked, refined by least squares (kOneRegionPasses), the kPartitionsTried best-ranked
+//    partitions tried in their most precise mode whose deltas fit, each refined kTwoRegionPasses
+//    times (unless no partition's two lines fit the block kTwoLineGain times better than one
+//    line), and the winner polished again.
+// The constants were chosen on ../shared/data/bc6h (smooth / hard / noisy; callgrind instruction
+// counts and log-RMSE, issue 13). Measured alternatives: without the polish 0.00855 / 0.00794 /
+// 0.04617 (the polish gives 0.00827 / 0.00794 / 0.04580 and pays for the pruning below); the
+// 32-partition ranking on every block cost the noisy image 216 M of 679 M instructions for 98
+// winning blocks, none in the noise band; noise band up to 1/512 instead of 1/256: noisy +11 M
+// instructions, same error; the indices re-picked after the polish on every block: noisy
+// +50 M, 0.04572; the polish from the fast fit's own indices (no first re-pick): hard 0.00803,
+// noisy 0.04590; no least squares in the two-region branch: hard 0.00797. Earlier ones:
+// kTwoLineGain 0.25 cost hard +7 % log-RMSE, 0.20 +22 %; kFastGood 10 000 +2 %; one partition
+// instead of two +3 % on smooth; a noise test of texels far from any one line saved nothing on
+// the noisy image (its noise lies along the grey line: off-line shares of 2^-13..2^-8) and cost
+// hard +4 %.
 void encode_block_default(const uint16_t h[48], const float rgb[48], const uint8_t valid[16], uint8_t out[16]) {
   OneRegionFit fit;
   fit_one_region_fast(h, rgb, valid, &fit);
@@ -812,17 +1066,37 @@ void encode_block_default(const uint16_t h[48], const float rgb[48], const uint8
     return;
   }
   Block b;
-  fill_block(rgb, valid, false, b, h);
+  fill_targets(rgb, valid, false, b, h);
   Candidate best;
   best.mode = fit.mode;
   std::memcpy(best.e, fit.e, sizeof fit.e);
-  evaluate(b, best);  // inside the block's range by construction: never rejected
+  evaluate_default(b, best);  // inside the block's range by construction: never rejected
   fix_anchors(b, best);
   if (best.err >= 1e300) best = in_range_candidate(b);  // defensive: the bound holds regardless
-  refine(b, best, kOneRegionPasses, false);
-  if (best.err > kTwoRegionWorth)
+  // Polished with the indices held; the error follows from the per-channel gains.
+  Candidate held = best;
+  double gain = 0;
+  const bool moved = polish_steps(b, held, kPolishRounds, &gain);
+  held.err -= gain;
+  best = held;
+  if (held.err > kTwoRegionWorth && !(held.err < kNoiseErr && noise_along_one_line(rgb, b))) {
+    // A block that may need two regions: the polished endpoints' indices re-picked first.
+    if (moved) {
+      Candidate c = held;
+      evaluate_default(b, c);
+      fix_anchors(b, c);
+      if (c.err < best.err) best = c;
+    }
+    fill_geometry(rgb, valid, b);
+    refine(b, best, kOneRegionPasses, false);
     try_two_regions(b, kPartitionsTried, /*max_exact=*/1, /*refine_top=*/1, kTwoRegionPasses, false, best, true);
-  pack(best, false, out);
+    polish(b, best, kPolishRounds);
+  }
+  if (best.mode < 10) return pack(best, false, out);
+  fit.mode = best.mode;  // one region: the fast path's packing (anchor already fixed)
+  std::memcpy(fit.e, best.e, sizeof fit.e);
+  std::memcpy(fit.idx, best.idx, sizeof fit.idx);
+  pack_one_region(fit, out);
 }
 
 // A block whose values already follow the input rule: `fast` UF16 takes the real-time path
