@@ -55,6 +55,11 @@ struct Block {
   float valid[16];      // 1 for real texels, 0 for the padding of partial blocks
   int cap[3], floor_[3];  // range every decoded value must stay in (half bits, per channel)
   bool is_signed;
+  // Quality `max`: endpoints are quantised inside the range above (comp_hi/comp_lo: the
+  // extreme components of each precision whose decode stays in it), so that no palette entry
+  // of a candidate is lost to the no-specks rule. Other qualities keep plain rounding.
+  bool in_range = false;
+  int comp_hi[17][3], comp_lo[17][3];
 };
 
 // sign(x)·log2(1 + |x|) for every half-float bit pattern: the error metric, looked up.
@@ -712,6 +717,109 @@ void try_two_regions(const Block& b, int n_parts, int max_exact, int refine_top,
   }
 }
 
+
+// ---- Quality `max` (UF16 and SF16) ----
+// The search of `high` widened (one region and all 32 partitions, every mode, the two best of
+// each refined), then the few best candidates polished on the quantised lattice against the
+// exact judged error (polish_max). Candidates are kept only when they lower the error, so `max`
+// is never worse than that wide search on any block.
+
+// Moves every endpoint component inside the block's range (Block::comp_lo/comp_hi) and
+// re-evaluates: rounding an endpoint just past the no-specks cap loses its palette entries, and
+// the descent below cannot always walk back from there. Returns false when nothing moved.
+bool move_inside(const Block& b, Candidate& c) {
+  const ModeInfo& mi = mode(c.mode);
+  bool moved = false;
+  for (int k = 0; k < mi.regions * 2; ++k)
+    for (int ch = 0; ch < 3; ++ch) {
+      const int v = std::clamp(c.e[k][ch], b.comp_lo[mi.epb][ch], b.comp_hi[mi.epb][ch]);
+      moved |= v != c.e[k][ch];
+      c.e[k][ch] = v;
+    }
+  if (!moved) return false;
+  fit_deltas(mi, c.e, b.is_signed);
+  evaluate(b, c);
+  fix_anchors(b, c);
+  return true;
+}
+
+// Coordinate descent on the quantised endpoints: each component in turn moves by ±step for
+// step = kMaxStep … 1 (a logarithmic line search), keeping a move when the exact error drops;
+// then least squares on the new indices (re-quantised, and moved inside the range). Rounds
+// repeat until one does not lower the error. Moves that break a mode's deltas are not taken.
+constexpr int kMaxStep = 16, kMaxRounds = 8;
+void polish_max(const Block& b, Candidate& best) {
+  const ModeInfo& mi = mode(best.mode);
+  const int maxv = b.is_signed ? (1 << (mi.epb - 1)) - 1 : (1 << mi.epb) - 1, minv = b.is_signed ? -maxv : 0;
+  for (int round = 0; round < kMaxRounds && best.err > 0; ++round) {
+    const double before = best.err;
+    for (int k = 0; k < mi.regions * 2; ++k)
+      for (int ch = 0; ch < 3; ++ch)
+        for (int step = kMaxStep; step >= 1; step >>= 1) {
+          Candidate moved = best;
+          for (int d : {-step, step}) {
+            Candidate c = best;
+            c.e[k][ch] += d;
+            if (c.e[k][ch] < minv || c.e[k][ch] > maxv || !fit_deltas(mi, c.e, b.is_signed)) continue;
+            evaluate(b, c);
+            fix_anchors(b, c);
+            if (c.err < moved.err) moved = c;
+          }
+          if (moved.err < best.err) best = moved;
+        }
+    refine(b, best, 2, false);
+    Candidate inside = best;
+    if (move_inside(b, inside) && inside.err < best.err) best = inside;
+    if (!(best.err < before)) break;
+  }
+}
+
+constexpr int kMaxPolished = 4;  // candidates polished per block
+
+Candidate search_max(const Block& b) {
+  Candidate best = in_range_candidate(b);
+  Candidate pool[2 + 32 * 2];
+  int n = 0;
+  auto add = [&](const Candidate top[2]) {
+    for (int k = 0; k < 2; ++k) {
+      if (top[k].mode < 0) continue;
+      Candidate c = top[k];
+      refine(b, c, 6, /*perturb=*/true);
+      pool[n++] = c;
+    }
+  };
+  {
+    double t[2][2][3];
+    axis_endpoints(b, 0, 0, t[0][0], t[0][1]);
+    Candidate top[2];
+    try_modes(b, kOneRegionOrder, 4, 0, t, /*max_exact=*/0, top);
+    add(top);
+  }
+  for (int p = 0; p < 32; ++p) {
+    double t[2][2][3];
+    axis_endpoints(b, kPartitions[p], 0, t[0][0], t[0][1]);
+    axis_endpoints(b, kPartitions[p], 1, t[1][0], t[1][1]);
+    Candidate top[2];
+    try_modes(b, kTwoRegionOrder, 10, p, t, /*max_exact=*/0, top);
+    add(top);
+  }
+  // The best first; ties by the order found (stable), so the bytes depend on the block only.
+  std::stable_sort(pool, pool + n, [](const Candidate& x, const Candidate& y) { return x.err < y.err; });
+  for (int i = 0; i < n; ++i)
+    if (pool[i].err < best.err) best = pool[i];
+  for (int i = 0; i < std::min(n, kMaxPolished) && best.err > 0; ++i) {
+    if (!(pool[i].err < 1e300)) break;
+    Candidate starts[2] = {pool[i], pool[i]};
+    const bool second = move_inside(b, starts[1]);
+    for (int s = 0; s < (second ? 2 : 1); ++s) {
+      if (!(starts[s].err < 1e300)) continue;
+      polish_max(b, starts[s]);
+      if (starts[s].err < best.err) best = starts[s];
+    }
+  }
+  return best;
+}
+
 }  // namespace
 
 bool bc6h_quality_from_name(const std::string& name, Bc6hQuality* out) {
@@ -784,7 +892,15 @@ void fill_block(const float rgb[48], const uint8_t valid[16], bool is_signed, Bl
 void encode_block_searched(const float rgb[48], const uint8_t valid[16], bool is_signed, Bc6hQuality q, uint8_t out[16]) {
   Block b;
   fill_block(rgb, valid, is_signed, b);
-  Candidate best = search(b, q);
+  if (q == Bc6hQuality::Max) {
+    b.in_range = true;
+    for (int bits = 6; bits <= 16; ++bits)
+      for (int c = 0; c < 3; ++c) {
+        b.comp_hi[bits][c] = quantize_capped(b.cap[c], bits, is_signed, /*floor=*/false);
+        b.comp_lo[bits][c] = std::min(b.comp_hi[bits][c], quantize_capped(b.floor_[c], bits, is_signed, /*floor=*/true));
+      }
+  }
+  Candidate best = q == Bc6hQuality::Max ? search_max(b) : search(b, q);
   pack(best, is_signed, out);
 }
 
