@@ -743,6 +743,79 @@ bool move_inside(const Block& b, Candidate& c) {
   return true;
 }
 
+// With the candidate's indices held fixed, the channels of a region's endpoints are independent:
+// for each region and channel, every pair of components within ±kWindow of the current pair and
+// of the rounded least-squares pair is tried against that channel's exact error, with every entry
+// the texels use kept inside the block's range (no specks); the best pair is kept. Then the
+// indices are chosen again. Returns true when the candidate's error dropped.
+constexpr int kWindow = 4;
+bool improve_channels(const Block& b, Candidate& cand) {
+  const ModeInfo& mi = mode(cand.mode);
+  const uint16_t mask = mi.regions == 2 ? kPartitions[cand.partition] : 0;
+  const uint8_t* weights = mi.index_bits == 3 ? kWeights3 : kWeights4;
+  const float* L = log_table();
+  const int maxv = b.is_signed ? (1 << (mi.epb - 1)) - 1 : (1 << mi.epb) - 1, minv = b.is_signed ? -maxv : 0;
+  const double lim = b.is_signed ? 0x7FFF : 0xFFFF, low = b.is_signed ? -0x7FFF : 0;
+  Candidate c = cand;
+  for (int r = 0; r < mi.regions; ++r) {
+    double lo[3], hi[3];
+    const bool have_ls = refit_region(b, cand, r, lo, hi);
+    int texels[16], n = 0;
+    for (int t = 0; t < 16; ++t)
+      if (int((mask >> t) & 1) == r && b.valid[t] > 0) texels[n++] = t;
+    for (int ch = 0; ch < 3; ++ch) {
+      auto channel_err = [&](int qa, int qb, double bound) {
+        const int ua = unquantize(qa, mi.epb, b.is_signed), ub = unquantize(qb, mi.epb, b.is_signed);
+        double e = 0;
+        for (int i = 0; i < n && e < bound; ++i) {
+          const int t = texels[i];
+          const int h = decoded_h(interpolate(ua, ub, weights[c.idx[t]]), b.is_signed);
+          if (h > b.cap[ch] || h < b.floor_[ch]) return 1e300;
+          const double d = L[half_bits_of(h)] - b.L[t][ch];
+          e += d * d;
+        }
+        return e;
+      };
+      auto deltas_fit = [&](int qa, int qb) {
+        if (!mi.transformed) return true;
+        const int dlo = -(1 << (mi.delta[ch] - 1)), dhi = (1 << (mi.delta[ch] - 1)) - 1;
+        const int e0 = r == 0 ? qa : c.e[0][ch];
+        for (int k = 1; k < mi.regions * 2; ++k) {
+          const int v = k == r * 2 ? qa : k == r * 2 + 1 ? qb : c.e[k][ch];
+          if (v - e0 < dlo || v - e0 > dhi) return false;
+        }
+        return true;
+      };
+      int best_a = c.e[r * 2][ch], best_b = c.e[r * 2 + 1][ch];
+      double best = channel_err(best_a, best_b, 1e300);
+      int centers[2][2] = {{best_a, best_b}, {best_a, best_b}};
+      if (have_ls) {
+        centers[1][0] = quantize(std::clamp(lo[ch], low, lim), mi.epb, b.is_signed);
+        centers[1][1] = quantize(std::clamp(hi[ch], low, lim), mi.epb, b.is_signed);
+      }
+      // 6-bit endpoints (mode 10, the only two-region mode for a black and a lit region): all
+      // 64² pairs, since the palette's spacing there is coarser than the texels' spread and the
+      // entry the texels need may come from any pair.
+      const int window = mi.epb <= 6 ? maxv - minv : kWindow;
+      const int n_centers = mi.epb <= 6 ? 1 : have_ls ? 2 : 1;
+      for (int k = 0; k < n_centers; ++k)
+        for (int qa = std::max(minv, centers[k][0] - window); qa <= std::min(maxv, centers[k][0] + window); ++qa)
+          for (int qb = std::max(minv, centers[k][1] - window); qb <= std::min(maxv, centers[k][1] + window); ++qb) {
+            if (!deltas_fit(qa, qb)) continue;
+            const double e = channel_err(qa, qb, best);
+            if (e < best) best = e, best_a = qa, best_b = qb;
+          }
+      c.e[r * 2][ch] = best_a, c.e[r * 2 + 1][ch] = best_b;
+    }
+  }
+  if (!fit_deltas(mi, c.e, b.is_signed)) return false;
+  evaluate(b, c);
+  fix_anchors(b, c);
+  if (!(c.err < cand.err)) return false;
+  cand = c;
+  return true;
+}
+
 // Coordinate descent on the quantised endpoints: each component in turn moves by ±step for
 // step = kMaxStep … 1 (a logarithmic line search), keeping a move when the exact error drops;
 // then least squares on the new indices (re-quantised, and moved inside the range). Rounds
@@ -767,6 +840,8 @@ void polish_max(const Block& b, Candidate& best) {
           }
           if (moved.err < best.err) best = moved;
         }
+    for (int it = 0; it < 4 && improve_channels(b, best); ++it) {
+    }
     refine(b, best, 2, false);
     Candidate inside = best;
     if (move_inside(b, inside) && inside.err < best.err) best = inside;
