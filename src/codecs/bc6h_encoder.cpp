@@ -870,6 +870,9 @@ Candidate search_max(const Block& b) {
     try_modes(b, kOneRegionOrder, 4, 0, t, /*max_exact=*/0, top);
     add(top);
   }
+  for (int i = 0; i < n; ++i)
+    if (pool[i].err < best.err) best = pool[i];
+  if (best.err <= 0) return best;  // exact in one region (many smooth blocks, in mode 14)
   for (int p = 0; p < 32; ++p) {
     double t[2][2][3];
     axis_endpoints(b, kPartitions[p], 0, t[0][0], t[0][1]);
