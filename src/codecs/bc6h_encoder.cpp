@@ -15,7 +15,8 @@
 //           only where that fit is poor (encode_block_default). SF16: one region + 2 best
 //           partitions, 2 refinement passes on the best candidate of each
 //   high    one region + 6 partitions, 3 modes each, 4 refinement passes on the 2 best
-//   max     one region + all 32 partitions, every mode, 6 passes, ±1 endpoint perturbation
+//   max     one region + all 32 partitions, every mode, 6 passes, ±1 endpoint perturbation,
+//           then the 4 best candidates polished on the quantised lattice (search_max)
 // No specks: no texel may decode above its channel's brightest input in the block (or, signed,
 // below the darkest) by more than one half-float step. Every candidate is evaluated with that
 // range enforced (palette entries outside it are never chosen), and one candidate that lies
@@ -55,10 +56,8 @@ struct Block {
   float valid[16];      // 1 for real texels, 0 for the padding of partial blocks
   int cap[3], floor_[3];  // range every decoded value must stay in (half bits, per channel)
   bool is_signed;
-  // Quality `max`: endpoints are quantised inside the range above (comp_hi/comp_lo: the
-  // extreme components of each precision whose decode stays in it), so that no palette entry
-  // of a candidate is lost to the no-specks rule. Other qualities keep plain rounding.
-  bool in_range = false;
+  // Quality `max` only (search_max): per endpoint precision (6–16 bits) and channel, the
+  // extreme components whose decode stays in that range.
   int comp_hi[17][3], comp_lo[17][3];
 };
 
@@ -717,7 +716,6 @@ void try_two_regions(const Block& b, int n_parts, int max_exact, int refine_top,
   }
 }
 
-
 // ---- Quality `max` (UF16 and SF16) ----
 // The search of `high` widened (one region and all 32 partitions, every mode, the two best of
 // each refined), then the few best candidates polished on the quantised lattice against the
@@ -971,7 +969,6 @@ void encode_block_searched(const float rgb[48], const uint8_t valid[16], bool is
   Block b;
   fill_block(rgb, valid, is_signed, b);
   if (q == Bc6hQuality::Max) {
-    b.in_range = true;
     for (int bits = 6; bits <= 16; ++bits)
       for (int c = 0; c < 3; ++c) {
         b.comp_hi[bits][c] = quantize_capped(b.cap[c], bits, is_signed, /*floor=*/false);
