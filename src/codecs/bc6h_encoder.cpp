@@ -16,7 +16,8 @@
 //           that are not noise along one line (encode_block_default). SF16: one region + 2 best
 //           partitions, 2 refinement passes on the best candidate of each
 //   high    one region + 6 partitions, 3 modes each, 4 refinement passes on the 2 best
-//   max     one region + all 32 partitions, every mode, 6 passes, ±1 endpoint perturbation
+//   max     one region + all 32 partitions, every mode, 6 passes, ±1 endpoint perturbation,
+//           then the 4 best candidates polished on the quantised lattice (search_max)
 // No specks: no texel may decode above its channel's brightest input in the block (or, signed,
 // below the darkest) by more than one half-float step. Every candidate is evaluated with that
 // range enforced (palette entries outside it are never chosen), and one candidate that lies
@@ -56,6 +57,9 @@ struct Block {
   float valid[16];      // 1 for real texels, 0 for the padding of partial blocks
   int cap[3], floor_[3];  // range every decoded value must stay in (half bits, per channel)
   bool is_signed;
+  // Quality `max` only (search_max): per endpoint precision (6–16 bits) and channel, the
+  // extreme components whose decode stays in that range.
+  int comp_hi[17][3], comp_lo[17][3];
 };
 
 // sign(x)·log2(1 + |x|) for every half-float bit pattern: the error metric, looked up.
@@ -896,6 +900,186 @@ void try_two_regions(const Block& b, int n_parts, int max_exact, int refine_top,
   }
 }
 
+// ---- Quality `max` (UF16 and SF16) ----
+// The search of `high` widened (one region and all 32 partitions, every mode, the two best of
+// each refined), then the few best candidates polished on the quantised lattice against the
+// exact judged error (polish_max). Candidates are kept only when they lower the error, so `max`
+// is never worse than that wide search on any block.
+
+// Moves every endpoint component inside the block's range (Block::comp_lo/comp_hi) and
+// re-evaluates: rounding an endpoint just past the no-specks cap loses its palette entries, and
+// the descent below cannot always walk back from there. Returns false when nothing moved.
+bool move_inside(const Block& b, Candidate& c) {
+  const ModeInfo& mi = mode(c.mode);
+  bool moved = false;
+  for (int k = 0; k < mi.regions * 2; ++k)
+    for (int ch = 0; ch < 3; ++ch) {
+      const int v = std::clamp(c.e[k][ch], b.comp_lo[mi.epb][ch], b.comp_hi[mi.epb][ch]);
+      moved |= v != c.e[k][ch];
+      c.e[k][ch] = v;
+    }
+  if (!moved) return false;
+  fit_deltas(mi, c.e, b.is_signed);
+  evaluate(b, c);
+  fix_anchors(b, c);
+  return true;
+}
+
+// With the candidate's indices held fixed, the channels of a region's endpoints are independent:
+// for each region and channel, every pair of components within ±kWindow of the current pair and
+// of the rounded least-squares pair is tried against that channel's exact error, with every entry
+// the texels use kept inside the block's range (no specks); the best pair is kept. Then the
+// indices are chosen again. Returns true when the candidate's error dropped.
+constexpr int kWindow = 4;
+bool improve_channels(const Block& b, Candidate& cand) {
+  const ModeInfo& mi = mode(cand.mode);
+  const uint16_t mask = mi.regions == 2 ? kPartitions[cand.partition] : 0;
+  const uint8_t* weights = mi.index_bits == 3 ? kWeights3 : kWeights4;
+  const float* L = log_table();
+  const int maxv = b.is_signed ? (1 << (mi.epb - 1)) - 1 : (1 << mi.epb) - 1, minv = b.is_signed ? -maxv : 0;
+  const double lim = b.is_signed ? 0x7FFF : 0xFFFF, low = b.is_signed ? -0x7FFF : 0;
+  Candidate c = cand;
+  for (int r = 0; r < mi.regions; ++r) {
+    double lo[3], hi[3];
+    const bool have_ls = refit_region(b, cand, r, lo, hi);
+    int texels[16], n = 0;
+    for (int t = 0; t < 16; ++t)
+      if (int((mask >> t) & 1) == r && b.valid[t] > 0) texels[n++] = t;
+    for (int ch = 0; ch < 3; ++ch) {
+      auto channel_err = [&](int qa, int qb, double bound) {
+        const int ua = unquantize(qa, mi.epb, b.is_signed), ub = unquantize(qb, mi.epb, b.is_signed);
+        double e = 0;
+        for (int i = 0; i < n && e < bound; ++i) {
+          const int t = texels[i];
+          const int h = decoded_h(interpolate(ua, ub, weights[c.idx[t]]), b.is_signed);
+          if (h > b.cap[ch] || h < b.floor_[ch]) return 1e300;
+          const double d = L[half_bits_of(h)] - b.L[t][ch];
+          e += d * d;
+        }
+        return e;
+      };
+      auto deltas_fit = [&](int qa, int qb) {
+        if (!mi.transformed) return true;
+        const int dlo = -(1 << (mi.delta[ch] - 1)), dhi = (1 << (mi.delta[ch] - 1)) - 1;
+        const int e0 = r == 0 ? qa : c.e[0][ch];
+        for (int k = 1; k < mi.regions * 2; ++k) {
+          const int v = k == r * 2 ? qa : k == r * 2 + 1 ? qb : c.e[k][ch];
+          if (v - e0 < dlo || v - e0 > dhi) return false;
+        }
+        return true;
+      };
+      int best_a = c.e[r * 2][ch], best_b = c.e[r * 2 + 1][ch];
+      double best = channel_err(best_a, best_b, 1e300);
+      int centers[2][2] = {{best_a, best_b}, {best_a, best_b}};
+      if (have_ls) {
+        centers[1][0] = quantize(std::clamp(lo[ch], low, lim), mi.epb, b.is_signed);
+        centers[1][1] = quantize(std::clamp(hi[ch], low, lim), mi.epb, b.is_signed);
+      }
+      // 6-bit endpoints (mode 10, the only two-region mode for a black and a lit region): all
+      // 64² pairs, since the palette's spacing there is coarser than the texels' spread and the
+      // entry the texels need may come from any pair.
+      const int window = mi.epb <= 6 ? maxv - minv : kWindow;
+      const int n_centers = mi.epb <= 6 ? 1 : have_ls ? 2 : 1;
+      for (int k = 0; k < n_centers; ++k)
+        for (int qa = std::max(minv, centers[k][0] - window); qa <= std::min(maxv, centers[k][0] + window); ++qa)
+          for (int qb = std::max(minv, centers[k][1] - window); qb <= std::min(maxv, centers[k][1] + window); ++qb) {
+            if (!deltas_fit(qa, qb)) continue;
+            const double e = channel_err(qa, qb, best);
+            if (e < best) best = e, best_a = qa, best_b = qb;
+          }
+      c.e[r * 2][ch] = best_a, c.e[r * 2 + 1][ch] = best_b;
+    }
+  }
+  if (!fit_deltas(mi, c.e, b.is_signed)) return false;
+  evaluate(b, c);
+  fix_anchors(b, c);
+  if (!(c.err < cand.err)) return false;
+  cand = c;
+  return true;
+}
+
+// Coordinate descent on the quantised endpoints: each component in turn moves by ±step for
+// step = kMaxStep … 1 (a logarithmic line search), keeping a move when the exact error drops;
+// then least squares on the new indices (re-quantised, and moved inside the range). Rounds
+// repeat until one does not lower the error. Moves that break a mode's deltas are not taken.
+constexpr int kMaxStep = 16, kMaxRounds = 8;
+void polish_max(const Block& b, Candidate& best) {
+  const ModeInfo& mi = mode(best.mode);
+  const int maxv = b.is_signed ? (1 << (mi.epb - 1)) - 1 : (1 << mi.epb) - 1, minv = b.is_signed ? -maxv : 0;
+  for (int round = 0; round < kMaxRounds && best.err > 0; ++round) {
+    const double before = best.err;
+    for (int k = 0; k < mi.regions * 2; ++k)
+      for (int ch = 0; ch < 3; ++ch)
+        for (int step = kMaxStep; step >= 1; step >>= 1) {
+          Candidate moved = best;
+          for (int d : {-step, step}) {
+            Candidate c = best;
+            c.e[k][ch] += d;
+            if (c.e[k][ch] < minv || c.e[k][ch] > maxv || !fit_deltas(mi, c.e, b.is_signed)) continue;
+            evaluate(b, c);
+            fix_anchors(b, c);
+            if (c.err < moved.err) moved = c;
+          }
+          if (moved.err < best.err) best = moved;
+        }
+    for (int it = 0; it < 4 && improve_channels(b, best); ++it) {
+    }
+    refine(b, best, 2, false);
+    Candidate inside = best;
+    if (move_inside(b, inside) && inside.err < best.err) best = inside;
+    if (!(best.err < before)) break;
+  }
+}
+
+constexpr int kMaxPolished = 4;  // candidates polished per block
+
+Candidate search_max(const Block& b) {
+  Candidate best = in_range_candidate(b);
+  Candidate pool[2 + 32 * 2];
+  int n = 0;
+  auto add = [&](const Candidate top[2]) {
+    for (int k = 0; k < 2; ++k) {
+      if (top[k].mode < 0) continue;
+      Candidate c = top[k];
+      refine(b, c, 6, /*perturb=*/true);
+      pool[n++] = c;
+    }
+  };
+  {
+    double t[2][2][3];
+    axis_endpoints(b, 0, 0, t[0][0], t[0][1]);
+    Candidate top[2];
+    try_modes(b, kOneRegionOrder, 4, 0, t, /*max_exact=*/0, top);
+    add(top);
+  }
+  for (int i = 0; i < n; ++i)
+    if (pool[i].err < best.err) best = pool[i];
+  if (best.err <= 0) return best;  // exact in one region (many smooth blocks, in mode 14)
+  for (int p = 0; p < 32; ++p) {
+    double t[2][2][3];
+    axis_endpoints(b, kPartitions[p], 0, t[0][0], t[0][1]);
+    axis_endpoints(b, kPartitions[p], 1, t[1][0], t[1][1]);
+    Candidate top[2];
+    try_modes(b, kTwoRegionOrder, 10, p, t, /*max_exact=*/0, top);
+    add(top);
+  }
+  // The best first; ties by the order found (stable), so the bytes depend on the block only.
+  std::stable_sort(pool, pool + n, [](const Candidate& x, const Candidate& y) { return x.err < y.err; });
+  for (int i = 0; i < n; ++i)
+    if (pool[i].err < best.err) best = pool[i];
+  for (int i = 0; i < std::min(n, kMaxPolished) && best.err > 0; ++i) {
+    if (!(pool[i].err < 1e300)) break;
+    Candidate starts[2] = {pool[i], pool[i]};
+    const bool second = move_inside(b, starts[1]);
+    for (int s = 0; s < (second ? 2 : 1); ++s) {
+      if (!(starts[s].err < 1e300)) continue;
+      polish_max(b, starts[s]);
+      if (starts[s].err < best.err) best = starts[s];
+    }
+  }
+  return best;
+}
+
 }  // namespace
 
 bool bc6h_quality_from_name(const std::string& name, Bc6hQuality* out) {
@@ -980,7 +1164,14 @@ void encode_block_searched(const float rgb[48], const uint8_t valid[16], bool is
   Block b;
   fill_targets(rgb, valid, is_signed, b);
   fill_geometry(rgb, valid, b);
-  Candidate best = search(b, q);
+  if (q == Bc6hQuality::Max) {
+    for (int bits = 6; bits <= 16; ++bits)
+      for (int c = 0; c < 3; ++c) {
+        b.comp_hi[bits][c] = quantize_capped(b.cap[c], bits, is_signed, /*floor=*/false);
+        b.comp_lo[bits][c] = std::min(b.comp_hi[bits][c], quantize_capped(b.floor_[c], bits, is_signed, /*floor=*/true));
+      }
+  }
+  Candidate best = q == Bc6hQuality::Max ? search_max(b) : search(b, q);
   pack(best, is_signed, out);
 }
 

@@ -162,7 +162,7 @@ TEST(Bc6h, DeterministicAndIndependentOfNeighbours) {
   std::mt19937 rng(8);
   std::uniform_real_distribution<float> u(0, 1);
   for (float& v : img.data) v = std::exp2(16 * u(rng) - 8);
-  for (Bc6hQuality q : {Bc6hQuality::Fast, Bc6hQuality::Default, Bc6hQuality::High}) {
+  for (Bc6hQuality q : {Bc6hQuality::Fast, Bc6hQuality::Default, Bc6hQuality::High, Bc6hQuality::Max}) {
     Bc6hOptions a;
     a.quality = q;
     a.threads = 1;
@@ -207,9 +207,7 @@ TEST(Bc6h, SharedImagesBeatTheFastestPublicEncoder) {
     double cvtt_fastest, bound, max_slack;
   } images[] = {{"lightmap_smooth.exr", 0.00965, 0.00840, 1.0001},
                 {"hdr_hard.exr", 0.01501, 0.00795, 1.0001},
-                // `max` searches from its own seed without `default`'s polish: on this crop of the
-                // noisy image it is 0.6 % behind `default` (0.03220 vs 0.03201, measured).
-                {"lightmap_noisy.exr", 0.1030, 0.04606, 1.01}};
+                {"lightmap_noisy.exr", 0.1030, 0.04606, 1.0001}};
   for (const auto& im : images) {
     const ImageF src = clamp_rgb(read_image(std::string(AHD_SHARED_DIR) + "/data/bc6h/" + im.file));
     Bc6hOptions o;
@@ -283,6 +281,49 @@ TEST(Bc6h, SimdAndScalarLoopsWriteTheSameBytes) {
         const std::vector<uint8_t> simd = bc6h_encode_image(crop, o);
         EXPECT_EQ(scalar, simd) << file << " " << bc6h_quality_name(q) << (is_signed ? " signed" : "");
       }
+    // max (its polish evaluates candidates through the same index step) on a 32×32 corner.
+    ImageF small(32, 32, 3);
+    for (int y = 0; y < 32; ++y)
+      for (int x = 0; x < 32; ++x)
+        for (int c = 0; c < 3; ++c) small.at(x, y)[c] = crop.at(x, y)[c];
+    for (bool is_signed : {false, true}) {
+      Bc6hOptions o;
+      o.quality = Bc6hQuality::Max;
+      o.is_signed = is_signed;
+      bc6h::force_scalar(true);
+      const std::vector<uint8_t> scalar = bc6h_encode_image(small, o);
+      bc6h::force_scalar(false);
+      EXPECT_EQ(scalar, bc6h_encode_image(small, o)) << file << " max" << (is_signed ? " signed" : "");
+    }
+  }
+}
+
+TEST(Bc6h, MaxOnCropsOfTheSharedImages) {
+  // Issue 13: `max` polishes its best candidates on the quantised lattice (search_max). On the
+  // whole images it measured log-RMSE 0.00507 / 0.00706 / 0.04297, below every encoder of
+  // PEERS.md (DirectXTex 0.00651 on smooth, CVTT 0.01501 on hard, Basis Universal 0.04606 on
+  // noisy); the full images take minutes here, so this checks the 128² crop at (128, 128) of
+  // each against what it measured there (+1 %), against `default` on the same crop, and for
+  // specks.
+  const struct {
+    const char* file;
+    double measured;
+  } images[] = {{"lightmap_smooth.exr", 0.009842}, {"hdr_hard.exr", 0.002005}, {"lightmap_noisy.exr", 0.045290}};
+  for (const auto& im : images) {
+    const ImageF src = clamp_rgb(read_image(std::string(AHD_SHARED_DIR) + "/data/bc6h/" + im.file));
+    ImageF crop(128, 128, 3);
+    for (int y = 0; y < 128; ++y)
+      for (int x = 0; x < 128; ++x)
+        for (int c = 0; c < 3; ++c) crop.at(x, y)[c] = src.at(x + 128, y + 128)[c];
+    Bc6hOptions mx, df;
+    mx.quality = Bc6hQuality::Max;
+    const std::vector<uint8_t> bm = bc6h_encode_image(crop, mx), bd = bc6h_encode_image(crop, df);
+    const double em = log_rmse(crop, bc6h_decode_image(bm.data(), 128, 128, false));
+    const double ed = log_rmse(crop, bc6h_decode_image(bd.data(), 128, 128, false));
+    std::printf("%s crop: max log-RMSE %.6f, default %.6f\n", im.file, em, ed);
+    EXPECT_LE(em, im.measured * 1.01) << im.file;
+    EXPECT_LT(em, ed) << im.file;
+    expect_sane(crop, false, Bc6hQuality::Max, im.file);
   }
 }
 
