@@ -501,6 +501,26 @@ void encode_block_fast(const uint16_t h[48], const float x[48], const uint8_t va
   pack_one_region(fit, out);
 }
 
+void encode_blocks_fast(const uint16_t* h, const float* x, const uint8_t* valid, int n, uint8_t* out) {
+  int i = 0;
+  if (!scalar_forced() && cpu_has_avx2()) {
+    for (; i < n; i += 8) {
+      const uint16_t* hp[8];
+      const float* xp[8];
+      const uint8_t* vp[8];
+      for (int l = 0; l < 8; ++l) {
+        const int b = i + l < n ? i + l : i;  // a partial batch repeats its first block
+        hp[l] = h + 48 * b, xp[l] = x + 48 * b, vp[l] = valid + 16 * b;
+      }
+      OneRegionFit fit[8];
+      fit_one_region_fast_x8(hp, xp, vp, fit);
+      for (int l = 0; l < 8 && i + l < n; ++l) pack_one_region(fit[l], out + 16 * (i + l));
+    }
+    return;
+  }
+  for (; i < n; ++i) encode_block_fast(h + 48 * i, x + 48 * i, valid + 16 * i, out + 16 * i);
+}
+
 void pack_one_region(OneRegionFit fit, uint8_t out[16]) {
   Endpoints ep;
   ep.m = 0;

@@ -11,8 +11,9 @@ namespace ahd::bc6h {
 void floats_to_half(const float* in, uint16_t* out, int n);
 
 // On x86-64 the fast fit's palette and projection and the search's index step (bc6h_encoder.cpp)
-// run four lanes at a time with SSE2; true = the plain scalar loops instead (tests: both write
-// the same bytes).
+// run four lanes at a time with SSE2, and `fast` encodes eight blocks per AVX2 batch when the CPU
+// has AVX2; true = the plain one-block scalar loops instead (tests: every path writes the same
+// bytes).
 void force_scalar(bool scalar);
 bool scalar_forced();
 
@@ -35,6 +36,18 @@ void fit_one_region_fast(const uint16_t h[48], const float x[48], const uint8_t 
 
 // Writes a one-region fit as a block (mirrored first when texel 0's index has its top bit set).
 void pack_one_region(OneRegionFit fit, uint8_t out[16]);
+
+// fit_one_region_fast for eight blocks at once, one per AVX2 lane (bc6h_fast_avx2.cpp): out[l] is
+// exactly what fit_one_region_fast(h[l], x[l], valid[l]) gives, whatever the other lanes hold.
+// Call only when cpu_has_avx2().
+void fit_one_region_fast_x8(const uint16_t* const h[8], const float* const x[8], const uint8_t* const valid[8],
+                            OneRegionFit out[8]);
+bool cpu_has_avx2();
+
+// Encodes n UF16 blocks (block i: h + 48i, x + 48i, valid + 16i → out + 16i), each exactly as
+// encode_block_fast encodes it alone: eight per AVX2 batch when the CPU has AVX2 and the scalar
+// path is not forced (force_scalar), a partial batch padded with copies of its first block.
+void encode_blocks_fast(const uint16_t* h, const float* x, const uint8_t* valid, int n, uint8_t* out);
 
 // Encodes one UF16 block without search (see bc6h_fast.cpp). h: the texels' half bits
 // (h[t*3+c], finite, non-negative), x: the same values as floats, valid: 1 for real texels, 0 for

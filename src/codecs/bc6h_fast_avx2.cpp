@@ -1,0 +1,425 @@
+// BC6H `fast`, eight blocks at a time: the fit of fit_one_region_fast (bc6h_fast.cpp) with one
+// block per AVX2 lane, so that the per-block scalar work (the principal axis, the endpoint
+// quantisation with its mode choice and cap, the least-squares solve) and the palette lookups of
+// the index step (per-texel gathers in the one-block code) become lane-wise arithmetic.
+//
+// Same bytes as the one-block path, lane by lane: every float operation is the one-block code's,
+// in the same order (no FMA: this file enables AVX2 only, and the build has -ffp-contract=off);
+// a lane's branches become masks, and a loop runs while any lane still needs it, changing only
+// the lanes that do. No lane reads another lane, so a block's bytes never depend on the other
+// blocks of its batch (tested: blocks alone, in mixed batches, and with the scalar path forced).
+//
+// Built for plain x86-64: only the functions here are compiled for AVX2 (target attribute, no
+// per-file flags, so no inline function of a shared header is ever compiled with AVX2), and
+// bc6h_fast.cpp calls them only when the CPU reports AVX2 (cpu_has_avx2).
+#include "codecs/bc6h_fast.h"
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <cpuid.h>
+#include <immintrin.h>
+
+#include <cstring>
+
+namespace ahd::bc6h {
+
+namespace {
+
+#define AVX2_INLINE __attribute__((target("avx2"), always_inline)) inline
+#define AVX2_FN __attribute__((target("avx2")))
+
+using F = __m256;
+using I = __m256i;
+
+constexpr int kW4[16] = {0, 4, 9, 13, 17, 21, 26, 30, 34, 38, 43, 47, 51, 55, 60, 64};
+// The one-region modes by precision (as bc6h_fast.cpp's kModes): endpoint bits and delta bits.
+constexpr int kEpb[4] = {16, 12, 11, 10};
+constexpr int kDelta[4] = {4, 8, 9, 10};
+constexpr int kModeNumber[4] = {13, 12, 11, 10};
+
+// Palette index nearest to a position p = 128·t on the segment (bc6h_fast.cpp's kNearest).
+struct NearestTable {
+  alignas(32) int idx[136];
+  constexpr NearestTable() : idx{} {
+    for (int p = 0; p <= 128; ++p) {
+      int best = 0;
+      for (int k = 1; k < 16; ++k) {
+        const int d = 2 * kW4[k] - p, db = 2 * kW4[best] - p;
+        if ((d < 0 ? -d : d) < (db < 0 ? -db : db)) best = k;
+      }
+      idx[p] = best;
+    }
+  }
+};
+constexpr NearestTable kNearest32;
+
+AVX2_INLINE F f32(float v) { return _mm256_set1_ps(v); }
+AVX2_INLINE I i32(int v) { return _mm256_set1_epi32(v); }
+AVX2_INLINE F fabs8(F v) { return _mm256_andnot_ps(_mm256_set1_ps(-0.0f), v); }
+AVX2_INLINE F select(F mask, F yes, F no) { return _mm256_blendv_ps(no, yes, mask); }
+AVX2_INLINE I select(I mask, I yes, I no) { return _mm256_blendv_epi8(no, yes, mask); }
+AVX2_INLINE F as_f(I v) { return _mm256_castsi256_ps(v); }
+AVX2_INLINE I as_i(F v) { return _mm256_castps_si256(v); }
+AVX2_INLINE bool any(F m) { return _mm256_movemask_ps(m) != 0; }
+AVX2_INLINE bool any(I m) { return _mm256_movemask_ps(as_f(m)) != 0; }
+// The one-block code's std::min / std::max of non-NaN floats (equal values are equal either way).
+AVX2_INLINE F lt(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_LT_OQ); }
+
+// unquantize_u for each lane's endpoint bits (lanes may be in different modes).
+AVX2_INLINE I unquantize(I e, I bits) {
+  const I maxv = _mm256_sub_epi32(_mm256_sllv_epi32(i32(1), bits), i32(1));
+  const I mid = _mm256_srlv_epi32(_mm256_add_epi32(_mm256_slli_epi32(e, 16), i32(0x8000)), bits);
+  I r = select(_mm256_cmpeq_epi32(e, maxv), i32(0xFFFF), mid);
+  r = _mm256_andnot_si256(_mm256_cmpeq_epi32(e, _mm256_setzero_si256()), r);
+  return select(_mm256_cmpgt_epi32(bits, i32(14)), e, r);
+}
+// The decoder's 16-bit value → half bits: (c·31) >> 6.
+AVX2_INLINE I decode_h(I c) { return _mm256_srli_epi32(_mm256_sub_epi32(_mm256_slli_epi32(c, 5), c), 6); }
+
+// quantize_endpoint of bc6h_fast.cpp, lane-wise, for `bits` the same in every lane.
+AVX2_INLINE I quantize_endpoint(F target, int bits, I cap) {
+  const I vb = i32(bits), maxv = i32((1 << bits) - 1);
+  const F c = _mm256_mul_ps(target, f32(64.0f / 31.0f));
+  I e = _mm256_cvttps_epi32(_mm256_mul_ps(_mm256_mul_ps(c, f32(float(1 << bits))), f32(1.0f / 65536.0f)));
+  e = _mm256_min_epi32(_mm256_max_epi32(e, _mm256_setzero_si256()), maxv);
+  const I up = _mm256_add_epi32(e, i32(1));
+  const F dn = fabs8(_mm256_sub_ps(_mm256_cvtepi32_ps(decode_h(unquantize(up, vb))), target));
+  const F de = fabs8(_mm256_sub_ps(_mm256_cvtepi32_ps(decode_h(unquantize(e, vb))), target));
+  const I inc = _mm256_and_si256(_mm256_cmpgt_epi32(maxv, e), as_i(lt(dn, de)));
+  e = _mm256_sub_epi32(e, inc);  // inc is −1 where the upper candidate is nearer
+  for (;;) {  // while (e > 0 && decoded(e) > cap) --e, in the lanes that need it
+    const I need = _mm256_and_si256(_mm256_cmpgt_epi32(e, _mm256_setzero_si256()),
+                                    _mm256_cmpgt_epi32(decode_h(unquantize(e, vb)), cap));
+    if (!any(need)) return e;
+    e = _mm256_add_epi32(e, need);
+  }
+}
+
+// Eight blocks' fit state: channel planes (texel t of lane l at [c][t] lane l).
+struct Lanes {
+  F H[3][16], W[3][16];
+  F vmask[16];
+  I cap[3];
+  F capf[3];
+};
+
+struct Ends {
+  I m;        // index into the mode tables
+  I e[2][3];  // quantised endpoints
+};
+
+// quantize() of bc6h_fast.cpp: the most precise mode whose delta fits, else 10-bit absolute.
+AVX2_INLINE Ends quantize(const Lanes& L, const F a[3], const F b[3]) {
+  F spread = _mm256_setzero_ps();
+  for (int c = 0; c < 3; ++c) {
+    const F s = _mm256_mul_ps(fabs8(_mm256_sub_ps(b[c], a[c])), f32(64.0f / 31.0f));
+    spread = select(lt(spread, s), s, spread);
+  }
+  Ends ep;
+  ep.m = i32(3);
+  for (int c = 0; c < 3; ++c) ep.e[0][c] = ep.e[1][c] = _mm256_setzero_si256();
+  I chosen = _mm256_setzero_si256();
+  for (int m = 0; m < 3; ++m) {
+    const int lim = (1 << (kDelta[m] - 1)) - 1;
+    const F skip = _mm256_cmp_ps(spread, f32(float((lim + 2) << (16 - kEpb[m]))), _CMP_GT_OQ);
+    I fits = _mm256_andnot_si256(_mm256_or_si256(chosen, as_i(skip)), i32(-1));
+    if (!any(fits)) continue;
+    I q[2][3];
+    for (int c = 0; c < 3; ++c) {
+      q[0][c] = quantize_endpoint(a[c], kEpb[m], L.cap[c]);
+      q[1][c] = quantize_endpoint(b[c], kEpb[m], L.cap[c]);
+      const I d = _mm256_sub_epi32(q[1][c], q[0][c]);
+      fits = _mm256_andnot_si256(_mm256_or_si256(_mm256_cmpgt_epi32(d, i32(lim)), _mm256_cmpgt_epi32(i32(-lim), d)), fits);
+    }
+    for (int c = 0; c < 3; ++c)
+      for (int k = 0; k < 2; ++k) ep.e[k][c] = select(fits, q[k][c], ep.e[k][c]);
+    ep.m = select(fits, i32(m), ep.m);
+    chosen = _mm256_or_si256(chosen, fits);
+  }
+  if (_mm256_movemask_ps(as_f(chosen)) != 0xFF)
+    for (int c = 0; c < 3; ++c) {
+      ep.e[0][c] = select(chosen, ep.e[0][c], quantize_endpoint(a[c], 10, L.cap[c]));
+      ep.e[1][c] = select(chosen, ep.e[1][c], quantize_endpoint(b[c], 10, L.cap[c]));
+    }
+  return ep;
+}
+
+AVX2_INLINE I epb_of(I m) {
+  return _mm256_permutevar8x32_epi32(_mm256_setr_epi32(kEpb[0], kEpb[1], kEpb[2], kEpb[3], 0, 0, 0, 0), m);
+}
+
+// kW4[k] as floats for each lane's k in 0..15.
+AVX2_INLINE F weight_of(I k) {
+  const F lo = _mm256_setr_ps(0, 4, 9, 13, 17, 21, 26, 30), hi = _mm256_setr_ps(34, 38, 43, 47, 51, 55, 60, 64);
+  return select(as_f(_mm256_cmpgt_epi32(k, i32(7))), _mm256_permutevar8x32_ps(hi, k), _mm256_permutevar8x32_ps(lo, k));
+}
+
+// A palette entry's decoded half bits as a float, for weight w (float, exact): the one-block
+// code's integers, computed exactly in floats (every intermediate is below 2^23).
+AVX2_INLINE F entry(F a64p32, F diff, F w) {
+  const F v = _mm256_add_ps(a64p32, _mm256_mul_ps(diff, w));  // a·64 + (b − a)·w + 32
+  const F c = _mm256_cvtepi32_ps(_mm256_cvttps_epi32(_mm256_mul_ps(v, f32(1.0f / 64.0f))));
+  return _mm256_cvtepi32_ps(_mm256_cvttps_epi32(_mm256_mul_ps(_mm256_mul_ps(c, f32(31.0f)), f32(1.0f / 64.0f))));
+}
+
+// assign() of bc6h_fast.cpp: indices by weighted projection, then the better neighbour; returns
+// each lane's weighted squared error.
+AVX2_INLINE F assign(const Lanes& L, const Ends& ep, I idx[16]) {
+  const I bits = epb_of(ep.m);
+  F a64p32[3], diff[3], P0[3], d[3];
+  for (int c = 0; c < 3; ++c) {
+    const I ua = unquantize(ep.e[0][c], bits), ub = unquantize(ep.e[1][c], bits);
+    a64p32[c] = _mm256_cvtepi32_ps(_mm256_add_epi32(_mm256_slli_epi32(ua, 6), i32(32)));
+    diff[c] = _mm256_cvtepi32_ps(_mm256_sub_epi32(ub, ua));
+    P0[c] = entry(a64p32[c], diff[c], _mm256_setzero_ps());
+    d[c] = _mm256_sub_ps(entry(a64p32[c], diff[c], f32(64.0f)), P0[c]);
+  }
+  const F zero = _mm256_setzero_ps(), one = f32(1.0f), k128 = f32(128.0f);
+  F total = zero;
+  for (int t = 0; t < 16; ++t) {
+    const F wd0 = _mm256_mul_ps(L.W[0][t], d[0]), wd1 = _mm256_mul_ps(L.W[1][t], d[1]), wd2 = _mm256_mul_ps(L.W[2][t], d[2]);
+    const F num = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(wd0, _mm256_sub_ps(L.H[0][t], P0[0])),
+                                              _mm256_mul_ps(wd1, _mm256_sub_ps(L.H[1][t], P0[1]))),
+                                _mm256_mul_ps(wd2, _mm256_sub_ps(L.H[2][t], P0[2])));
+    const F den = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(wd0, d[0]), _mm256_mul_ps(wd1, d[1])), _mm256_mul_ps(wd2, d[2]));
+    const F safe = select(_mm256_cmp_ps(den, zero, _CMP_GT_OQ), den, one);
+    const F p = _mm256_min_ps(_mm256_max_ps(_mm256_div_ps(_mm256_mul_ps(k128, num), safe), zero), k128);
+    I pos = _mm256_cvttps_epi32(_mm256_add_ps(p, f32(0.5f)));
+    pos = _mm256_min_epi32(_mm256_max_epi32(pos, _mm256_setzero_si256()), i32(128));  // (never needed)
+    const I k = _mm256_i32gather_epi32(kNearest32.idx, pos, 4);
+    const I km = _mm256_add_epi32(k, _mm256_cmpgt_epi32(k, _mm256_setzero_si256()));
+    const I kp = _mm256_sub_epi32(k, _mm256_cmpgt_epi32(i32(15), k));
+    F err[3];
+    const I ks[3] = {k, km, kp};
+    for (int j = 0; j < 3; ++j) {
+      const F w = weight_of(ks[j]);
+      const F e0 = _mm256_sub_ps(entry(a64p32[0], diff[0], w), L.H[0][t]);
+      const F e1 = _mm256_sub_ps(entry(a64p32[1], diff[1], w), L.H[1][t]);
+      const F e2 = _mm256_sub_ps(entry(a64p32[2], diff[2], w), L.H[2][t]);
+      err[j] = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(_mm256_mul_ps(L.W[0][t], e0), e0),
+                                           _mm256_mul_ps(_mm256_mul_ps(L.W[1][t], e1), e1)),
+                             _mm256_mul_ps(_mm256_mul_ps(L.W[2][t], e2), e2));
+    }
+    const F m1 = lt(err[1], err[0]);
+    I kb = select(as_i(m1), km, k);
+    F best = select(m1, err[1], err[0]);
+    const F m2 = lt(err[2], best);
+    kb = select(as_i(m2), kp, kb);
+    best = select(m2, err[2], best);
+    idx[t] = kb;
+    total = _mm256_add_ps(total, best);
+  }
+  return total;
+}
+
+// refit() of bc6h_fast.cpp: least-squares endpoints for the indices; returns the lanes where
+// every channel's system was solvable (a, b are meaningful only there).
+AVX2_INLINE I refit(const Lanes& L, const I idx[16], F a[3], F b[3]) {
+  F g[16];
+  for (int t = 0; t < 16; ++t) g[t] = _mm256_mul_ps(weight_of(idx[t]), f32(1.0f / 64.0f));
+  const F one = f32(1.0f), zero = _mm256_setzero_ps();
+  F ok = as_f(i32(-1));
+  for (int c = 0; c < 3; ++c) {
+    // Four partial sums (texels t mod 4), added as the one-block code adds its four lanes.
+    F p00[4], p01[4], p11[4], q0[4], q1[4];
+    for (int l = 0; l < 4; ++l) {
+      p00[l] = p01[l] = p11[l] = q0[l] = q1[l] = zero;
+      for (int t = l; t < 16; t += 4) {
+        const F gg = g[t], w = L.W[c][t], hh = L.H[c][t];
+        const F om = _mm256_sub_ps(one, gg), wa = _mm256_mul_ps(w, om), wb = _mm256_mul_ps(w, gg);
+        p00[l] = _mm256_add_ps(p00[l], _mm256_mul_ps(wa, om));
+        p01[l] = _mm256_add_ps(p01[l], _mm256_mul_ps(wa, gg));
+        p11[l] = _mm256_add_ps(p11[l], _mm256_mul_ps(wb, gg));
+        q0[l] = _mm256_add_ps(q0[l], _mm256_mul_ps(wa, hh));
+        q1[l] = _mm256_add_ps(q1[l], _mm256_mul_ps(wb, hh));
+      }
+    }
+    const F s00 = _mm256_add_ps(_mm256_add_ps(p00[0], p00[1]), _mm256_add_ps(p00[2], p00[3]));
+    const F s01 = _mm256_add_ps(_mm256_add_ps(p01[0], p01[1]), _mm256_add_ps(p01[2], p01[3]));
+    const F s11 = _mm256_add_ps(_mm256_add_ps(p11[0], p11[1]), _mm256_add_ps(p11[2], p11[3]));
+    const F t0 = _mm256_add_ps(_mm256_add_ps(q0[0], q0[1]), _mm256_add_ps(q0[2], q0[3]));
+    const F t1 = _mm256_add_ps(_mm256_add_ps(q1[0], q1[1]), _mm256_add_ps(q1[2], q1[3]));
+    const F s0011 = _mm256_mul_ps(s00, s11);
+    const F det = _mm256_sub_ps(s0011, _mm256_mul_ps(s01, s01));
+    ok = _mm256_and_ps(ok, _mm256_cmp_ps(fabs8(det), _mm256_mul_ps(f32(1e-6f), _mm256_add_ps(s0011, f32(1e-30f))), _CMP_GT_OQ));
+    const F va = _mm256_div_ps(_mm256_sub_ps(_mm256_mul_ps(t0, s11), _mm256_mul_ps(s01, t1)), det);
+    const F vb = _mm256_div_ps(_mm256_sub_ps(_mm256_mul_ps(s00, t1), _mm256_mul_ps(s01, t0)), det);
+    // std::clamp(v, 0, cap): v < 0 → 0, cap < v → cap.
+    a[c] = select(lt(va, zero), zero, select(lt(L.capf[c], va), L.capf[c], va));
+    b[c] = select(lt(vb, zero), zero, select(lt(L.capf[c], vb), L.capf[c], vb));
+  }
+  return as_i(ok);
+}
+
+// Sum of 16 lane vectors as sum16 of bc6h_fast.cpp adds 16 floats.
+AVX2_INLINE F sum16(const F v[16]) {
+  F l[4];
+  for (int i = 0; i < 4; ++i) l[i] = _mm256_add_ps(_mm256_add_ps(_mm256_add_ps(_mm256_add_ps(_mm256_setzero_ps(), v[i]), v[i + 4]), v[i + 8]), v[i + 12]);
+  return _mm256_add_ps(_mm256_add_ps(l[0], l[1]), _mm256_add_ps(l[2], l[3]));
+}
+
+}  // namespace
+
+AVX2_FN void fit_one_region_fast_x8(const uint16_t* const h[8], const float* const x[8], const uint8_t* const valid[8],
+                                    OneRegionFit out[8]) {
+  Lanes L;
+  {
+    alignas(32) float H[3][16][8], X[3][16][8], V[16][8];
+    for (int l = 0; l < 8; ++l) {
+      int first = 0;
+      while (first < 15 && !valid[l][first]) ++first;
+      for (int t = 0; t < 16; ++t) {
+        const int s = valid[l][t] ? t : first;
+        V[t][l] = valid[l][t] ? 1.0f : 0.0f;
+        for (int c = 0; c < 3; ++c) H[c][t][l] = float(h[l][s * 3 + c]), X[c][t][l] = x[l][s * 3 + c];
+      }
+    }
+    for (int t = 0; t < 16; ++t) {
+      L.vmask[t] = _mm256_load_ps(V[t]);
+      for (int c = 0; c < 3; ++c) L.H[c][t] = _mm256_load_ps(H[c][t]), L.W[c][t] = _mm256_load_ps(X[c][t]);
+    }
+  }
+  F lo[3], hi[3];
+  for (int c = 0; c < 3; ++c) {
+    lo[c] = hi[c] = L.H[c][0];
+    for (int t = 0; t < 16; ++t) {
+      const F W = L.W[c][t];
+      const F xv = select(lt(W, f32(0.25f)), f32(0.25f), W);
+      const F slope = _mm256_div_ps(xv, _mm256_add_ps(f32(1.0f), xv));
+      L.W[c][t] = _mm256_mul_ps(_mm256_mul_ps(slope, slope), L.vmask[t]);
+      lo[c] = _mm256_min_ps(lo[c], L.H[c][t]), hi[c] = _mm256_max_ps(hi[c], L.H[c][t]);
+    }
+    L.cap[c] = _mm256_add_epi32(_mm256_cvttps_epi32(hi[c]), i32(1));
+    L.capf[c] = _mm256_cvtepi32_ps(L.cap[c]);
+  }
+  F tw[16];
+  for (int t = 0; t < 16; ++t)
+    tw[t] = _mm256_mul_ps(_mm256_add_ps(_mm256_add_ps(L.W[0][t], L.W[1][t]), L.W[2][t]), f32(1.0f / 3.0f));
+  const F wsum = sum16(tw);
+  const F solid = _mm256_and_ps(_mm256_and_ps(_mm256_cmp_ps(lo[0], hi[0], _CMP_EQ_OQ), _mm256_cmp_ps(lo[1], hi[1], _CMP_EQ_OQ)),
+                                _mm256_cmp_ps(lo[2], hi[2], _CMP_EQ_OQ));
+
+  // Principal axis (power iteration from the covariance's diagonal).
+  F mean[3], tmp[16];
+  for (int c = 0; c < 3; ++c) {
+    for (int t = 0; t < 16; ++t) tmp[t] = _mm256_mul_ps(tw[t], L.H[c][t]);
+    mean[c] = _mm256_div_ps(sum16(tmp), wsum);
+  }
+  F cov[6];
+  {
+    F dd[3][16];
+    for (int c = 0; c < 3; ++c)
+      for (int t = 0; t < 16; ++t) dd[c][t] = _mm256_sub_ps(L.H[c][t], mean[c]);
+    const int pi[6] = {0, 1, 2, 0, 0, 1}, pj[6] = {0, 1, 2, 1, 2, 2};
+    for (int i = 0; i < 6; ++i) {
+      for (int t = 0; t < 16; ++t) tmp[t] = _mm256_mul_ps(_mm256_mul_ps(tw[t], dd[pi[i]][t]), dd[pj[i]][t]);
+      cov[i] = sum16(tmp);
+    }
+  }
+  F ax[3] = {cov[0], cov[1], cov[2]};
+  F going = as_f(i32(-1));
+  for (int it = 0; it < 4; ++it) {
+    const F v0 = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(cov[0], ax[0]), _mm256_mul_ps(cov[3], ax[1])), _mm256_mul_ps(cov[4], ax[2]));
+    const F v1 = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(cov[3], ax[0]), _mm256_mul_ps(cov[1], ax[1])), _mm256_mul_ps(cov[5], ax[2]));
+    const F v2 = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(cov[4], ax[0]), _mm256_mul_ps(cov[5], ax[1])), _mm256_mul_ps(cov[2], ax[2]));
+    const F m = _mm256_max_ps(_mm256_max_ps(fabs8(v0), fabs8(v1)), fabs8(v2));
+    going = _mm256_and_ps(going, _mm256_cmp_ps(m, _mm256_setzero_ps(), _CMP_GT_OQ));  // once stopped, stays
+    if (!any(going)) break;
+    ax[0] = select(going, _mm256_div_ps(v0, m), ax[0]);
+    ax[1] = select(going, _mm256_div_ps(v1, m), ax[1]);
+    ax[2] = select(going, _mm256_div_ps(v2, m), ax[2]);
+  }
+  F len2 = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(ax[0], ax[0]), _mm256_mul_ps(ax[1], ax[1])), _mm256_mul_ps(ax[2], ax[2]));
+  {
+    const F flat = _mm256_cmp_ps(len2, _mm256_setzero_ps(), _CMP_NGT_UQ);  // !(len2 > 0)
+    for (int c = 0; c < 3; ++c) ax[c] = select(flat, f32(1.0f), ax[c]);
+    len2 = select(flat, f32(3.0f), len2);
+  }
+  F tmin = f32(1e30f), tmax = f32(-1e30f);
+  for (int t = 0; t < 16; ++t) {
+    const F p = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(_mm256_sub_ps(L.H[0][t], mean[0]), ax[0]),
+                                            _mm256_mul_ps(_mm256_sub_ps(L.H[1][t], mean[1]), ax[1])),
+                              _mm256_mul_ps(_mm256_sub_ps(L.H[2][t], mean[2]), ax[2]));
+    const F v = _mm256_cmp_ps(L.vmask[t], _mm256_setzero_ps(), _CMP_NEQ_OQ);
+    tmin = select(_mm256_and_ps(v, lt(p, tmin)), p, tmin);
+    tmax = select(_mm256_and_ps(v, lt(tmax, p)), p, tmax);
+  }
+  F a[3], b[3];
+  for (int c = 0; c < 3; ++c) {
+    const F va = _mm256_add_ps(mean[c], _mm256_mul_ps(_mm256_div_ps(tmin, len2), ax[c]));
+    const F vb = _mm256_add_ps(mean[c], _mm256_mul_ps(_mm256_div_ps(tmax, len2), ax[c]));
+    // std::clamp(v, lo, hi)
+    a[c] = select(lt(va, lo[c]), lo[c], select(lt(hi[c], va), hi[c], va));
+    b[c] = select(lt(vb, lo[c]), lo[c], select(lt(hi[c], vb), hi[c], vb));
+  }
+
+  Ends best = quantize(L, a, b);
+  I idx[16];
+  F best_err = assign(L, best, idx);
+  I active = as_i(_mm256_andnot_ps(solid, as_f(i32(-1))));
+  for (int pass = 0; pass < 2; ++pass) {
+    active = _mm256_and_si256(active, as_i(_mm256_cmp_ps(best_err, _mm256_setzero_ps(), _CMP_GT_OQ)));
+    if (!any(active)) break;
+    active = _mm256_and_si256(active, refit(L, idx, a, b));
+    if (!any(active)) break;
+    const Ends ep = quantize(L, a, b);
+    I trial[16];
+    const F err = assign(L, ep, trial);
+    active = _mm256_and_si256(active, as_i(lt(err, best_err)));
+    best.m = select(active, ep.m, best.m);
+    for (int k = 0; k < 2; ++k)
+      for (int c = 0; c < 3; ++c) best.e[k][c] = select(active, ep.e[k][c], best.e[k][c]);
+    for (int t = 0; t < 16; ++t) idx[t] = select(active, trial[t], idx[t]);
+    best_err = select(as_f(active), err, best_err);
+  }
+
+  alignas(32) int m[8], e[2][3][8], ix[16][8], hb[3][8];
+  alignas(32) float er[8];
+  _mm256_store_si256(reinterpret_cast<I*>(m), best.m);
+  for (int k = 0; k < 2; ++k)
+    for (int c = 0; c < 3; ++c) _mm256_store_si256(reinterpret_cast<I*>(e[k][c]), best.e[k][c]);
+  for (int t = 0; t < 16; ++t) _mm256_store_si256(reinterpret_cast<I*>(ix[t]), idx[t]);
+  for (int c = 0; c < 3; ++c) _mm256_store_si256(reinterpret_cast<I*>(hb[c]), _mm256_cvttps_epi32(hi[c]));
+  _mm256_store_ps(er, best_err);
+  const int solid_bits = _mm256_movemask_ps(solid);
+  for (int l = 0; l < 8; ++l) {
+    OneRegionFit& o = out[l];
+    if ((solid_bits >> l) & 1) {  // mode 14 with both endpoints the exact 16-bit value
+      o.mode = kModeNumber[0];
+      for (int c = 0; c < 3; ++c) o.e[0][c] = o.e[1][c] = (hb[c][l] * 64 + 30) / 31;
+      std::memset(o.idx, 0, 16);
+      o.err = 0.0f;
+      continue;
+    }
+    o.mode = kModeNumber[m[l]];
+    for (int k = 0; k < 2; ++k)
+      for (int c = 0; c < 3; ++c) o.e[k][c] = e[k][c][l];
+    for (int t = 0; t < 16; ++t) o.idx[t] = uint8_t(ix[t][l]);
+    o.err = er[l];
+  }
+}
+
+bool cpu_has_avx2() {
+  static const bool has = [] {
+    unsigned a = 0, b = 0, c = 0, d = 0;
+    if (!__get_cpuid(1, &a, &b, &c, &d)) return false;
+    if (!(c & (1u << 27)) || !(c & (1u << 28))) return false;  // OSXSAVE, AVX
+    unsigned lo = 0, hi = 0;
+    __asm__("xgetbv" : "=a"(lo), "=d"(hi) : "c"(0));
+    if ((lo & 6u) != 6u) return false;  // XMM and YMM state enabled by the OS
+    if (__get_cpuid_max(0, nullptr) < 7) return false;
+    __cpuid_count(7, 0, a, b, c, d);
+    return (b & (1u << 5)) != 0;  // AVX2
+  }();
+  return has;
+}
+
+}  // namespace ahd::bc6h
+
+#else
+
+namespace ahd::bc6h {
+void fit_one_region_fast_x8(const uint16_t* const*, const float* const*, const uint8_t* const*, OneRegionFit*) {}
+bool cpu_has_avx2() { return false; }
+}  // namespace ahd::bc6h
+
+#endif
