@@ -501,6 +501,29 @@ void encode_block_fast(const uint16_t h[48], const float x[48], const uint8_t va
   pack_one_region(fit, out);
 }
 
+bool copy_block_in_range(const float* p, size_t stride, float rgb[48]) {
+#ifdef __SSE2__
+  const __m128 zero = _mm_setzero_ps(), top = _mm_set1_ps(65504.0f);
+  __m128 ok = _mm_castsi128_ps(_mm_set1_epi32(-1));
+  for (int y = 0; y < 4; ++y)
+    for (int i = 0; i < 3; ++i) {
+      const __m128 v = _mm_loadu_ps(p + y * stride + 4 * i);  // ordered compares: NaN fails
+      ok = _mm_and_ps(ok, _mm_and_ps(_mm_cmpge_ps(v, zero), _mm_cmple_ps(v, top)));
+      _mm_storeu_ps(rgb + 12 * y + 4 * i, v);
+    }
+  return _mm_movemask_ps(ok) == 0xF;
+#else
+  bool ok = true;
+  for (int y = 0; y < 4; ++y)
+    for (int i = 0; i < 12; ++i) {
+      const float v = p[y * stride + i];
+      ok &= v >= 0.0f && v <= 65504.0f;
+      rgb[12 * y + i] = v;
+    }
+  return ok;
+#endif
+}
+
 void encode_blocks_fast(const uint16_t* h, const float* x, const uint8_t* valid, int n, uint8_t* out) {
   int i = 0;
   if (!scalar_forced() && cpu_has_avx2()) {

@@ -1,6 +1,7 @@
 // The real-time BC6H path (quality `fast`, UF16) and its half-float conversion. Internal to the
 // codec: bc6h_encode_image calls it; tests call it to force each conversion path.
 #pragma once
+#include <cstddef>
 #include <cstdint>
 
 namespace ahd::bc6h {
@@ -48,6 +49,12 @@ bool cpu_has_avx2();
 // encode_block_fast encodes it alone: eight per AVX2 batch when the CPU has AVX2 and the scalar
 // path is not forced (force_scalar), a partial batch padded with copies of its first block.
 void encode_blocks_fast(const uint16_t* h, const float* x, const uint8_t* valid, int n, uint8_t* out);
+
+// Copies the 4×4 block of a 3-channel float image whose top-left texel is `p` (rows `stride`
+// floats apart) into rgb[t*3+c] and returns true when every value lies in [0, 65504], where the
+// UF16 input rule changes nothing; returns false (rgb unspecified) otherwise, and the caller
+// applies the rule value by value. Four values per SSE2 compare on x86-64.
+bool copy_block_in_range(const float* p, size_t stride, float rgb[48]);
 
 // Encodes one UF16 block without search (see bc6h_fast.cpp). h: the texels' half bits
 // (h[t*3+c], finite, non-negative), x: the same values as floats, valid: 1 for real texels, 0 for
