@@ -36,22 +36,6 @@ constexpr int kEpb[4] = {16, 12, 11, 10};
 constexpr int kDelta[4] = {4, 8, 9, 10};
 constexpr int kModeNumber[4] = {13, 12, 11, 10};
 
-// Palette index nearest to a position p = 128·t on the segment (bc6h_fast.cpp's kNearest).
-struct NearestTable {
-  alignas(32) int idx[136];
-  constexpr NearestTable() : idx{} {
-    for (int p = 0; p <= 128; ++p) {
-      int best = 0;
-      for (int k = 1; k < 16; ++k) {
-        const int d = 2 * kW4[k] - p, db = 2 * kW4[best] - p;
-        if ((d < 0 ? -d : d) < (db < 0 ? -db : db)) best = k;
-      }
-      idx[p] = best;
-    }
-  }
-};
-constexpr NearestTable kNearest32;
-
 AVX2_INLINE F f32(float v) { return _mm256_set1_ps(v); }
 AVX2_INLINE I i32(int v) { return _mm256_set1_epi32(v); }
 AVX2_INLINE F fabs8(F v) { return _mm256_andnot_ps(_mm256_set1_ps(-0.0f), v); }
@@ -161,6 +145,16 @@ AVX2_INLINE F entry(F a64p32, F diff, F w) {
   return _mm256_cvtepi32_ps(_mm256_cvttps_epi32(_mm256_mul_ps(_mm256_mul_ps(c, f32(31.0f)), f32(1.0f / 64.0f))));
 }
 
+// kNearest of bc6h_fast.cpp (the palette index nearest to position p = 128·t, ties to the lower)
+// without a table: e = ⌊15p/128⌋ is the answer or one below it (checked for every p in 0..128),
+// and the answer is e + 1 exactly when p lies past the midpoint kW4[e] + kW4[e+1].
+AVX2_INLINE I nearest_index(I p) {
+  const I e = _mm256_srli_epi32(_mm256_sub_epi32(_mm256_slli_epi32(p, 4), p), 7);
+  const I lo = _mm256_setr_epi32(4, 13, 22, 30, 38, 47, 56, 64), hi = _mm256_setr_epi32(72, 81, 90, 98, 106, 115, 124, 999);
+  const I mid = select(_mm256_cmpgt_epi32(e, i32(7)), _mm256_permutevar8x32_epi32(hi, e), _mm256_permutevar8x32_epi32(lo, e));
+  return _mm256_sub_epi32(e, _mm256_cmpgt_epi32(p, mid));
+}
+
 // assign() of bc6h_fast.cpp: indices by weighted projection, then the better neighbour; returns
 // each lane's weighted squared error.
 AVX2_INLINE F assign(const Lanes& L, const Ends& ep, I idx[16]) {
@@ -184,8 +178,7 @@ AVX2_INLINE F assign(const Lanes& L, const Ends& ep, I idx[16]) {
     const F safe = select(_mm256_cmp_ps(den, zero, _CMP_GT_OQ), den, one);
     const F p = _mm256_min_ps(_mm256_max_ps(_mm256_div_ps(_mm256_mul_ps(k128, num), safe), zero), k128);
     I pos = _mm256_cvttps_epi32(_mm256_add_ps(p, f32(0.5f)));
-    pos = _mm256_min_epi32(_mm256_max_epi32(pos, _mm256_setzero_si256()), i32(128));  // (never needed)
-    const I k = _mm256_i32gather_epi32(kNearest32.idx, pos, 4);
+    const I k = nearest_index(pos);
     const I km = _mm256_add_epi32(k, _mm256_cmpgt_epi32(k, _mm256_setzero_si256()));
     const I kp = _mm256_sub_epi32(k, _mm256_cmpgt_epi32(i32(15), k));
     F err[3];
