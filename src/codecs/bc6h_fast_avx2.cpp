@@ -243,6 +243,22 @@ AVX2_INLINE I refit(const Lanes& L, const I idx[16], F a[3], F b[3]) {
   return as_i(ok);
 }
 
+// Transposes an 8×8 matrix of floats held as eight rows.
+AVX2_INLINE void transpose8(F r[8]) {
+  const F t0 = _mm256_unpacklo_ps(r[0], r[1]), t1 = _mm256_unpackhi_ps(r[0], r[1]);
+  const F t2 = _mm256_unpacklo_ps(r[2], r[3]), t3 = _mm256_unpackhi_ps(r[2], r[3]);
+  const F t4 = _mm256_unpacklo_ps(r[4], r[5]), t5 = _mm256_unpackhi_ps(r[4], r[5]);
+  const F t6 = _mm256_unpacklo_ps(r[6], r[7]), t7 = _mm256_unpackhi_ps(r[6], r[7]);
+  const F u0 = _mm256_shuffle_ps(t0, t2, _MM_SHUFFLE(1, 0, 1, 0)), u1 = _mm256_shuffle_ps(t0, t2, _MM_SHUFFLE(3, 2, 3, 2));
+  const F u2 = _mm256_shuffle_ps(t1, t3, _MM_SHUFFLE(1, 0, 1, 0)), u3 = _mm256_shuffle_ps(t1, t3, _MM_SHUFFLE(3, 2, 3, 2));
+  const F u4 = _mm256_shuffle_ps(t4, t6, _MM_SHUFFLE(1, 0, 1, 0)), u5 = _mm256_shuffle_ps(t4, t6, _MM_SHUFFLE(3, 2, 3, 2));
+  const F u6 = _mm256_shuffle_ps(t5, t7, _MM_SHUFFLE(1, 0, 1, 0)), u7 = _mm256_shuffle_ps(t5, t7, _MM_SHUFFLE(3, 2, 3, 2));
+  r[0] = _mm256_permute2f128_ps(u0, u4, 0x20), r[1] = _mm256_permute2f128_ps(u1, u5, 0x20);
+  r[2] = _mm256_permute2f128_ps(u2, u6, 0x20), r[3] = _mm256_permute2f128_ps(u3, u7, 0x20);
+  r[4] = _mm256_permute2f128_ps(u0, u4, 0x31), r[5] = _mm256_permute2f128_ps(u1, u5, 0x31);
+  r[6] = _mm256_permute2f128_ps(u2, u6, 0x31), r[7] = _mm256_permute2f128_ps(u3, u7, 0x31);
+}
+
 // Sum of 16 lane vectors as sum16 of bc6h_fast.cpp adds 16 floats.
 AVX2_INLINE F sum16(const F v[16]) {
   F l[4];
@@ -255,7 +271,27 @@ AVX2_INLINE F sum16(const F v[16]) {
 AVX2_FN void fit_one_region_fast_x8(const uint16_t* const h[8], const float* const x[8], const uint8_t* const valid[8],
                                     OneRegionFit out[8]) {
   Lanes L;
-  {
+  bool all_valid = true;
+  for (int l = 0; l < 8; ++l) {
+    uint64_t v[2];
+    std::memcpy(v, valid[l], 16);
+    all_valid &= (v[0] & v[1]) == 0x0101010101010101ull;
+  }
+  if (all_valid) {
+    // Every texel real (inner blocks): half bits and values as 8×48 matrices (lane, t·3 + c)
+    // transposed by 8×8 blocks of columns into the channel planes.
+    for (int j = 0; j < 48; j += 8) {
+      F hv[8], xv[8];
+      for (int l = 0; l < 8; ++l) {
+        hv[l] = _mm256_cvtepi32_ps(_mm256_cvtepu16_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(h[l] + j))));
+        xv[l] = _mm256_loadu_ps(x[l] + j);
+      }
+      transpose8(hv);
+      transpose8(xv);
+      for (int i = 0; i < 8; ++i) L.H[(j + i) % 3][(j + i) / 3] = hv[i], L.W[(j + i) % 3][(j + i) / 3] = xv[i];
+    }
+    for (int t = 0; t < 16; ++t) L.vmask[t] = f32(1.0f);
+  } else {
     alignas(32) float H[3][16][8], X[3][16][8], V[16][8];
     for (int l = 0; l < 8; ++l) {
       int first = 0;
