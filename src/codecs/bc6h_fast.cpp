@@ -24,6 +24,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -389,22 +390,44 @@ bool refit(const Fit& f, const uint8_t idx[16], float a[3], float b[3]) {
 // indices (texel 0 without its top bit). This is the spec's layout of modes 11–14. In every one of
 // them a channel's second field (delta + high bits) is 10 bits, so the header is 65 bits with
 // every field at a fixed place: 64-bit ORs, no 128-bit shifts.
+// The low n ≤ 6 bits of v in reverse order is kReverse6[v] >> (6 − n).
+struct Reverse6 {
+  uint8_t r[64];
+  constexpr Reverse6() : r{} {
+    for (int v = 0; v < 64; ++v)
+      for (int b = 0; b < 6; ++b) r[v] |= uint8_t(((v >> b) & 1) << (5 - b));
+  }
+};
+constexpr Reverse6 kReverse6;
+
+// Sixteen values below 16 (bytes) as the nibbles of one 64-bit word, value t at bits 4t..4t+3.
+inline uint64_t nibbles(const uint8_t v[16]) {
+  uint64_t a, b;
+  std::memcpy(&a, v, 8), std::memcpy(&b, v + 8, 8);
+  if constexpr (std::endian::native != std::endian::little) {
+    uint64_t r = 0;
+    for (int t = 0; t < 16; ++t) r |= uint64_t(v[t]) << (4 * t);
+    return r;
+  }
+  a = (a | (a >> 4)) & 0x00FF00FF00FF00FFull, b = (b | (b >> 4)) & 0x00FF00FF00FF00FFull;
+  a = (a | (a >> 8)) & 0x0000FFFF0000FFFFull, b = (b | (b >> 8)) & 0x0000FFFF0000FFFFull;
+  a = (a | (a >> 16)) & 0xFFFFFFFFull, b = (b | (b >> 16)) & 0xFFFFFFFFull;
+  return a | b << 32;
+}
+
 void pack(const Endpoints& ep, const uint8_t idx[16], uint8_t out[16]) {
   const OneRegionMode& md = kModes[ep.m];
   uint64_t lo = uint64_t(md.code);
   for (int c = 0; c < 3; ++c) lo |= uint64_t(ep.e[0][c] & 0x3FF) << (5 + 10 * c);
   uint64_t second[3];
+  const int high = md.epb - 10;  // the base's bits above 10, written from the highest down
   for (int c = 0; c < 3; ++c) {
     const int d = (ep.e[1][c] - (md.delta < md.epb ? ep.e[0][c] : 0)) & ((1 << md.delta) - 1);
-    uint64_t f = unsigned(d);
-    int pos = md.delta;
-    for (int bit = md.epb - 1; bit >= 10; --bit, ++pos) f |= uint64_t((ep.e[0][c] >> bit) & 1) << pos;
-    second[c] = f;
+    second[c] = unsigned(d) | uint64_t(kReverse6.r[ep.e[0][c] >> 10] >> (6 - high)) << md.delta;
   }
   lo |= second[0] << 35 | second[1] << 45 | second[2] << 55;  // bit 9 of the blue field is bit 64
   // The indices fill the high 64 bits from bit 1 (texel 0's 3 bits).
-  uint64_t hi = (second[2] >> 9) | uint64_t(idx[0]) << 1;
-  for (int t = 1; t < 16; ++t) hi |= uint64_t(idx[t]) << (4 * t);
+  const uint64_t hi = (second[2] >> 9) | uint64_t(idx[0]) << 1 | (nibbles(idx) & ~uint64_t(0xF));
   for (int i = 0; i < 8; ++i) out[i] = uint8_t(lo >> (8 * i)), out[8 + i] = uint8_t(hi >> (8 * i));
 }
 
