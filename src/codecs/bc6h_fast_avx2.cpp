@@ -59,22 +59,34 @@ AVX2_INLINE I unquantize(I e, I bits) {
 // The decoder's 16-bit value → half bits: (c·31) >> 6.
 AVX2_INLINE I decode_h(I c) { return _mm256_srli_epi32(_mm256_sub_epi32(_mm256_slli_epi32(c, 5), c), 6); }
 
+// unquantize_u + decode_h for `bits` the same in every lane (immediate shifts).
+template <int bits>
+AVX2_INLINE I decoded(I e) {
+  if constexpr (bits >= 15) return decode_h(e);
+  const I mid = _mm256_srli_epi32(_mm256_add_epi32(_mm256_slli_epi32(e, 16), i32(0x8000)), bits);
+  I r = select(_mm256_cmpeq_epi32(e, i32((1 << bits) - 1)), i32(0xFFFF), mid);
+  r = _mm256_andnot_si256(_mm256_cmpeq_epi32(e, _mm256_setzero_si256()), r);
+  return decode_h(r);
+}
+
 // quantize_endpoint of bc6h_fast.cpp, lane-wise, for `bits` the same in every lane.
-AVX2_INLINE I quantize_endpoint(F target, int bits, I cap) {
-  const I vb = i32(bits), maxv = i32((1 << bits) - 1);
+template <int bits>
+AVX2_INLINE I quantize_endpoint(F target, I cap) {
+  const I maxv = i32((1 << bits) - 1);
   const F c = _mm256_mul_ps(target, f32(64.0f / 31.0f));
   I e = _mm256_cvttps_epi32(_mm256_mul_ps(_mm256_mul_ps(c, f32(float(1 << bits))), f32(1.0f / 65536.0f)));
   e = _mm256_min_epi32(_mm256_max_epi32(e, _mm256_setzero_si256()), maxv);
-  const I up = _mm256_add_epi32(e, i32(1));
-  const F dn = fabs8(_mm256_sub_ps(_mm256_cvtepi32_ps(decode_h(unquantize(up, vb))), target));
-  const F de = fabs8(_mm256_sub_ps(_mm256_cvtepi32_ps(decode_h(unquantize(e, vb))), target));
+  const I h_up = decoded<bits>(_mm256_add_epi32(e, i32(1))), h_e = decoded<bits>(e);
+  const F dn = fabs8(_mm256_sub_ps(_mm256_cvtepi32_ps(h_up), target));
+  const F de = fabs8(_mm256_sub_ps(_mm256_cvtepi32_ps(h_e), target));
   const I inc = _mm256_and_si256(_mm256_cmpgt_epi32(maxv, e), as_i(lt(dn, de)));
   e = _mm256_sub_epi32(e, inc);  // inc is −1 where the upper candidate is nearer
+  I h = select(inc, h_up, h_e);
   for (;;) {  // while (e > 0 && decoded(e) > cap) --e, in the lanes that need it
-    const I need = _mm256_and_si256(_mm256_cmpgt_epi32(e, _mm256_setzero_si256()),
-                                    _mm256_cmpgt_epi32(decode_h(unquantize(e, vb)), cap));
+    const I need = _mm256_and_si256(_mm256_cmpgt_epi32(e, _mm256_setzero_si256()), _mm256_cmpgt_epi32(h, cap));
     if (!any(need)) return e;
     e = _mm256_add_epi32(e, need);
+    h = decoded<bits>(e);
   }
 }
 
@@ -91,6 +103,26 @@ struct Ends {
   I e[2][3];  // quantised endpoints
 };
 
+// One mode of quantize(): the lanes not yet placed whose delta fits in mode m take it.
+template <int m>
+AVX2_INLINE void try_mode(const Lanes& L, const F a[3], const F b[3], F spread, I& chosen, Ends& ep) {
+  constexpr int lim = (1 << (kDelta[m] - 1)) - 1;
+  const F skip = _mm256_cmp_ps(spread, f32(float((lim + 2) << (16 - kEpb[m]))), _CMP_GT_OQ);
+  I fits = _mm256_andnot_si256(_mm256_or_si256(chosen, as_i(skip)), i32(-1));
+  if (!any(fits)) return;
+  I q[2][3];
+  for (int c = 0; c < 3; ++c) {
+    q[0][c] = quantize_endpoint<kEpb[m]>(a[c], L.cap[c]);
+    q[1][c] = quantize_endpoint<kEpb[m]>(b[c], L.cap[c]);
+    const I d = _mm256_sub_epi32(q[1][c], q[0][c]);
+    fits = _mm256_andnot_si256(_mm256_or_si256(_mm256_cmpgt_epi32(d, i32(lim)), _mm256_cmpgt_epi32(i32(-lim), d)), fits);
+  }
+  for (int c = 0; c < 3; ++c)
+    for (int k = 0; k < 2; ++k) ep.e[k][c] = select(fits, q[k][c], ep.e[k][c]);
+  ep.m = select(fits, i32(m), ep.m);
+  chosen = _mm256_or_si256(chosen, fits);
+}
+
 // quantize() of bc6h_fast.cpp: the most precise mode whose delta fits, else 10-bit absolute.
 AVX2_INLINE Ends quantize(const Lanes& L, const F a[3], const F b[3]) {
   F spread = _mm256_setzero_ps();
@@ -102,27 +134,13 @@ AVX2_INLINE Ends quantize(const Lanes& L, const F a[3], const F b[3]) {
   ep.m = i32(3);
   for (int c = 0; c < 3; ++c) ep.e[0][c] = ep.e[1][c] = _mm256_setzero_si256();
   I chosen = _mm256_setzero_si256();
-  for (int m = 0; m < 3; ++m) {
-    const int lim = (1 << (kDelta[m] - 1)) - 1;
-    const F skip = _mm256_cmp_ps(spread, f32(float((lim + 2) << (16 - kEpb[m]))), _CMP_GT_OQ);
-    I fits = _mm256_andnot_si256(_mm256_or_si256(chosen, as_i(skip)), i32(-1));
-    if (!any(fits)) continue;
-    I q[2][3];
-    for (int c = 0; c < 3; ++c) {
-      q[0][c] = quantize_endpoint(a[c], kEpb[m], L.cap[c]);
-      q[1][c] = quantize_endpoint(b[c], kEpb[m], L.cap[c]);
-      const I d = _mm256_sub_epi32(q[1][c], q[0][c]);
-      fits = _mm256_andnot_si256(_mm256_or_si256(_mm256_cmpgt_epi32(d, i32(lim)), _mm256_cmpgt_epi32(i32(-lim), d)), fits);
-    }
-    for (int c = 0; c < 3; ++c)
-      for (int k = 0; k < 2; ++k) ep.e[k][c] = select(fits, q[k][c], ep.e[k][c]);
-    ep.m = select(fits, i32(m), ep.m);
-    chosen = _mm256_or_si256(chosen, fits);
-  }
+  try_mode<0>(L, a, b, spread, chosen, ep);
+  try_mode<1>(L, a, b, spread, chosen, ep);
+  try_mode<2>(L, a, b, spread, chosen, ep);
   if (_mm256_movemask_ps(as_f(chosen)) != 0xFF)
     for (int c = 0; c < 3; ++c) {
-      ep.e[0][c] = select(chosen, ep.e[0][c], quantize_endpoint(a[c], 10, L.cap[c]));
-      ep.e[1][c] = select(chosen, ep.e[1][c], quantize_endpoint(b[c], 10, L.cap[c]));
+      ep.e[0][c] = select(chosen, ep.e[0][c], quantize_endpoint<10>(a[c], L.cap[c]));
+      ep.e[1][c] = select(chosen, ep.e[1][c], quantize_endpoint<10>(b[c], L.cap[c]));
     }
   return ep;
 }
