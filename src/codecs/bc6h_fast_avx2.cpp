@@ -149,18 +149,17 @@ AVX2_INLINE I epb_of(I m) {
   return _mm256_permutevar8x32_epi32(_mm256_setr_epi32(kEpb[0], kEpb[1], kEpb[2], kEpb[3], 0, 0, 0, 0), m);
 }
 
-// kW4[k] as floats for each lane's k in 0..15.
-AVX2_INLINE F weight_of(I k) {
-  const F lo = _mm256_setr_ps(0, 4, 9, 13, 17, 21, 26, 30), hi = _mm256_setr_ps(34, 38, 43, 47, 51, 55, 60, 64);
-  return select(as_f(_mm256_cmpgt_epi32(k, i32(7))), _mm256_permutevar8x32_ps(hi, k), _mm256_permutevar8x32_ps(lo, k));
+// kW4[k] for each lane's k in 0..15.
+AVX2_INLINE I weight_of(I k) {
+  const I lo = _mm256_setr_epi32(0, 4, 9, 13, 17, 21, 26, 30), hi = _mm256_setr_epi32(34, 38, 43, 47, 51, 55, 60, 64);
+  return select(_mm256_cmpgt_epi32(k, i32(7)), _mm256_permutevar8x32_epi32(hi, k), _mm256_permutevar8x32_epi32(lo, k));
 }
 
-// A palette entry's decoded half bits as a float, for weight w (float, exact): the one-block
-// code's integers, computed exactly in floats (every intermediate is below 2^23).
-AVX2_INLINE F entry(F a64p32, F diff, F w) {
-  const F v = _mm256_add_ps(a64p32, _mm256_mul_ps(diff, w));  // a·64 + (b − a)·w + 32
-  const F c = _mm256_cvtepi32_ps(_mm256_cvttps_epi32(_mm256_mul_ps(v, f32(1.0f / 64.0f))));
-  return _mm256_cvtepi32_ps(_mm256_cvttps_epi32(_mm256_mul_ps(_mm256_mul_ps(c, f32(31.0f)), f32(1.0f / 64.0f))));
+// A palette entry's decoded half bits (as a float) for weight w: a·64 + 32 + (b − a)·w, >> 6,
+// then the decoder's (c·31) >> 6 — the one-block code's integers.
+AVX2_INLINE F entry(I a64p32, I diff, I w) {
+  const I c = _mm256_srli_epi32(_mm256_add_epi32(a64p32, _mm256_mullo_epi32(diff, w)), 6);
+  return _mm256_cvtepi32_ps(decode_h(c));
 }
 
 // kNearest of bc6h_fast.cpp (the palette index nearest to position p = 128·t, ties to the lower)
@@ -177,13 +176,14 @@ AVX2_INLINE I nearest_index(I p) {
 // each lane's weighted squared error.
 AVX2_INLINE F assign(const Lanes& L, const Ends& ep, I idx[16]) {
   const I bits = epb_of(ep.m);
-  F a64p32[3], diff[3], P0[3], d[3];
+  I a64p32[3], diff[3];
+  F P0[3], d[3];
   for (int c = 0; c < 3; ++c) {
     const I ua = unquantize(ep.e[0][c], bits), ub = unquantize(ep.e[1][c], bits);
-    a64p32[c] = _mm256_cvtepi32_ps(_mm256_add_epi32(_mm256_slli_epi32(ua, 6), i32(32)));
-    diff[c] = _mm256_cvtepi32_ps(_mm256_sub_epi32(ub, ua));
-    P0[c] = entry(a64p32[c], diff[c], _mm256_setzero_ps());
-    d[c] = _mm256_sub_ps(entry(a64p32[c], diff[c], f32(64.0f)), P0[c]);
+    a64p32[c] = _mm256_add_epi32(_mm256_slli_epi32(ua, 6), i32(32));
+    diff[c] = _mm256_sub_epi32(ub, ua);
+    P0[c] = entry(a64p32[c], diff[c], _mm256_setzero_si256());
+    d[c] = _mm256_sub_ps(entry(a64p32[c], diff[c], i32(64)), P0[c]);
   }
   const F zero = _mm256_setzero_ps(), one = f32(1.0f), k128 = f32(128.0f);
   F total = zero;
@@ -202,7 +202,7 @@ AVX2_INLINE F assign(const Lanes& L, const Ends& ep, I idx[16]) {
     F err[3];
     const I ks[3] = {k, km, kp};
     for (int j = 0; j < 3; ++j) {
-      const F w = weight_of(ks[j]);
+      const I w = weight_of(ks[j]);
       const F e0 = _mm256_sub_ps(entry(a64p32[0], diff[0], w), L.H[0][t]);
       const F e1 = _mm256_sub_ps(entry(a64p32[1], diff[1], w), L.H[1][t]);
       const F e2 = _mm256_sub_ps(entry(a64p32[2], diff[2], w), L.H[2][t]);
@@ -226,7 +226,7 @@ AVX2_INLINE F assign(const Lanes& L, const Ends& ep, I idx[16]) {
 // every channel's system was solvable (a, b are meaningful only there).
 AVX2_INLINE I refit(const Lanes& L, const I idx[16], F a[3], F b[3]) {
   F g[16];
-  for (int t = 0; t < 16; ++t) g[t] = _mm256_mul_ps(weight_of(idx[t]), f32(1.0f / 64.0f));
+  for (int t = 0; t < 16; ++t) g[t] = _mm256_mul_ps(_mm256_cvtepi32_ps(weight_of(idx[t])), f32(1.0f / 64.0f));
   const F one = f32(1.0f), zero = _mm256_setzero_ps();
   F ok = as_f(i32(-1));
   for (int c = 0; c < 3; ++c) {
