@@ -409,6 +409,13 @@ AVX2_FN void fit_one_region_fast_x8(const uint16_t* const h[8], const float* con
     active = _mm256_and_si256(active, refit(L, idx, a, b));
     if (!any(active)) break;
     const Ends ep = quantize(L, a, b);
+    // A lane whose endpoints did not change would get the same error, which is not lower: it
+    // stops here as the one-block loop does, and the index step is skipped when no lane is left.
+    I same = _mm256_cmpeq_epi32(ep.m, best.m);
+    for (int k = 0; k < 2; ++k)
+      for (int c = 0; c < 3; ++c) same = _mm256_and_si256(same, _mm256_cmpeq_epi32(ep.e[k][c], best.e[k][c]));
+    active = _mm256_andnot_si256(same, active);
+    if (!any(active)) break;
     I trial[16];
     const F err = assign(L, ep, trial);
     active = _mm256_and_si256(active, as_i(lt(err, best_err)));
