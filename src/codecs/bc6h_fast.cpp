@@ -415,7 +415,8 @@ inline uint64_t nibbles(const uint8_t v[16]) {
   return a | b << 32;
 }
 
-void pack(const Endpoints& ep, const uint8_t idx[16], uint8_t out[16]) {
+// idx: texel t's index at bits 4t (texel 0's below 8).
+void pack(const Endpoints& ep, uint64_t idx, uint8_t out[16]) {
   const OneRegionMode& md = kModes[ep.m];
   uint64_t lo = uint64_t(md.code);
   for (int c = 0; c < 3; ++c) lo |= uint64_t(ep.e[0][c] & 0x3FF) << (5 + 10 * c);
@@ -427,7 +428,7 @@ void pack(const Endpoints& ep, const uint8_t idx[16], uint8_t out[16]) {
   }
   lo |= second[0] << 35 | second[1] << 45 | second[2] << 55;  // bit 9 of the blue field is bit 64
   // The indices fill the high 64 bits from bit 1 (texel 0's 3 bits).
-  const uint64_t hi = (second[2] >> 9) | uint64_t(idx[0]) << 1 | (nibbles(idx) & ~uint64_t(0xF));
+  const uint64_t hi = (second[2] >> 9) | (idx & 0xF) << 1 | (idx & ~uint64_t(0xF));
   for (int i = 0; i < 8; ++i) out[i] = uint8_t(lo >> (8 * i)), out[8 + i] = uint8_t(hi >> (8 * i));
 }
 
@@ -558,27 +559,29 @@ void encode_blocks_fast(const uint16_t* h, const float* x, const uint8_t* valid,
         const int b = i + l < n ? i + l : i;  // a partial batch repeats its first block
         hp[l] = h + 48 * b, xp[l] = x + 48 * b, vp[l] = valid + 16 * b;
       }
-      OneRegionFit fit[8];
-      fit_one_region_fast_x8(hp, xp, vp, fit);
-      for (int l = 0; l < 8 && i + l < n; ++l) pack_one_region(fit[l], out + 16 * (i + l));
+      uint8_t* op[8];
+      for (int l = 0; l < 8; ++l) op[l] = i + l < n ? out + 16 * (i + l) : nullptr;
+      encode_blocks_fast_x8(hp, xp, vp, op);
     }
     return;
   }
   for (; i < n; ++i) encode_block_fast(h + 48 * i, x + 48 * i, valid + 16 * i, out + 16 * i);
 }
 
-void pack_one_region(OneRegionFit fit, uint8_t out[16]) {
+void pack_one_region(OneRegionFit fit, uint8_t out[16]) { pack_one_region(fit.mode, fit.e, nibbles(fit.idx), out); }
+
+void pack_one_region(int mode, const int e[2][3], uint64_t idx, uint8_t out[16]) {
   Endpoints ep;
   ep.m = 0;
-  while (kModes[ep.m].mode != fit.mode) ++ep.m;
-  std::memcpy(ep.e, fit.e, sizeof ep.e);
+  while (kModes[ep.m].mode != mode) ++ep.m;
+  std::memcpy(ep.e, e, sizeof ep.e);
   // Texel 0's index is stored without its top bit: mirror the block when it is set (the palette
   // is symmetric, and quantize() keeps deltas inside the symmetric part of their range).
-  if (fit.idx[0] >= 8) {
+  if ((idx & 0xF) >= 8) {
     for (int c = 0; c < 3; ++c) std::swap(ep.e[0][c], ep.e[1][c]);
-    for (int t = 0; t < 16; ++t) fit.idx[t] = uint8_t(15 - fit.idx[t]);
+    idx = ~idx;  // 15 − k in every nibble
   }
-  pack(ep, fit.idx, out);
+  pack(ep, idx, out);
 }
 
 }  // namespace ahd::bc6h

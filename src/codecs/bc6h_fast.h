@@ -35,14 +35,16 @@ struct OneRegionFit {
 // guarantees); quality `default` starts its search from it.
 void fit_one_region_fast(const uint16_t h[48], const float x[48], const uint8_t valid[16], OneRegionFit* out);
 
-// Writes a one-region fit as a block (mirrored first when texel 0's index has its top bit set).
+// Writes a one-region fit as a block (mirrored first when texel 0's index has its top bit set);
+// the second form takes the indices as nibbles, texel t's at bits 4t.
 void pack_one_region(OneRegionFit fit, uint8_t out[16]);
+void pack_one_region(int mode, const int e[2][3], uint64_t idx, uint8_t out[16]);
 
-// fit_one_region_fast for eight blocks at once, one per AVX2 lane (bc6h_fast_avx2.cpp): out[l] is
-// exactly what fit_one_region_fast(h[l], x[l], valid[l]) gives, whatever the other lanes hold.
-// Call only when cpu_has_avx2().
-void fit_one_region_fast_x8(const uint16_t* const h[8], const float* const x[8], const uint8_t* const valid[8],
-                            OneRegionFit out[8]);
+// encode_block_fast for eight blocks at once, one per AVX2 lane (bc6h_fast_avx2.cpp): out[l]
+// (skipped when null) gets exactly the bytes encode_block_fast(h[l], x[l], valid[l]) writes,
+// whatever the other lanes hold. Call only when cpu_has_avx2().
+void encode_blocks_fast_x8(const uint16_t* const h[8], const float* const x[8], const uint8_t* const valid[8],
+                           uint8_t* const out[8]);
 bool cpu_has_avx2();
 
 // Encodes n UF16 blocks (block i: h + 48i, x + 48i, valid + 16i → out + 16i), each exactly as

@@ -286,8 +286,8 @@ AVX2_INLINE F sum16(const F v[16]) {
 
 }  // namespace
 
-AVX2_FN void fit_one_region_fast_x8(const uint16_t* const h[8], const float* const x[8], const uint8_t* const valid[8],
-                                    OneRegionFit out[8]) {
+AVX2_FN void encode_blocks_fast_x8(const uint16_t* const h[8], const float* const x[8], const uint8_t* const valid[8],
+                                   uint8_t* const out[8]) {
   Lanes L;
   bool all_valid = true;
   for (int l = 0; l < 8; ++l) {
@@ -298,6 +298,7 @@ AVX2_FN void fit_one_region_fast_x8(const uint16_t* const h[8], const float* con
   if (all_valid) {
     // Every texel real (inner blocks): half bits and values as 8×48 matrices (lane, t·3 + c)
     // transposed by 8×8 blocks of columns into the channel planes.
+#pragma GCC unroll 6
     for (int j = 0; j < 48; j += 8) {
       F hv[8], xv[8];
       for (int l = 0; l < 8; ++l) {
@@ -306,6 +307,7 @@ AVX2_FN void fit_one_region_fast_x8(const uint16_t* const h[8], const float* con
       }
       transpose8(hv);
       transpose8(xv);
+#pragma GCC unroll 8
       for (int i = 0; i < 8; ++i) L.H[(j + i) % 3][(j + i) / 3] = hv[i], L.W[(j + i) % 3][(j + i) / 3] = xv[i];
     }
     for (int t = 0; t < 16; ++t) L.vmask[t] = f32(1.0f);
@@ -426,29 +428,32 @@ AVX2_FN void fit_one_region_fast_x8(const uint16_t* const h[8], const float* con
     best_err = select(as_f(active), err, best_err);
   }
 
-  alignas(32) int m[8], e[2][3][8], ix[16][8], hb[3][8];
-  alignas(32) float er[8];
+  // Each lane's indices as nibbles (texel t at bits 4t): two 32-bit words per lane.
+  I nib_lo = idx[0], nib_hi = idx[8];
+  for (int t = 1; t < 8; ++t) {
+    nib_lo = _mm256_or_si256(nib_lo, _mm256_slli_epi32(idx[t], 4 * t));
+    nib_hi = _mm256_or_si256(nib_hi, _mm256_slli_epi32(idx[t + 8], 4 * t));
+  }
+  alignas(32) int m[8], e[2][3][8], hb[3][8];
+  alignas(32) unsigned nl[8], nh[8];
   _mm256_store_si256(reinterpret_cast<I*>(m), best.m);
   for (int k = 0; k < 2; ++k)
     for (int c = 0; c < 3; ++c) _mm256_store_si256(reinterpret_cast<I*>(e[k][c]), best.e[k][c]);
-  for (int t = 0; t < 16; ++t) _mm256_store_si256(reinterpret_cast<I*>(ix[t]), idx[t]);
+  _mm256_store_si256(reinterpret_cast<I*>(nl), nib_lo);
+  _mm256_store_si256(reinterpret_cast<I*>(nh), nib_hi);
   for (int c = 0; c < 3; ++c) _mm256_store_si256(reinterpret_cast<I*>(hb[c]), _mm256_cvttps_epi32(hi[c]));
-  _mm256_store_ps(er, best_err);
   const int solid_bits = _mm256_movemask_ps(solid);
   for (int l = 0; l < 8; ++l) {
-    OneRegionFit& o = out[l];
-    if ((solid_bits >> l) & 1) {  // mode 14 with both endpoints the exact 16-bit value
-      o.mode = kModeNumber[0];
-      for (int c = 0; c < 3; ++c) o.e[0][c] = o.e[1][c] = (hb[c][l] * 64 + 30) / 31;
-      std::memset(o.idx, 0, 16);
-      o.err = 0.0f;
+    if (!out[l]) continue;
+    int ends[2][3];
+    if ((solid_bits >> l) & 1) {  // mode 14 with both endpoints the exact 16-bit value, indices 0
+      for (int c = 0; c < 3; ++c) ends[0][c] = ends[1][c] = (hb[c][l] * 64 + 30) / 31;
+      pack_one_region(kModeNumber[0], ends, 0, out[l]);
       continue;
     }
-    o.mode = kModeNumber[m[l]];
     for (int k = 0; k < 2; ++k)
-      for (int c = 0; c < 3; ++c) o.e[k][c] = e[k][c][l];
-    for (int t = 0; t < 16; ++t) o.idx[t] = uint8_t(ix[t][l]);
-    o.err = er[l];
+      for (int c = 0; c < 3; ++c) ends[k][c] = e[k][c][l];
+    pack_one_region(kModeNumber[m[l]], ends, uint64_t(nl[l]) | uint64_t(nh[l]) << 32, out[l]);
   }
 }
 
@@ -472,7 +477,7 @@ bool cpu_has_avx2() {
 #else
 
 namespace ahd::bc6h {
-void fit_one_region_fast_x8(const uint16_t* const*, const float* const*, const uint8_t* const*, OneRegionFit*) {}
+void encode_blocks_fast_x8(const uint16_t* const*, const float* const*, const uint8_t* const*, uint8_t* const*) {}
 bool cpu_has_avx2() { return false; }
 }  // namespace ahd::bc6h
 
