@@ -252,11 +252,21 @@ AVX2_INLINE I refit(const Lanes& L, const I idx[16], F a[3], F b[3]) {
     const F s0011 = _mm256_mul_ps(s00, s11);
     const F det = _mm256_sub_ps(s0011, _mm256_mul_ps(s01, s01));
     ok = _mm256_and_ps(ok, _mm256_cmp_ps(fabs8(det), _mm256_mul_ps(f32(1e-6f), _mm256_add_ps(s0011, f32(1e-30f))), _CMP_GT_OQ));
-    const F va = _mm256_div_ps(_mm256_sub_ps(_mm256_mul_ps(t0, s11), _mm256_mul_ps(s01, t1)), det);
-    const F vb = _mm256_div_ps(_mm256_sub_ps(_mm256_mul_ps(s00, t1), _mm256_mul_ps(s01, t0)), det);
+    F va = _mm256_div_ps(_mm256_sub_ps(_mm256_mul_ps(t0, s11), _mm256_mul_ps(s01, t1)), det);
+    F vb = _mm256_div_ps(_mm256_sub_ps(_mm256_mul_ps(s00, t1), _mm256_mul_ps(s01, t0)), det);
+    // One endpoint past the cap: held at it, the other solved again (as the one-block code).
+    const F cp = L.capf[c];
+    const F over_a = _mm256_cmp_ps(va, cp, _CMP_GT_OQ), over_b = _mm256_cmp_ps(vb, cp, _CMP_GT_OQ);
+    if (any(_mm256_or_ps(over_a, over_b))) {
+      const F only_b = _mm256_andnot_ps(over_a, over_b), only_a = _mm256_andnot_ps(over_b, over_a);
+      const F sa = _mm256_div_ps(_mm256_sub_ps(t0, _mm256_mul_ps(s01, cp)), s00);
+      const F sb = _mm256_div_ps(_mm256_sub_ps(t1, _mm256_mul_ps(s01, cp)), s11);
+      va = select(only_b, sa, select(only_a, cp, va));
+      vb = select(only_b, cp, select(only_a, sb, vb));
+    }
     // std::clamp(v, 0, cap): v < 0 → 0, cap < v → cap.
-    a[c] = select(lt(va, zero), zero, select(lt(L.capf[c], va), L.capf[c], va));
-    b[c] = select(lt(vb, zero), zero, select(lt(L.capf[c], vb), L.capf[c], vb));
+    a[c] = select(lt(va, zero), zero, select(lt(cp, va), cp, va));
+    b[c] = select(lt(vb, zero), zero, select(lt(cp, vb), cp, vb));
   }
   return as_i(ok);
 }
