@@ -31,9 +31,13 @@ struct OneRegionFit {
   float err;
 };
 
-// The fit encode_block_fast writes, before the anchor mirror and packing (same arguments and
-// guarantees); quality `default` starts its search from it.
-void fit_one_region_fast(const uint16_t h[48], const float x[48], const uint8_t valid[16], OneRegionFit* out);
+// The fit encode_block_fast writes (with hold_cap = true), before the anchor mirror and packing
+// (same arguments and guarantees); quality `default` starts its search from it. hold_cap: the
+// least-squares step holds an endpoint that lands past the no-specks cap at the cap and solves
+// the other again, instead of clamping both (lower error; false keeps `default`'s incumbent, and
+// so its bytes and the golden files, as they were before `fast` took it up).
+void fit_one_region_fast(const uint16_t h[48], const float x[48], const uint8_t valid[16], OneRegionFit* out,
+                         bool hold_cap = false);
 
 // Writes a one-region fit as a block (mirrored first when texel 0's index has its top bit set);
 // the second form takes the indices as nibbles, texel t's at bits 4t.
