@@ -437,7 +437,11 @@ void pack(const Endpoints& ep, uint64_t idx, uint8_t out[16]) {
   lo |= second[0] << 35 | second[1] << 45 | second[2] << 55;  // bit 9 of the blue field is bit 64
   // The indices fill the high 64 bits from bit 1 (texel 0's 3 bits).
   const uint64_t hi = (second[2] >> 9) | (idx & 0xF) << 1 | (idx & ~uint64_t(0xF));
-  for (int i = 0; i < 8; ++i) out[i] = uint8_t(lo >> (8 * i)), out[8 + i] = uint8_t(hi >> (8 * i));
+  if constexpr (std::endian::native == std::endian::little) {
+    std::memcpy(out, &lo, 8), std::memcpy(out + 8, &hi, 8);
+  } else {
+    for (int i = 0; i < 8; ++i) out[i] = uint8_t(lo >> (8 * i)), out[8 + i] = uint8_t(hi >> (8 * i));
+  }
 }
 
 }  // namespace
@@ -580,8 +584,7 @@ void pack_one_region(OneRegionFit fit, uint8_t out[16]) { pack_one_region(fit.mo
 
 void pack_one_region(int mode, const int e[2][3], uint64_t idx, uint8_t out[16]) {
   Endpoints ep;
-  ep.m = 0;
-  while (kModes[ep.m].mode != mode) ++ep.m;
+  ep.m = 13 - mode;  // kModes lists modes 13, 12, 11, 10
   std::memcpy(ep.e, e, sizeof ep.e);
   // Texel 0's index is stored without its top bit: mirror the block when it is set (the palette
   // is symmetric, and quantize() keeps deltas inside the symmetric part of their range).
