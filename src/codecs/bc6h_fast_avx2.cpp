@@ -30,7 +30,6 @@ namespace {
 using F = __m256;
 using I = __m256i;
 
-constexpr int kW4[16] = {0, 4, 9, 13, 17, 21, 26, 30, 34, 38, 43, 47, 51, 55, 60, 64};
 // The one-region modes by precision (as bc6h_fast.cpp's kModes): endpoint bits and delta bits.
 constexpr int kEpb[4] = {16, 12, 11, 10};
 constexpr int kDelta[4] = {4, 8, 9, 10};
