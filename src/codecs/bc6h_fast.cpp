@@ -16,8 +16,9 @@
 //    step above its channel's brightest input (rounded down when nearest rounding would exceed
 //    it), and every palette entry lies between the endpoints, so no texel can speckle.
 //  * Solid blocks are mode 14 with exact endpoints (a half-bit value is always representable).
-// Plain scalar C++ written so the compiler vectorises the 16-texel loops; bytes depend only on
-// the block.
+// This file is the one-block path (plain C++ and SSE2 over the 16 texels); images go through
+// encode_blocks_fast, which on AVX2 CPUs fits eight blocks per batch (bc6h_fast_avx2.cpp, the
+// same operations lane by lane). Bytes depend only on the block.
 #include "codecs/bc6h_fast.h"
 
 #include <Imath/half.h>
