@@ -1296,7 +1296,7 @@ void encode_block_ruled(const float rgb[48], const uint8_t valid[16], bool is_si
   if (q == Bc6hQuality::Fast && !is_signed) {
     uint16_t h[48];
     floats_to_half(rgb, h, 48);
-    encode_block_fast(h, rgb, valid, out);
+    encode_blocks_fast(h, rgb, valid, 1, out);
     return;
   }
   if (q == Bc6hQuality::Default && !is_signed) {
@@ -1324,10 +1324,10 @@ std::vector<uint8_t> bc6h_encode_image(const ImageF& img, const Bc6hOptions& opt
   // speeds a copy costs as much as the encoding); counts are summed, so they do not depend on
   // the thread count either.
   std::atomic<size_t> counts[4] = {0, 0, 0, 0};  // nan, inf, too large, negative
-  parallel_for(size_t(bw) * bh, opt.threads, 16, [&](size_t blk) {
+  const size_t blocks = size_t(bw) * bh;
+  // Gathers block blk with the input rule applied, counting what it changed.
+  const auto gather = [&](size_t blk, float rgb[48], uint8_t valid[16]) {
     const int bx = int(blk % bw), by = int(blk / bw);
-    float rgb[48];
-    uint8_t valid[16];
     size_t local[4] = {0, 0, 0, 0};
     for (int t = 0; t < 16; ++t) {
       const int x = bx * 4 + t % 4, y = by * 4 + t / 4;
@@ -1340,8 +1340,37 @@ std::vector<uint8_t> bc6h_encode_image(const ImageF& img, const Bc6hOptions& opt
     }
     for (int i = 0; i < 4; ++i)
       if (local[i]) counts[i].fetch_add(local[i], std::memory_order_relaxed);
-    encode_block_ruled(rgb, valid, opt.is_signed, opt.quality, &out[blk * 16]);
-  });
+  };
+  if (opt.quality == Bc6hQuality::Fast && !opt.is_signed) {
+    // The real-time path takes eight blocks per call (one AVX2 batch; bc6h_fast.cpp).
+    constexpr size_t kBatch = 8;
+    parallel_for((blocks + kBatch - 1) / kBatch, opt.threads, 2, [&](size_t g) {
+      const int n = int(std::min(kBatch, blocks - g * kBatch));
+      float rgb[kBatch][48];
+      uint16_t h[kBatch][48];
+      uint8_t valid[kBatch][16];
+      for (int i = 0; i < n; ++i) {
+        const size_t blk = g * kBatch + size_t(i);
+        const int bx = int(blk % bw), by = int(blk / bw);
+        // Inner blocks of 3-channel images whose values the input rule leaves alone: one copy.
+        if (img.channels == 3 && bx * 4 + 4 <= img.width && by * 4 + 4 <= img.height &&
+            copy_block_in_range(img.at(bx * 4, by * 4), size_t(img.width) * 3, rgb[i])) {
+          std::memset(valid[i], 1, 16);
+          continue;
+        }
+        gather(blk, rgb[i], valid[i]);
+      }
+      floats_to_half(rgb[0], h[0], 48 * n);
+      encode_blocks_fast(h[0], rgb[0], valid[0], n, &out[g * kBatch * 16]);
+    });
+  } else {
+    parallel_for(blocks, opt.threads, 16, [&](size_t blk) {
+      float rgb[48];
+      uint8_t valid[16];
+      gather(blk, rgb, valid);
+      encode_block_ruled(rgb, valid, opt.is_signed, opt.quality, &out[blk * 16]);
+    });
+  }
   if (stats) {
     stats->nan = counts[0].load(), stats->inf = counts[1].load();
     stats->too_large = counts[2].load(), stats->negative = counts[3].load();

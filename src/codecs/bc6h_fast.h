@@ -1,6 +1,7 @@
 // The real-time BC6H path (quality `fast`, UF16) and its half-float conversion. Internal to the
 // codec: bc6h_encode_image calls it; tests call it to force each conversion path.
 #pragma once
+#include <cstddef>
 #include <cstdint>
 
 namespace ahd::bc6h {
@@ -11,8 +12,9 @@ namespace ahd::bc6h {
 void floats_to_half(const float* in, uint16_t* out, int n);
 
 // On x86-64 the fast fit's palette and projection and the search's index step (bc6h_encoder.cpp)
-// run four lanes at a time with SSE2; true = the plain scalar loops instead (tests: both write
-// the same bytes).
+// run four lanes at a time with SSE2, and `fast` encodes eight blocks per AVX2 batch when the CPU
+// has AVX2; true = the plain one-block scalar loops instead (tests: every path writes the same
+// bytes).
 void force_scalar(bool scalar);
 bool scalar_forced();
 
@@ -29,12 +31,36 @@ struct OneRegionFit {
   float err;
 };
 
-// The fit encode_block_fast writes, before the anchor mirror and packing (same arguments and
-// guarantees); quality `default` starts its search from it.
-void fit_one_region_fast(const uint16_t h[48], const float x[48], const uint8_t valid[16], OneRegionFit* out);
+// The fit encode_block_fast writes (with hold_cap = true), before the anchor mirror and packing
+// (same arguments and guarantees); quality `default` starts its search from it. hold_cap: the
+// least-squares step holds an endpoint that lands past the no-specks cap at the cap and solves
+// the other again, instead of clamping both (lower error; false keeps `default`'s incumbent, and
+// so its bytes and the golden files, as they were before `fast` took it up).
+void fit_one_region_fast(const uint16_t h[48], const float x[48], const uint8_t valid[16], OneRegionFit* out,
+                         bool hold_cap = false);
 
-// Writes a one-region fit as a block (mirrored first when texel 0's index has its top bit set).
+// Writes a one-region fit as a block (mirrored first when texel 0's index has its top bit set);
+// the second form takes the indices as nibbles, texel t's at bits 4t.
 void pack_one_region(OneRegionFit fit, uint8_t out[16]);
+void pack_one_region(int mode, const int e[2][3], uint64_t idx, uint8_t out[16]);
+
+// encode_block_fast for eight blocks at once, one per AVX2 lane (bc6h_fast_avx2.cpp): out[l]
+// (skipped when null) gets exactly the bytes encode_block_fast(h[l], x[l], valid[l]) writes,
+// whatever the other lanes hold. Call only when cpu_has_avx2().
+void encode_blocks_fast_x8(const uint16_t* const h[8], const float* const x[8], const uint8_t* const valid[8],
+                           uint8_t* const out[8]);
+bool cpu_has_avx2();
+
+// Encodes n UF16 blocks (block i: h + 48i, x + 48i, valid + 16i → out + 16i), each exactly as
+// encode_block_fast encodes it alone: eight per AVX2 batch when the CPU has AVX2 and the scalar
+// path is not forced (force_scalar), a partial batch padded with copies of its first block.
+void encode_blocks_fast(const uint16_t* h, const float* x, const uint8_t* valid, int n, uint8_t* out);
+
+// Copies the 4×4 block of a 3-channel float image whose top-left texel is `p` (rows `stride`
+// floats apart) into rgb[t*3+c] and returns true when every value lies in [0, 65504], where the
+// UF16 input rule changes nothing; returns false (rgb unspecified) otherwise, and the caller
+// applies the rule value by value. Four values per SSE2 compare on x86-64.
+bool copy_block_in_range(const float* p, size_t stride, float rgb[48]);
 
 // Encodes one UF16 block without search (see bc6h_fast.cpp). h: the texels' half bits
 // (h[t*3+c], finite, non-negative), x: the same values as floats, valid: 1 for real texels, 0 for

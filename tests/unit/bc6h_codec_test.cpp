@@ -5,6 +5,7 @@
 
 #include <Imath/half.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -262,7 +263,7 @@ TEST(Bc6h, HalfConversionPathsGiveTheSameBits) {
 }
 
 TEST(Bc6h, SimdAndScalarLoopsWriteTheSameBytes) {
-  // fast (the fit's palette and projection), default (fast-fit blocks and searched ones), high
+  // fast (the AVX2 batches, or the one-block SSE2 loops), default (fast-fit blocks and searched ones), high
   // (two regions, 3-bit indices), unsigned and signed, on a crop of each shared image.
   for (const char* file : {"lightmap_smooth.exr", "hdr_hard.exr", "lightmap_noisy.exr"}) {
     const ImageF src = clamp_rgb(read_image(std::string(AHD_SHARED_DIR) + "/data/bc6h/" + file));
@@ -401,5 +402,83 @@ TEST(Bc6h, FastIgnoresPaddingTexels) {
     bc6h_encode_block(a, valid, false, Bc6hQuality::Fast, oa);
     bc6h_encode_block(b, valid, false, Bc6hQuality::Fast, ob);
     ASSERT_TRUE(std::equal(oa, oa + 16, ob)) << i;
+  }
+}
+
+TEST(Bc6h, FastBatchedBlocksAreTheBlocksEncodedAlone) {
+  // The AVX2 path encodes eight blocks per batch, one per lane. A block's bytes must not depend
+  // on the other blocks of its batch (PEERS.md: a batched peer encoder got this wrong): random
+  // blocks of many kinds — solid, partial (padding texels), gradients, a wide range of values,
+  // one bright texel — encoded alone, in mixed batches of every offset, and with the one-block
+  // scalar path forced, must give the same bytes.
+  std::printf("AVX2 on this CPU: %s\n", bc6h::cpu_has_avx2() ? "yes" : "no");
+  constexpr int kBlocks = 203;  // not a multiple of 8: the last batch is partial
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<float> u(0, 1);
+  std::vector<float> x(kBlocks * 48);
+  std::vector<uint16_t> h(kBlocks * 48);
+  std::vector<uint8_t> valid(kBlocks * 16, 1);
+  for (int b = 0; b < kBlocks; ++b) {
+    float* v = &x[b * 48];
+    const int kind = b % 6;
+    const float scale = std::exp2(24 * u(rng) - 12);
+    for (int t = 0; t < 16; ++t)
+      for (int c = 0; c < 3; ++c) {
+        float val = scale * std::exp2(4 * u(rng) - 2);                                // noisy
+        if (kind == 1) val = scale * (1 + c);                                          // solid
+        if (kind == 2) val = scale * (1 + 0.1f * float(t) + 0.05f * float(c));         // gradient
+        if (kind == 3 && t == 5) val = 64 * scale;                                     // one bright texel
+        if (kind == 4) val = std::exp2(32 * u(rng) - 16);                              // any range
+        v[t * 3 + c] = std::min(val, 65504.0f);
+      }
+    if (kind == 5)  // a partial edge block: padding texels repeat the first one
+      for (int t = 0; t < 16; ++t)
+        if (t % 4 >= 1 + b % 4 || t / 4 >= 1 + (b / 4) % 4) {
+          valid[b * 16 + t] = 0;
+          for (int c = 0; c < 3; ++c) v[t * 3 + c] = v[c];
+        }
+  }
+  bc6h::floats_to_half(x.data(), h.data(), kBlocks * 48);
+  std::vector<uint8_t> alone(kBlocks * 16), scalar(kBlocks * 16);
+  for (int b = 0; b < kBlocks; ++b) bc6h::encode_blocks_fast(&h[b * 48], &x[b * 48], &valid[b * 16], 1, &alone[b * 16]);
+  bc6h::force_scalar(true);
+  bc6h::encode_blocks_fast(h.data(), x.data(), valid.data(), kBlocks, scalar.data());
+  bc6h::force_scalar(false);
+  EXPECT_EQ(alone, scalar);
+  for (int b = 0; b < kBlocks; ++b) {  // the one-block encoder itself
+    uint8_t one[16];
+    bc6h::encode_block_fast(&h[b * 48], &x[b * 48], &valid[b * 16], one);
+    ASSERT_TRUE(std::equal(one, one + 16, &scalar[b * 16])) << b;
+  }
+  for (int offset = 0; offset < 8; ++offset) {  // every block in every lane position
+    std::vector<uint8_t> batched((kBlocks - offset) * 16);
+    bc6h::encode_blocks_fast(&h[offset * 48], &x[offset * 48], &valid[offset * 16], kBlocks - offset, batched.data());
+    EXPECT_TRUE(std::equal(batched.begin(), batched.end(), alone.begin() + offset * 16)) << "offset " << offset;
+  }
+  // Shuffled batches: each block among different neighbours.
+  std::vector<int> order(kBlocks);
+  for (int b = 0; b < kBlocks; ++b) order[b] = b;
+  std::shuffle(order.begin(), order.end(), rng);
+  std::vector<float> xs(kBlocks * 48);
+  std::vector<uint16_t> hs(kBlocks * 48);
+  std::vector<uint8_t> vs(kBlocks * 16), shuffled(kBlocks * 16);
+  for (int i = 0; i < kBlocks; ++i) {
+    std::copy_n(&x[order[i] * 48], 48, &xs[i * 48]);
+    std::copy_n(&h[order[i] * 48], 48, &hs[i * 48]);
+    std::copy_n(&valid[order[i] * 16], 16, &vs[i * 16]);
+  }
+  bc6h::encode_blocks_fast(hs.data(), xs.data(), vs.data(), kBlocks, shuffled.data());
+  for (int i = 0; i < kBlocks; ++i)
+    ASSERT_TRUE(std::equal(&shuffled[i * 16], &shuffled[i * 16] + 16, &alone[order[i] * 16])) << order[i];
+  // And the blocks decode within the no-specks bound.
+  for (int b = 0; b < kBlocks; ++b) {
+    uint16_t dec[48];
+    bc6h_decode_block(&alone[b * 16], false, dec);
+    for (int c = 0; c < 3; ++c) {
+      int top = 0;
+      for (int t = 0; t < 16; ++t)
+        if (valid[b * 16 + t]) top = std::max(top, int(h[b * 48 + t * 3 + c]));
+      for (int t = 0; t < 16; ++t) ASSERT_LE(int(dec[t * 3 + c]), top + 1) << b;
+    }
   }
 }
