@@ -111,38 +111,47 @@ ShImage downsample_sh(const ShImage& src, int threads, NormalRule rule) {
   }
   const int nv = src.coeffs * 3;
 
-  parallel_for(size_t(W) * H, threads, 64, [&](size_t o) {
-    const int X = int(o % size_t(W)), Y = int(o / size_t(W));
-    MipTap tx[3], ty[3];
-    const int nx = mip_taps(src.width, X, tx), ny = mip_taps(src.height, Y, ty);
-    double acc[kMaxVals] = {}, nrm[3] = {}, wsum = 0;
-    const float* first_normal = nullptr;
-    for (int b = 0; b < ny; ++b)
-      for (int a = 0; a < nx; ++a) {
-        const size_t i = size_t(ty[b].index) * src.width + tx[a].index;
-        if (!src.coverage[i]) continue;
-        const double wgt = tx[a].weight * ty[b].weight;
-        double v[kMaxVals];
-        if (keep_world) {
-          const float* t = src.texel(i);
-          for (int k = 0; k < nv; ++k) v[k] = t[k];
-          const float* nn = &src.normals[i * 3];
-          for (int c = 0; c < 3; ++c) nrm[c] += wgt * nn[c];
-          if (!first_normal) first_normal = nn;
-        } else {
-          local_coeffs(src, i, v);
+  // Taps of every column once; the rows in parallel (a call per row, not per texel).
+  std::vector<MipTap> col_taps(size_t(W) * 3);
+  std::vector<int> col_count(static_cast<size_t>(W));
+  for (int X = 0; X < W; ++X) col_count[size_t(X)] = mip_taps(src.width, X, &col_taps[size_t(X) * 3]);
+  parallel_for(size_t(H), threads, 1, [&](size_t row) {
+    const int Y = int(row);
+    MipTap ty[3];
+    const int ny = mip_taps(src.height, Y, ty);
+    for (int X = 0; X < W; ++X) {
+      const size_t o = size_t(Y) * size_t(W) + size_t(X);
+      const MipTap* tx = &col_taps[size_t(X) * 3];
+      const int nx = col_count[size_t(X)];
+      double acc[kMaxVals] = {}, nrm[3] = {}, wsum = 0;
+      const float* first_normal = nullptr;
+      for (int b = 0; b < ny; ++b)
+        for (int a = 0; a < nx; ++a) {
+          const size_t i = size_t(ty[b].index) * src.width + tx[a].index;
+          if (!src.coverage[i]) continue;
+          const double wgt = tx[a].weight * ty[b].weight;
+          double v[kMaxVals];
+          if (keep_world) {
+            const float* t = src.texel(i);
+            for (int k = 0; k < nv; ++k) v[k] = t[k];
+            const float* nn = &src.normals[i * 3];
+            for (int c = 0; c < 3; ++c) nrm[c] += wgt * nn[c];
+            if (!first_normal) first_normal = nn;
+          } else {
+            local_coeffs(src, i, v);
+          }
+          for (int k = 0; k < nv; ++k) acc[k] += wgt * v[k];
+          wsum += wgt;
         }
-        for (int k = 0; k < nv; ++k) acc[k] += wgt * v[k];
-        wsum += wgt;
+      if (wsum <= 0) continue;  // uncovered: zero SH, dilation fills the fitted planes later
+      dst.coverage[o] = 1;
+      float* out = dst.texel(o);
+      for (int k = 0; k < nv; ++k) out[k] = float(acc[k] / wsum);
+      if (keep_world) {
+        const double len = std::sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
+        float* nd = &dst.normals[o * 3];
+        for (int c = 0; c < 3; ++c) nd[c] = len > 1e-12 ? float(nrm[c] / len) : first_normal[c];
       }
-    if (wsum <= 0) return;  // uncovered: zero SH, dilation fills the fitted planes later
-    dst.coverage[o] = 1;
-    float* out = dst.texel(o);
-    for (int k = 0; k < nv; ++k) out[k] = float(acc[k] / wsum);
-    if (keep_world) {
-      const double len = std::sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
-      float* nd = &dst.normals[o * 3];
-      for (int c = 0; c < 3; ++c) nd[c] = len > 1e-12 ? float(nrm[c] / len) : first_normal[c];
     }
   });
   return dst;
