@@ -4,6 +4,7 @@
 // Stored: I_z = C_a + d_z C_d (exact, linear under filtering), d, and ratio = C_a / I_z (RGB form) or
 // L(C_a)/L(I_z) (luminance form). Decode: fit/ahd_decode.h.
 #pragma once
+#include <limits>
 #include <ahd/types.h>
 #include <cstdint>
 
@@ -92,6 +93,14 @@ AhdFit fit_texel_constant(const IrradiancePoly p[3], const FitOptions& opt);
 
 // The same from E(z) per channel (ez: the irradiance along the normal, any value).
 AhdFit fit_constant_irradiance(const double ez[3], const FitOptions& opt);
+
+// fit_constant_irradiance's I_z for one channel of an L0 texel in its own frame, E(z) =
+// l0_irradiance(c0) + 0 (non-finite or negative → 0), without the flags: the hot loops of plain
+// lightmaps (tests compare it with the general route).
+inline float l0_texel_iz(float c0) {
+  const double ez = l0_irradiance(c0) + 0.0;
+  return ez > 0.0 && ez <= std::numeric_limits<double>::max() ? float(ez) : 0.0f;
+}
 
 // The unconstrained least-squares fit over the hemisphere (Sloan 2008 style) with the same d:
 // free C_a, C_d minimising E; may be negative and does not preserve I_z. For comparison only.

@@ -40,16 +40,26 @@ struct FittedLevel {
   AhdImage ahd;  // the fitted texels; empty in an ambient-only level
 };
 
-// Texel i's fit, whichever form the level holds (ambient-only: d = z, ratio = 1, flags 0 where
-// dilated).
+// Texel i's I_z in an ambient-only level: fit_ambient_texel(sh, i, …).iz for covered texels (the
+// cheap form where there are no normals to rotate by), the dilated value for the others.
+inline void ambient_level_iz(const ShImage& sh, size_t i, float iz[3]) {
+  const float* t = sh.texel(i);
+  if (sh.coverage[i] && sh.normals.empty()) {
+    for (int c = 0; c < 3; ++c) iz[c] = l0_texel_iz(t[c]);
+  } else if (sh.coverage[i]) {
+    const AhdFit f = fit_ambient_texel(sh, i, FitOptions{});  // I_z needs no options
+    for (int c = 0; c < 3; ++c) iz[c] = f.iz[c];
+  } else {
+    for (int c = 0; c < 3; ++c) iz[c] = t[c];
+  }
+}
+
+// Texel i's fit, whichever form the level holds (ambient-only: d = z, ratio = 1, flags 0).
 inline AhdFit fitted_texel(const FittedLevel& l, size_t i) {
   if (!l.ahd.texels.empty()) return l.ahd.texels[i];
-  if (l.sh.coverage[i]) return fit_ambient_texel(l.sh, i, FitOptions{});  // I_z, d, ratio need no options
   AhdFit f{};
-  for (int c = 0; c < 3; ++c) {
-    f.iz[c] = l.sh.texel(i)[c];
-    f.ratio[c] = 1.0f;
-  }
+  ambient_level_iz(l.sh, i, f.iz);
+  for (int c = 0; c < 3; ++c) f.ratio[c] = 1.0f;
   f.d[2] = 1.0f;
   return f;
 }

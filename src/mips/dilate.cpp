@@ -171,12 +171,8 @@ void dilate_ambient(ShImage& sh, int threads, DilateStats* stats) {
   const size_t n = sh.texels();
   if (sh.coeffs != 1 || sh.data.size() != n * 3 || sh.coverage.size() != n)
     throw Error("dilate_ambient: needs a well-formed L0 image");
-  const FitOptions any;  // I_z does not depend on the options
   dilate_rings(sh.width, sh.height, 3, sh.coverage, threads, stats,
-               [&](size_t i, float* v) {
-                 if (sh.coverage[i]) std::copy_n(fit_ambient_texel(sh, i, any).iz, 3, v);
-                 else std::copy_n(sh.texel(i), 3, v);
-               },
+               [&](size_t i, float* v) { ambient_level_iz(sh, i, v); },
                [&](size_t i, const float* v) { std::copy_n(v, 3, sh.texel(i)); });
   parallel_for(n, threads, 4096, [&](size_t i) {
     if (sh.coverage[i]) return;
