@@ -59,6 +59,7 @@ struct FitSets {
   int smooth_coeffs = kSmoothCoeffs;
   bool hard = true;          // also the harder sets
   bool refined = true;       // also the refined fit (off: a quick calibration run)
+  double coherence = FitOptions{}.coherence_tolerance;
 };
 
 void report_fit(const FitSets& fs) {
@@ -92,6 +93,7 @@ void report_fit(const FitSets& fs) {
         FitOptions opt;
         opt.ratio_form = form;
         opt.direction_fit = dir;
+        opt.coherence_tolerance = fs.coherence;
         const double t0 = thread_seconds();
         const AhdImage fit = fit_image(sets[s], opt, 1);
         const double ns = 1e9 * (thread_seconds() - t0) / double(sets[s].texels());
@@ -125,6 +127,7 @@ void add_report_fit_command(CLI::App* report) {
   f->add_option("--ceiling-scale", fs->ceiling_scale, "Smooth scene: ceiling area light scale")->check(CLI::Range(0.0, 100.0));
   f->add_option("--bounce-scale", fs->bounce_scale, "Smooth scene: coloured bounce light scale")->check(CLI::Range(0.0, 100.0));
   f->add_option("--smooth-coeffs", fs->smooth_coeffs, "Smooth scene: 4 (L1) or 9 (L2)")->check(CLI::IsMember({4, 9}));
+  f->add_option("--coherence", fs->coherence, "Refined: coherence tolerance (0 = off)")->check(CLI::Range(0.0, 1.0));
   f->add_flag("!--no-hard", fs->hard, "Only the calibrated sets");
   f->add_flag("!--no-refined", fs->refined, "Only the linear fit (calibration)");
   f->callback([fs]() { report_fit(*fs); });

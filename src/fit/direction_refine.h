@@ -25,6 +25,8 @@ LuneMoments lune_moments(const IrradiancePoly p[3], const double d[3]);
 
 // ∫_{Ω+} E for one channel (HemisphereMoments::f0; independent of d).
 double hemisphere_integral(const IrradiancePoly& p);
+// ∫_{Ω+} E² for one channel (HemisphereMoments::f2; independent of d).
+double hemisphere_square_integral(const IrradiancePoly& p);
 
 // The luminance-form ratio r ∈ [0,1] minimising Σ_c ∫ (r I_c + (1−r) I_c g/d_z − E_c)², the
 // hemisphere error summed over the three channels (a clamped 1-D least squares). f0[c] = ∫ E_c.

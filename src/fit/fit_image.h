@@ -33,7 +33,8 @@ struct FittedLevel {
   AhdImage ahd;
 };
 
-// Fits every texel (uncovered ones too; their values are replaced by dilation later).
+// Fits every texel (uncovered ones too; their values are replaced by dilation later); a refined
+// fit then takes the coherence pass (direction_coherence.h).
 AhdImage fit_image(const ShImage& sh, const FitOptions& opt, int threads, FitStats* stats = nullptr);
 
 }  // namespace ahd

@@ -164,6 +164,8 @@ LuneMoments lune_moments(const IrradiancePoly p[3], const double d[3]) {
   return m;
 }
 
+double hemisphere_square_integral(const IrradiancePoly& p) { return hemisphere_square(p); }
+
 double hemisphere_integral(const IrradiancePoly& p) {
   // ∫_{Ω+} 1 = 2π, ∫ z = π, ∫ x² = ∫ y² = ∫ z² = 2π/3 (hemisphere_monomial's values, inlined: the
   // refinement calls this for every texel).
