@@ -38,11 +38,15 @@ void smooth_directions(const ShImage& sh, const FitOptions& opt, int threads, Ah
     optimal_direction(p, opt, dl);
     tilt_above_horizon(dl, opt.dz_min);
     const RefineObjective f(p, iz, opt.ratio_form);
-    const double fs = f.value(ds), fb = f.value(db), fl = f.value(dl);
-    double e2 = 0;  // Σ_c ∫ E_c²: f + e2 is the error itself
-    for (int c = 0; c < 3; ++c) e2 += hemisphere_square_integral(p[c]);
-    const double err_b = std::max(0.0, fb + e2);
-    if (!(fs <= fl) || !(fs - fb <= opt.coherence_tolerance * err_b)) return;
+    const double fs = f.value(ds), fb = f.value(db);
+    if (!(fs <= fb)) {
+      // Worse than the texel's own: within the tolerance? (Σ_c ∫ E_c² makes f the error itself;
+      // only computed here, it costs as much as the rest of the pass.)
+      double e2 = 0;
+      for (int c = 0; c < 3; ++c) e2 += hemisphere_square_integral(p[c]);
+      if (!(fs - fb <= opt.coherence_tolerance * std::max(0.0, fb + e2))) return;
+    }
+    if (!(fs <= f.value(dl))) return;  // never worse than the linear d
     AhdFit s = fit_colours(p, ds, iz, opt);
     s.flags |= t.flags;
     fit->texels[i] = s;
