@@ -6,6 +6,7 @@
 
 #include "io/profile_file.h"
 #include "fit/ahd_fit.h"
+#include "fit/fit_image.h"
 #include "pipeline/convert.h"
 #include "sample/analytic_baker.h"
 #include "sample/hard_cases.h"
@@ -55,6 +56,21 @@ void BM_FitTexel(benchmark::State& state) {
 BENCHMARK(BM_FitTexel)
     ->ArgsProduct({{4, 9}, {0, 1}, {0, 1}})
     ->ArgNames({"coeffs", "refined", "rgb"});
+
+// A whole image on one thread: the per-texel fit plus, for refined, the coherence pass
+// (fit/direction_coherence.h), which BM_FitTexel does not see. Args: direction fit (0 linear,
+// 1 refined), ratio form (0 luminance, 1 RGB). Analytic scene 128², L2; time per texel.
+void BM_FitImage(benchmark::State& state) {
+  BakerOptions bo;
+  bo.width = bo.height = 128;
+  const ShImage sh = bake_analytic_scene(bo);
+  FitOptions opt;
+  opt.direction_fit = state.range(0) ? DirectionFit::Refined : DirectionFit::Linear;
+  opt.ratio_form = state.range(1) ? RatioForm::Rgb : RatioForm::Luminance;
+  for (auto _ : state) benchmark::DoNotOptimize(fit_image(sh, opt, 1));
+  state.SetItemsProcessed(int64_t(state.iterations()) * bo.width * bo.height);
+}
+BENCHMARK(BM_FitImage)->ArgsProduct({{0, 1}, {0, 1}})->ArgNames({"refined", "rgb"})->Unit(benchmark::kMillisecond);
 
 void BM_ConvertUncompressed(benchmark::State& state) {
   BakerOptions bo;

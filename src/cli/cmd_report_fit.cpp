@@ -6,6 +6,8 @@
 #include <time.h>
 
 #include <cstdio>
+#include <string>
+#include <vector>
 
 #include "io/profile_file.h"
 #include "cli/commands.h"
@@ -46,20 +48,52 @@ AhdImage quantised_planes(const ShImage& sh, const FitOptions& fit) {
   return a;
 }
 
-void report_fit(int size, int random_texels) {
-  BakerOptions bo;
-  bo.width = bo.height = size;
-  const ShImage sets[2] = {random_lighting_set(random_texels, 7), bake_analytic_scene(bo)};
-  const char* names[2] = {"random lighting", "analytic scene"};
+// The sets the report measures: issue 18's calibrated ones (its "today" column) and the harder
+// ones of the first round (independent light colours, the canonical analytic scene).
+struct FitSets {
+  int size = 128, random_texels = 20000;
+  double saturation = kCalibratedSaturation;           // the calibrated random set's light colours
+  double ambient = kCalibratedAmbient;
+  double point_scale = kSmoothPointScale, sky_scale = kSmoothSkyScale;  // the smooth scene
+  double ceiling_scale = kSmoothCeilingScale, bounce_scale = kSmoothBounceScale;
+  int smooth_coeffs = kSmoothCoeffs;
+  bool hard = true;          // also the harder sets
+  bool refined = true;       // also the refined fit (off: a quick calibration run)
+  double coherence = FitOptions{}.coherence_tolerance;
+};
+
+void report_fit(const FitSets& fs) {
+  BakerOptions canonical;
+  canonical.width = canonical.height = fs.size;
+  BakerOptions smooth = canonical;
+  smooth.point_scale = fs.point_scale, smooth.sky_scale = fs.sky_scale;
+  smooth.ceiling_scale = fs.ceiling_scale, smooth.bounce_scale = fs.bounce_scale;
+  smooth.coeffs = fs.smooth_coeffs;
+  std::vector<ShImage> sets;
+  std::vector<std::string> names;
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "random lighting, saturation %.2f, ambient %.2f", fs.saturation, fs.ambient);
+  sets.push_back(random_lighting_set(fs.random_texels, 7, fs.saturation, fs.ambient)), names.push_back(buf);
+  std::snprintf(buf, sizeof buf, "smooth scene %d² %s (point ×%.2g, sky ×%.2g, ceiling ×%.2g, bounce ×%.2g)",
+                fs.size, fs.smooth_coeffs == 4 ? "L1" : "L2", fs.point_scale, fs.sky_scale, fs.ceiling_scale,
+                fs.bounce_scale);
+  sets.push_back(bake_analytic_scene(smooth)), names.push_back(buf);
+  if (fs.hard) {
+    sets.push_back(random_lighting_set(fs.random_texels, 7, 1.0)), names.push_back("random lighting, independent colours");
+    std::snprintf(buf, sizeof buf, "analytic scene %d²", fs.size);
+    sets.push_back(bake_analytic_scene(canonical)), names.push_back(buf);
+  }
   std::printf("| set | ratio | direction fit | fitted / LS | quantised / LS | issue 18: mean of texel ratios "
               "(400 dirs) | issue 18: ratio of means (400 dirs) | neighbour angle p99 (°) | "
               "bilinear sub-texel rel RMSE | fit ns/texel (thread CPU) |\n|---|---|---|---|---|---|---|---|---|---|\n");
-  for (int s = 0; s < 2; ++s)
+  for (size_t s = 0; s < sets.size(); ++s)
     for (RatioForm form : {RatioForm::Rgb, RatioForm::Luminance})
       for (DirectionFit dir : {DirectionFit::Linear, DirectionFit::Refined}) {
+        if (dir == DirectionFit::Refined && !fs.refined) continue;
         FitOptions opt;
         opt.ratio_form = form;
         opt.direction_fit = dir;
+        opt.coherence_tolerance = fs.coherence;
         const double t0 = thread_seconds();
         const AhdImage fit = fit_image(sets[s], opt, 1);
         const double ns = 1e9 * (thread_seconds() - t0) / double(sets[s].texels());
@@ -71,9 +105,10 @@ void report_fit(int size, int random_texels) {
           std::snprintf(angle, sizeof angle, "%.2f", direction_p99_angle_deg(fit));
           std::snprintf(filtered, sizeof filtered, "%.4f", fe.mean_irradiance > 0 ? fe.rms / fe.mean_irradiance : 0.0);
         }
-        std::printf("| %s | %s | %s | %.3f | %.3f | %.3f | %.3f | %s | %s | %.0f |\n", names[s],
+        std::printf("| %s | %s | %s | %.3f | %.3f | %.3f | %.3f | %s | %s | %.0f |\n", names[s].c_str(),
                     form == RatioForm::Rgb ? "rgb" : "luminance", direction_fit_name(dir), qf.ratio(), qq.ratio(),
                     qf.sampled_texel_ratio, qf.sampled_ratio, angle, filtered, ns);
+        std::fflush(stdout);
       }
 }
 
@@ -81,11 +116,21 @@ void report_fit(int size, int random_texels) {
 
 void add_report_fit_command(CLI::App* report) {
   CLI::App* f = report->add_subcommand("fit", "Linear vs refined direction fit: error vs unconstrained LS, coherence, speed");
-  auto size = std::make_shared<int>(128);
-  auto random = std::make_shared<int>(20000);
-  f->add_option("--size", *size, "Analytic scene size")->check(CLI::Range(2, 4096));
-  f->add_option("--random", *random, "Random-lighting texels")->check(CLI::Range(1, 10000000));
-  f->callback([size, random]() { report_fit(*size, *random); });
+  auto fs = std::make_shared<FitSets>();
+  f->add_option("--size", fs->size, "Analytic scene size")->check(CLI::Range(2, 4096));
+  f->add_option("--random", fs->random_texels, "Random-lighting texels")->check(CLI::Range(1, 10000000));
+  f->add_option("--saturation", fs->saturation, "Light-colour saturation of the calibrated random set")
+      ->check(CLI::Range(0.0, 1.0));
+  f->add_option("--point-scale", fs->point_scale, "Smooth scene: point-light intensity scale")->check(CLI::Range(0.0, 100.0));
+  f->add_option("--sky-scale", fs->sky_scale, "Smooth scene: sky radiance scale")->check(CLI::Range(0.0, 1000.0));
+  f->add_option("--ambient", fs->ambient, "Calibrated random set: ambient relative to a light")->check(CLI::Range(0.0, 100.0));
+  f->add_option("--ceiling-scale", fs->ceiling_scale, "Smooth scene: ceiling area light scale")->check(CLI::Range(0.0, 100.0));
+  f->add_option("--bounce-scale", fs->bounce_scale, "Smooth scene: coloured bounce light scale")->check(CLI::Range(0.0, 100.0));
+  f->add_option("--smooth-coeffs", fs->smooth_coeffs, "Smooth scene: 4 (L1) or 9 (L2)")->check(CLI::IsMember({4, 9}));
+  f->add_option("--coherence", fs->coherence, "Refined: coherence tolerance (0 = off)")->check(CLI::Range(0.0, 1.0));
+  f->add_flag("!--no-hard", fs->hard, "Only the calibrated sets");
+  f->add_flag("!--no-refined", fs->refined, "Only the linear fit (calibration)");
+  f->callback([fs]() { report_fit(*fs); });
 }
 
 }  // namespace ahd::cli

@@ -146,14 +146,20 @@ AhdFit fit_colours(const IrradiancePoly p[3], const double d[3], const double iz
   AhdFit out{};
   const double dz = d[2];
   // The least-squares luminance ratio needs no per-channel fit.
-  const bool ls_ratio = opt.direction_fit == DirectionFit::Refined && opt.ratio_form == RatioForm::Luminance;
+  const bool refined = opt.direction_fit == DirectionFit::Refined;
+  const bool ls_ratio = refined && opt.ratio_form == RatioForm::Luminance;
   double ca[3] = {0, 0, 0}, cd[3] = {0, 0, 0};
+  // Refined: the moments of the three channels from one lune_moments (closed forms, the ones the
+  // refinement minimised); linear: per channel, as the paper's fit always did (same bytes).
+  LuneMoments lm{};
+  if (refined) lm = lune_moments(p, d);
   for (int c = 0; c < 3 && !ls_ratio; ++c) {
     if (!(iz[c] > 0.0)) {
       ca[c] = cd[c] = 0.0;
       continue;
     }
-    const HemisphereMoments m = hemisphere_moments(p[c], d, /*with_f2=*/false);
+    const HemisphereMoments m = refined ? HemisphereMoments{2.0 * kPi, lm.g1, lm.g2, hemisphere_integral(p[c]), lm.f1[c], 0.0}
+                                        : hemisphere_moments(p[c], d, /*with_f2=*/false);
     fit_channel(m, iz[c], dz, &ca[c], &cd[c]);
   }
   for (int i = 0; i < 3; ++i) out.d[i] = float(d[i]);
@@ -163,7 +169,7 @@ AhdFit fit_colours(const IrradiancePoly p[3], const double d[3], const double iz
   if (lum_iz > 0.0) {
     if (ls_ratio) {
       const double f0[3] = {hemisphere_integral(p[0]), hemisphere_integral(p[1]), hemisphere_integral(p[2])};
-      r_lum = least_squares_ratio(lune_moments(p, d), f0, iz, dz);
+      r_lum = least_squares_ratio(lm, f0, iz, dz);
     } else {
       r_lum = std::clamp(lum_ca / lum_iz, 0.0, 1.0);
     }

@@ -28,6 +28,10 @@ struct FitOptions {
   double no_direction_threshold = 1e-6;
   RatioForm ratio_form = RatioForm::Luminance;
   DirectionFit direction_fit = DirectionFit::Linear;
+  // Refined only, over an image (fit_image): a texel takes its neighbourhood's mean direction when
+  // that costs at most this fraction of its constrained hemisphere error (direction_coherence.h;
+  // 0 = off). Chosen by measurement (README "Choosing the direction").
+  double coherence_tolerance = 0.02;
 };
 
 // Why a texel needed a rule (bits of AhdFit::flags; counted in FitStats).

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "fit/ahd_decode.h"
+#include "fit/refine_objective.h"
 
 namespace ahd {
 
@@ -34,39 +35,7 @@ double least_squares_ratio(const LuneMoments& m, const double f0[3], const doubl
 
 namespace {
 
-// The constrained hemisphere error Σ_c ∫ (C_a + C_d g − E_c)² minus the d-independent Σ_c ∫ E_c²
-// (it does not move the minimiser), for the colours the fit would choose at direction d.
-struct Objective {
-  const IrradiancePoly* p;
-  double iz[3], f0[3];
-  bool luminance;
-
-  double operator()(const double d[3]) const {
-    const LuneMoments m = lune_moments(p, d);
-    const double g0 = 2.0 * kPi, dz = d[2], inv_dz = 1.0 / dz;
-    const double r = luminance ? least_squares_ratio(m, f0, iz, dz) : 0.0;
-    // RGB: fit_channel's arithmetic with the channel-independent divisions hoisted out (this
-    // runs ~19 times per texel; the stored colours still come from fit_channel itself).
-    const double kk = 1.0 / (dz * dz + 1.0);
-    const double hh = m.g2 - 2.0 * dz * m.g1 + dz * dz * g0;
-    const double inv_hh = hh > 0 ? 1.0 / hh : 0.0;
-    double e = 0;
-    for (int c = 0; c < 3; ++c) {
-      if (!(iz[c] > 0.0)) continue;
-      double ca, cd;
-      if (luminance) {
-        ca = r * iz[c], cd = (iz[c] - ca) * inv_dz;
-      } else {
-        const double a0 = iz[c] * kk, b0 = a0 * dz;
-        const double rh = a0 * m.g1 + b0 * m.g2 - m.f1[c] - dz * (a0 * g0 + b0 * m.g1 - f0[c]);
-        const double t = std::clamp(-rh * inv_hh, -b0, a0 * inv_dz);
-        ca = std::max(0.0, a0 - dz * t), cd = std::max(0.0, b0 + t);
-      }
-      e += ca * ca * g0 + cd * cd * m.g2 + 2.0 * ca * cd * m.g1 - 2.0 * ca * f0[c] - 2.0 * cd * m.f1[c];
-    }
-    return e;
-  }
-};
+double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
 // Unit tangent vectors u, v of the unit d (any continuous-enough pair; the search is local).
 void tangents(const double d[3], double u[3], double v[3]) {
@@ -121,87 +90,138 @@ bool principal_axis(const double A[3][3], double v[3]) {
 }  // namespace
 
 double constrained_error(const IrradiancePoly p[3], const double iz[3], const double d[3], const FitOptions& opt) {
-  Objective f{p, {iz[0], iz[1], iz[2]}, {}, opt.ratio_form == RatioForm::Luminance};
-  for (int c = 0; c < 3; ++c) f.f0[c] = hemisphere_integral(p[c]);
-  return f(d);
+  return RefineObjective(p, iz, opt.ratio_form).value(d);
 }
 
 void refine_direction(const IrradiancePoly p[3], const double iz[3], const FitOptions& opt, double d[3]) {
-  Objective f{p, {iz[0], iz[1], iz[2]}, {}, opt.ratio_form == RatioForm::Luminance};
-  for (int c = 0; c < 3; ++c) f.f0[c] = hemisphere_integral(p[c]);
+  refine_direction(p, iz, opt, d, RefineSearch{});
+}
+
+void refine_direction(const IrradiancePoly p[3], const double iz[3], const FitOptions& opt, double d[3],
+                      const RefineSearch& search, int* winner) {
+  const RefineObjective f(p, iz, opt.ratio_form);
   double best[3] = {d[0], d[1], d[2]};
-  double fbest = f(best);
+  double fbest = f.value(best);
+  if (winner) *winner = 0;
   if (!std::isfinite(fbest)) return;
   // Cheap global starts: the local search from the linear d misses the better basin on varied
   // lighting (the L1 band averages the lights' directions; the best lobe follows the strongest).
   // Candidates: each channel's own L1 direction and the axis of the luminance L2 band's quadratic
-  // form (both signs), which points along the dominant light. The best of them and the linear d
-  // is polished below. (Measured on random lighting, RGB: linear d only 1.098 → + L2 axis 1.010
-  // → + channel L1 0.969, against 0.960 for the best of 1 500 directions; README.)
-  auto try_start = [&](double s[3]) {
+  // form, which points along the dominant light. The best of them and the linear d is polished
+  // below. (Which pay: README "Choosing the direction".)
+  auto try_start = [&](double s[3], int id) {
     tilt_above_horizon(s, opt.dz_min);
-    const double fs = f(s);
-    if (fs < fbest) fbest = fs, best[0] = s[0], best[1] = s[1], best[2] = s[2];
+    const double fs = f.value(s);
+    if (fs < fbest) {
+      fbest = fs, best[0] = s[0], best[1] = s[1], best[2] = s[2];
+      if (winner) *winner = id;
+    }
   };
-  for (int c = 0; c < 3; ++c) {
-    double s[3] = {p[c].e[0], p[c].e[1], p[c].e[2]};
-    const double len = std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
-    if (!(len > 0) || !std::isfinite(len)) continue;
-    for (double& x : s) x /= len;
-    try_start(s);
-  }
-  double Q[3][3] = {};
-  for (int c = 0; c < 3; ++c)
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) Q[i][j] += opt.luma[c] * p[c].q[i][j];
-  double axis[3] = {0, 0, 1};
-  if (principal_axis(Q, axis)) {
-    for (double sign : {1.0, -1.0}) {
-      double s[3] = {sign * axis[0], sign * axis[1], sign * axis[2]};
-      try_start(s);
+  if (search.starts & kStartChannelL1)
+    for (int c = 0; c < 3; ++c) {
+      double s[3] = {p[c].e[0], p[c].e[1], p[c].e[2]};
+      const double len = std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
+      if (!(len > 0) || !std::isfinite(len)) continue;
+      for (double& x : s) x /= len;
+      try_start(s, 1 + c);
+    }
+  if (search.starts & (kStartL2Axis | kStartL2AxisBoth)) {
+    double Q[3][3] = {};
+    for (int c = 0; c < 3; ++c)
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) Q[i][j] += opt.luma[c] * p[c].q[i][j];
+    double axis[3] = {0, 0, 1};
+    if (principal_axis(Q, axis)) {
+      // The axis has no sign; the lobe should face the light, which the luminance L1 band points
+      // toward (with kStartL2AxisBoth both signs are tried).
+      double l1 = 0;
+      for (int c = 0; c < 3; ++c)
+        for (int i = 0; i < 3; ++i) l1 += opt.luma[c] * p[c].e[i] * axis[i];
+      const double first = l1 >= 0 ? 1.0 : -1.0;
+      for (int k = 0; k < ((search.starts & kStartL2AxisBoth) ? 2 : 1); ++k) {
+        const double sign = k ? -first : first;
+        double s[3] = {sign * axis[0], sign * axis[1], sign * axis[2]};
+        try_start(s, 4 + k);
+      }
     }
   }
-  // Each round fits a quadratic to 6 samples around the best point so far (central differences
-  // with step h), takes the Newton step (limited to a trust radius), and keeps the best sample.
-  // Two rounds, h = 0.12, 0.03 rad (a third, 0.0075, bought 0.005 of the random-lighting ratio for
-  // 6 more evaluations; README "Choosing the direction"). (Measured: a penalty toward the linear d
-  // that brings the neighbour-angle p99 of the analytic scene back to the linear d's gives up most
-  // of the gain.)
-  double h = 0.12;
-  for (int round = 0; round < 2; ++round, h *= 0.25) {
-    double u[3], v[3];
-    tangents(best, u, v);
-    const double offs[5][2] = {{h, 0}, {-h, 0}, {0, h}, {0, -h}, {h, h}};
-    double fs[5], ds[5][3];
-    for (int k = 0; k < 5; ++k) {
-      offset_dir(best, u, v, offs[k][0], offs[k][1], opt.dz_min, ds[k]);
-      fs[k] = f(ds[k]);
+  // Polish: Newton steps along the descent direction with the analytic gradient
+  // (refine_objective.h): the curvature along −∇f from the gradient's change over a small step h
+  // there, then the 1-D Newton step (a fixed 0.1 rad where the curvature is not positive), at most
+  // 0.5 rad. The best point seen is kept, so this never loses what the starts found.
+  if (search.line) {
+    const double h = 0.02;
+    double g[3];
+    double centre[3] = {best[0], best[1], best[2]};
+    f.value_grad(centre, g);
+    for (int step = 0; step < search.steps; ++step) {
+      const double gl = std::sqrt(dot3(g, g));
+      if (!(gl > 0) || !std::isfinite(gl)) break;
+      double u[3] = {-g[0] / gl, -g[1] / gl, -g[2] / gl}, v[3] = {0, 0, 0};
+      double xh[3], gh[3];
+      offset_dir(centre, u, v, h, 0, opt.dz_min, xh);
+      const double fh = f.value_grad(xh, gh);
+      if (fh < fbest) fbest = fh, best[0] = xh[0], best[1] = xh[1], best[2] = xh[2];
+      // Slope along u at the centre is −gl; at xh it is gh·u (u transported: still nearly tangent).
+      const double kappa = (dot3(gh, u) + gl) / h;
+      double t = kappa > 0 ? gl / kappa : 0.1;
+      t = std::min(t, 0.5);
+      double cand[3];
+      offset_dir(centre, u, v, t, 0, opt.dz_min, cand);
+      const bool last = step + 1 == search.steps;
+      const double fc = last ? f.value(cand) : f.value_grad(cand, g);
+      if (!(fc < fbest)) break;
+      fbest = fc, best[0] = cand[0], best[1] = cand[1], best[2] = cand[2];
+      for (int i = 0; i < 3; ++i) centre[i] = cand[i];
     }
-    const double gu = (fs[0] - fs[1]) / (2 * h), gv = (fs[2] - fs[3]) / (2 * h);
-    const double huu = (fs[0] - 2 * fbest + fs[1]) / (h * h), hvv = (fs[2] - 2 * fbest + fs[3]) / (h * h);
-    const double huv = (fs[4] - fs[0] - fs[2] + fbest) / (h * h);
-    const double det = huu * hvv - huv * huv;
+    for (int i = 0; i < 3; ++i) d[i] = best[i];
+    return;
+  }
+  // Polish: Newton steps in the tangent plane with the analytic gradient (refine_objective.h); the
+  // 2×2 Hessian from differences of that gradient over a step h along the two tangents, then
+  // reused for the following steps (a quasi-Newton step from the new point's gradient). The best
+  // point seen is kept, so this never loses what the starts found.
+  if (search.steps <= 0) {
+    for (int i = 0; i < 3; ++i) d[i] = best[i];
+    return;
+  }
+  const double h = 0.02;
+  double g[3];
+  f.value_grad(best, g);
+  double u[3], v[3];
+  tangents(best, u, v);
+  double gu = dot3(g, u), gv = dot3(g, v);
+  double xu[3], xv[3], g1[3], g2[3];
+  offset_dir(best, u, v, h, 0, opt.dz_min, xu);
+  offset_dir(best, u, v, 0, h, opt.dz_min, xv);
+  const double fu = f.value_grad(xu, g1), fv = f.value_grad(xv, g2);
+  const double huu = (dot3(g1, u) - gu) / h, hvv = (dot3(g2, v) - gv) / h;
+  const double huv = 0.5 * ((dot3(g1, v) - gv) / h + (dot3(g2, u) - gu) / h);
+  const double det = huu * hvv - huv * huv;
+  const bool convex = huu > 0 && det > 0;
+  double centre[3] = {best[0], best[1], best[2]};
+  if (fu < fbest) fbest = fu, best[0] = xu[0], best[1] = xu[1], best[2] = xu[2];
+  if (fv < fbest) fbest = fv, best[0] = xv[0], best[1] = xv[1], best[2] = xv[2];
+  for (int step = 0; step < search.steps; ++step) {
     double a, b;
-    if (huu > 0 && det > 0) {
+    if (convex) {
       a = -(hvv * gu - huv * gv) / det, b = -(huu * gv - huv * gu) / det;
-    } else {  // not convex here: go downhill by the step's own length
-      const double g = std::hypot(gu, gv);
-      a = g > 0 ? -h * gu / g : 0, b = g > 0 ? -h * gv / g : 0;
+    } else {  // not convex here: go downhill by a fixed length
+      const double gl = std::hypot(gu, gv);
+      a = gl > 0 ? -0.1 * gu / gl : 0, b = gl > 0 ? -0.1 * gv / gl : 0;
     }
-    const double len = std::hypot(a, b), trust = 4 * h;
+    const double len = std::hypot(a, b), trust = 0.5;
     if (len > trust) a *= trust / len, b *= trust / len;
     double cand[3];
-    offset_dir(best, u, v, a, b, opt.dz_min, cand);
-    const double fc = f(cand);
-    double* pick = nullptr;
-    double fp = fbest;
-    for (int k = 0; k < 5; ++k)
-      if (fs[k] < fp) fp = fs[k], pick = ds[k];
-    if (fc < fp) fp = fc, pick = cand;
-    if (pick) {
-      for (int i = 0; i < 3; ++i) best[i] = pick[i];
-      fbest = fp;
-    }
+    offset_dir(centre, u, v, a, b, opt.dz_min, cand);
+    const bool last = step + 1 == search.steps;
+    const double fc = last ? f.value(cand) : f.value_grad(cand, g);
+    if (!(fc < fbest)) break;
+    fbest = fc, best[0] = cand[0], best[1] = cand[1], best[2] = cand[2];
+    if (last) break;
+    for (int i = 0; i < 3; ++i) centre[i] = cand[i];
+    tangents(centre, u, v);
+    gu = dot3(g, u), gv = dot3(g, v);
   }
   for (int i = 0; i < 3; ++i) d[i] = best[i];
 }

@@ -15,14 +15,18 @@ const char* direction_fit_name(DirectionFit f);
 bool parse_direction_fit(const std::string& s, DirectionFit* out);
 
 // The d-dependent hemisphere moments of the three channels at once (see HemisphereMoments):
-// g1 = ∫ g, g2 = ∫ g², f1[c] = ∫ E_c g over Ω+, g = max(0, ω·d). d unit, d_z > 0.
+// g1 = ∫ g, g2 = ∫ g², f1[c] = ∫ E_c g over Ω+, g = max(0, ω·d). d unit, d_z > 0. Also the lune's
+// frame, for the gradient (refine_objective.h): d = (s·cos φ, s·sin φ, c), B = π − atan2(s, c).
 struct LuneMoments {
   double g1, g2, f1[3];
+  double s = 0, c = 1, cphi = 1, sphi = 0, B = kPi / 2;
 };
 LuneMoments lune_moments(const IrradiancePoly p[3], const double d[3]);
 
 // ∫_{Ω+} E for one channel (HemisphereMoments::f0; independent of d).
 double hemisphere_integral(const IrradiancePoly& p);
+// ∫_{Ω+} E² for one channel (HemisphereMoments::f2; independent of d).
+double hemisphere_square_integral(const IrradiancePoly& p);
 
 // The luminance-form ratio r ∈ [0,1] minimising Σ_c ∫ (r I_c + (1−r) I_c g/d_z − E_c)², the
 // hemisphere error summed over the three channels (a clamped 1-D least squares). f0[c] = ∫ E_c.
@@ -36,11 +40,23 @@ double constrained_error(const IrradiancePoly p[3], const double iz[3], const do
 
 // From the unit direction d (d_z ≥ dz_min, usually the optimal linear one) moves d to a nearby
 // direction with a lower constrained hemisphere error Σ_c E_c for the ratio form of `opt` (RGB:
-// each channel's own constrained optimum; luminance: least_squares_ratio). A few Newton steps on
-// a local quadratic model in the tangent plane, started from the best of d, each channel's L1
-// direction and the two signs of the luminance L2 band's principal axis (all after the horizon
-// rule); never returns a worse d than it was given, and
-// the result satisfies d_z ≥ dz_min. iz[c] ≥ 0.
+// each channel's own constrained optimum; luminance: least_squares_ratio). Newton steps in the
+// tangent plane with the analytic gradient (refine_objective.h), started from the best of d and
+// the global starts of RefineSearch (all after the horizon rule); never returns a worse d than it
+// was given, and the result satisfies d_z ≥ dz_min. iz[c] ≥ 0.
 void refine_direction(const IrradiancePoly p[3], const double iz[3], const FitOptions& opt, double d[3]);
+
+// The global starts tried beside the given d (bits), and how many Newton steps follow; the
+// defaults are what refine_direction uses. For measurement (`winner`, when not null: 0 = the
+// given d, 1–3 = channel L1, 4 = the L2 axis facing the L1 band, 5 = the other sign, was the
+// best start).
+enum RefineStart : unsigned { kStartChannelL1 = 1, kStartL2Axis = 2, kStartL2AxisBoth = 4 };
+struct RefineSearch {
+  unsigned starts = kStartChannelL1 | kStartL2Axis | kStartL2AxisBoth;
+  int steps = 2;
+  bool line = true;  // Newton along −∇f (2 gradients a step); false: the 2-D Newton step (3 gradients)
+};
+void refine_direction(const IrradiancePoly p[3], const double iz[3], const FitOptions& opt, double d[3],
+                      const RefineSearch& search, int* winner = nullptr);
 
 }  // namespace ahd

@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "core/parallel.h"
+#include "fit/direction_coherence.h"
 
 namespace ahd {
 
@@ -16,6 +17,8 @@ AhdImage fit_image(const ShImage& sh, const FitOptions& opt, int threads, FitSta
     local_polys(sh, i, p);
     out.texels[i] = fit_texel(p, opt);
   });
+  if (opt.direction_fit == DirectionFit::Refined && opt.coherence_tolerance > 0)
+    smooth_directions(sh, opt, threads, &out);
   if (stats) {
     *stats = FitStats{};
     stats->texels = sh.texels();

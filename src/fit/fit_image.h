@@ -64,7 +64,8 @@ inline AhdFit fitted_texel(const FittedLevel& l, size_t i) {
   return f;
 }
 
-// Fits every texel (uncovered ones too; their values are replaced by dilation later).
+// Fits every texel (uncovered ones too; their values are replaced by dilation later); a refined
+// fit then takes the coherence pass (direction_coherence.h).
 AhdImage fit_image(const ShImage& sh, const FitOptions& opt, int threads, FitStats* stats = nullptr);
 
 // fit_image's counts for an L0 image, whose fit is never stored (every covered texel counts as

@@ -52,6 +52,14 @@ double sampled_rms(const IrradiancePoly p[3], const double ca[3], const double c
   return n ? std::sqrt(se / (3.0 * double(n))) : 0.0;
 }
 
+// rgb ← grey·(1−s) + s·rgb with grey = scale·(one uniform draw); no draw when s = 1 (so the
+// independent-colour set keeps its texels).
+void mix_colour(double rgb[3], double scale, double s, std::mt19937& rng) {
+  if (s == 1.0) return;
+  const double grey = scale * std::uniform_real_distribution<double>(0, 1)(rng);
+  for (int c = 0; c < 3; ++c) rgb[c] = grey * (1.0 - s) + s * rgb[c];
+}
+
 }  // namespace
 
 FitQuality fit_quality(const ShImage& sh, const AhdImage& fit, const FitOptions& opt, int threads,
@@ -154,7 +162,7 @@ FilteredError filtered_error(const ShImage& sh, const AhdImage& fit, const FitOp
   return out;
 }
 
-ShImage random_lighting_set(int n, uint32_t seed) {
+ShImage random_lighting_set(int n, uint32_t seed, double saturation, double ambient) {
   ShImage img = make_sh_image(n, 1, 9);
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(0, 1);
@@ -167,10 +175,12 @@ ShImage random_lighting_set(int n, uint32_t seed) {
       double d[3] = {g(rng), g(rng), g(rng)};
       const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
       for (double& v : d) v /= len;
-      const double rgb[3] = {scale * u(rng), scale * u(rng), scale * u(rng)};
+      double rgb[3] = {scale * u(rng), scale * u(rng), scale * u(rng)};
+      mix_colour(rgb, scale, saturation, rng);
       add_directional_light(sh, 9, d, rgb);
     }
-    const double amb[3] = {scale * 0.1 * u(rng), scale * 0.1 * u(rng), scale * 0.1 * u(rng)};
+    double amb[3] = {scale * ambient * u(rng), scale * ambient * u(rng), scale * ambient * u(rng)};
+    mix_colour(amb, scale * ambient, saturation, rng);
     add_ambient(sh, amb);
   }
   return img;

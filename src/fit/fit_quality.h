@@ -53,6 +53,23 @@ FilteredError filtered_error(const ShImage& sh, const AhdImage& fit, const FitOp
 
 // `n` texels (n×1, L2, tangent space) of random lighting: ambient plus 1–3 directional lights from
 // anywhere on the sphere, random colours, over four decades of brightness. Deterministic in seed.
-ShImage random_lighting_set(int n, uint32_t seed);
+// `saturation` s mixes each light's (and the ambient's) colour as grey·(1−s) + s·independent, with
+// grey one uniform draw for the three channels and independent three draws: 1 = independent
+// channels (the draws of the original set, same texels), 0 = white lights of random brightness.
+// `ambient`: the ambient's brightness relative to a light's (uniform draw × this).
+ShImage random_lighting_set(int n, uint32_t seed, double saturation = 1.0, double ambient = 0.1);
+
+// Issue 18's sets, calibrated so that the linear fit reproduces the issue's "today" column (README
+// "Choosing the direction"; `ahdpack report fit`): random lighting with light colours 90 % saturated
+// and a dimmer ambient (linear: RGB 1.309, luminance 1.568; issue 1.31 / 1.56), and a "smooth
+// scene": the analytic scene (sample/analytic_baker.h) as L1 input, without the point light (no hard
+// shadow) and with the sky ×4 (linear: 1.03 / 1.05; issue 1.03 / 1.06).
+constexpr double kCalibratedSaturation = 0.9;
+constexpr double kCalibratedAmbient = 0.04;
+constexpr double kSmoothPointScale = 0.0;
+constexpr double kSmoothSkyScale = 4.0;
+constexpr double kSmoothCeilingScale = 1.0;
+constexpr double kSmoothBounceScale = 1.0;
+constexpr int kSmoothCoeffs = 4;
 
 }  // namespace ahd

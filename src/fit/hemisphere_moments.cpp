@@ -134,19 +134,24 @@ HemisphereMoments hemisphere_moments(const IrradiancePoly& poly, const double d[
 }
 
 LuneMoments lune_moments(const IrradiancePoly p[3], const double d[3]) {
-  // The same lune integrals as hemisphere_moments(), shared by the three channels: one rotation
-  // angle, one set of β integrals, and only the rotated coefficients that ∫ E g reads.
+  // The same lune integrals as hemisphere_moments(), shared by the three channels, each reduced to
+  // its closed form for a unit d = (s, 0, c) (B = π − θ the lune's width; s² + c² = 1):
+  //   ∫g = π/2 (1+c), ∫g² = 2/3 (B + sc), ∫x g = 2/3 sB, ∫z g = 2/3 (cB + s), ∫y² g = π/8 (1+c),
+  //   ∫x² g = 3π/8 (c/3 + c⁴/3 + s² − s⁴/3), ∫z² g = 3π/8 (2c/3 + c² − c⁴/3 + s⁴/3), ∫xz g = π/8 s(1+c)
+  // (this runs several times per texel in the refinement; tests compare it with hemisphere_moments).
   const double rxy = std::sqrt(d[0] * d[0] + d[1] * d[1]);
   const double cphi = rxy > 0 ? d[0] / rxy : 1.0, sphi = rxy > 0 ? d[1] / rxy : 0.0;
   const double c = std::fmax(-1.0, std::fmin(1.0, d[2]));
   const double s = rxy;
-  const BetaIntegrals bi(kPi - std::atan2(s, c), s, c);
+  const double B = kPi - std::atan2(s, c);
+  const double s2 = s * s, s4 = s2 * s2, c4 = c * c * c * c;
   LuneMoments m;
-  m.g1 = lune_monomial(bi, s, c, 0, 0, 0, 1);
-  m.g2 = lune_monomial(bi, s, c, 0, 0, 0, 2);
-  const double lx = lune_monomial(bi, s, c, 1, 0, 0, 1), lz = lune_monomial(bi, s, c, 0, 0, 1, 1);
-  const double lxx = lune_monomial(bi, s, c, 2, 0, 0, 1), lyy = lune_monomial(bi, s, c, 0, 2, 0, 1);
-  const double lzz = lune_monomial(bi, s, c, 0, 0, 2, 1), lxz = lune_monomial(bi, s, c, 1, 0, 1, 1);
+  m.s = s, m.c = c, m.cphi = cphi, m.sphi = sphi, m.B = B;
+  m.g1 = kPi / 2 * (1 + c);
+  m.g2 = 2.0 / 3 * (B + s * c);
+  const double lx = 2.0 / 3 * s * B, lz = 2.0 / 3 * (c * B + s);
+  const double lxx = 3 * kPi / 8 * (c / 3 + c4 / 3 + s2 - s4 / 3), lyy = kPi / 8 * (1 + c);
+  const double lzz = 3 * kPi / 8 * (2 * c / 3 + c * c - c4 / 3 + s4 / 3), lxz = kPi / 8 * s * (1 + c);
   const double cc = cphi * cphi, ss = sphi * sphi, cs2 = 2.0 * cphi * sphi;
   for (int k = 0; k < 3; ++k) {
     const IrradiancePoly& q = p[k];
@@ -159,9 +164,36 @@ LuneMoments lune_moments(const IrradiancePoly p[3], const double d[3]) {
   return m;
 }
 
+double hemisphere_square_integral(const IrradiancePoly& p) {
+  // hemisphere_square's sum as cᵀ G c with the Gram matrix G_ij = ∫_{Ω+} m_i m_j of the ten
+  // monomials m = (1, x, y, z, x², y², z², xy, xz, yz), tabulated once: a tenth of the work (the
+  // coherence pass calls this per texel). Equal to hemisphere_square up to rounding.
+  static const int kExp[10][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {2, 0, 0},
+                                  {0, 2, 0}, {0, 0, 2}, {1, 1, 0}, {1, 0, 1}, {0, 1, 1}};
+  struct Gram {
+    double g[10][10];
+    Gram() {
+      for (int i = 0; i < 10; ++i)
+        for (int j = 0; j < 10; ++j)
+          g[i][j] = hemisphere_monomial(kExp[i][0] + kExp[j][0], kExp[i][1] + kExp[j][1], kExp[i][2] + kExp[j][2]);
+    }
+  };
+  static const Gram gram;
+  const double c[10] = {p.e0,      p.e[0],    p.e[1],    p.e[2],          p.q[0][0],
+                        p.q[1][1], p.q[2][2], 2 * p.q[0][1], 2 * p.q[0][2], 2 * p.q[1][2]};
+  double sum = 0;
+  for (int i = 0; i < 10; ++i) {
+    double row = 0;
+    for (int j = 0; j < 10; ++j) row += gram.g[i][j] * c[j];
+    sum += c[i] * row;
+  }
+  return sum;
+}
+
 double hemisphere_integral(const IrradiancePoly& p) {
-  return 2.0 * kPi * p.e0 + p.e[2] * hemisphere_monomial(0, 0, 1) +
-         (p.q[0][0] + p.q[1][1] + p.q[2][2]) * hemisphere_monomial(2, 0, 0);
+  // ∫_{Ω+} 1 = 2π, ∫ z = π, ∫ x² = ∫ y² = ∫ z² = 2π/3 (hemisphere_monomial's values, inlined: the
+  // refinement calls this for every texel).
+  return 2.0 * kPi * p.e0 + p.e[2] * kPi + (p.q[0][0] + p.q[1][1] + p.q[2][2]) * (2.0 * kPi / 3.0);
 }
 
 }  // namespace ahd

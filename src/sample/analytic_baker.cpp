@@ -129,7 +129,11 @@ ShImage bake_analytic_scene(const BakerOptions& opt) {
   if (opt.width < 1 || opt.height < 1 || opt.width > 65536 || opt.height > 65536)
     throw Error("analytic baker: size must be between 1 and 65536");
   ShImage img = make_sh_image(opt.width, opt.height, opt.coeffs);
-  const Scene scene = make_scene(opt.seed);
+  Scene scene = make_scene(opt.seed);
+  scene.point_intensity = scene.point_intensity * opt.point_scale;
+  scene.sky = scene.sky * opt.sky_scale;
+  scene.ceiling.radiance = scene.ceiling.radiance * opt.ceiling_scale;
+  scene.bounce.radiance = scene.bounce.radiance * opt.bounce_scale;
 
   const Chart floor{{-1, 0, 0}, {2, 0, 0}, {0, 0, 2}, {{1, 0, 0}, {0, 0, -1}, {0, 1, 0}}};
   const Chart wall{{-1, 2, 0}, {2, 0, 0}, {0, -2, 0}, {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
@@ -160,10 +164,11 @@ ShImage bake_analytic_scene(const BakerOptions& opt) {
       // Point light: a delta of intensity I/r² from its direction (hard shadow).
       const V3 to = scene.point_pos - p;
       const double r2 = dot(to, to);
-      if (!occluded(scene, p, scene.point_pos))
+      if (opt.point_scale != 0.0 && !occluded(scene, p, scene.point_pos))
         add_delta(ch, to * (1.0 / std::sqrt(r2)), scene.point_intensity, 1.0 / r2, opt.coeffs, sh);
-      add_area_light(scene, scene.ceiling, ch, p, opt.area_samples, opt.coeffs, sh);
-      add_area_light(scene, scene.bounce, ch, p, std::max(2, opt.area_samples * 3 / 4), opt.coeffs, sh);
+      if (opt.ceiling_scale != 0.0) add_area_light(scene, scene.ceiling, ch, p, opt.area_samples, opt.coeffs, sh);
+      if (opt.bounce_scale != 0.0)
+        add_area_light(scene, scene.bounce, ch, p, std::max(2, opt.area_samples * 3 / 4), opt.coeffs, sh);
     }
   });
   return img;

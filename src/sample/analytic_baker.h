@@ -20,6 +20,13 @@ struct BakerOptions {
   uint32_t seed = 0;    // 0 = the canonical scene; other seeds move and recolour the lights
   int area_samples = 8; // per side of each area light (stratified, deterministic)
   int threads = 0;
+  // Softer variants (issue 18's "smooth scene"): the point light's intensity (hard shadow), the
+  // sky's radiance (ambient), the ceiling area light's and the coloured bounce light's radiance are
+  // scaled by these (0 removes a light). All 1 = the canonical scene.
+  double point_scale = 1.0;
+  double sky_scale = 1.0;
+  double ceiling_scale = 1.0;
+  double bounce_scale = 1.0;
 };
 
 // Bakes the scene; coverage marks the two charts. Sizes 1×1 to 4096² (and beyond) are accepted.

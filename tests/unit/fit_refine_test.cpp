@@ -6,7 +6,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <random>
 
@@ -14,6 +16,7 @@
 #include "fit/direction_refine.h"
 #include "fit/fit_image.h"
 #include "fit/fit_quality.h"
+#include "fit/refine_objective.h"
 #include "io/ahd_intermediate.h"
 #include "io/sh_exr.h"
 #include "sample/analytic_baker.h"
@@ -30,10 +33,25 @@ FitOptions options(RatioForm form, DirectionFit dir) {
   return o;
 }
 
+// The canonical analytic scene (the harder scene of the first round).
 ShImage smooth_scene() {
   BakerOptions bo;
   bo.width = bo.height = 64;
   return bake_analytic_scene(bo);
+}
+
+// Issue 18's "smooth scene", calibrated to its "today" column (fit_quality.h).
+ShImage calibrated_smooth_scene() {
+  BakerOptions bo;
+  bo.width = bo.height = 64;
+  bo.coeffs = kSmoothCoeffs;
+  bo.point_scale = kSmoothPointScale, bo.sky_scale = kSmoothSkyScale;
+  bo.ceiling_scale = kSmoothCeilingScale, bo.bounce_scale = kSmoothBounceScale;
+  return bake_analytic_scene(bo);
+}
+
+ShImage calibrated_random_set(int n, uint32_t seed) {
+  return random_lighting_set(n, seed, kCalibratedSaturation, kCalibratedAmbient);
 }
 
 void polys_and_iz(const ShImage& sh, size_t i, IrradiancePoly p[3], double iz[3]) {
@@ -44,23 +62,86 @@ void polys_and_iz(const ShImage& sh, size_t i, IrradiancePoly p[3], double iz[3]
 }  // namespace
 
 TEST(FitRefine, ErrorRatiosAgainstUnconstrainedLeastSquares) {
-  // Measured (exact hemisphere integrals, mean over texels of the RMS / the same for the LS fit at
-  // the linear d): random 1.283 → 0.969 (RGB), 1.699 → 1.280 (luminance); analytic scene 64²
-  // 1.132 → 1.076 (RGB), 1.161 → 1.107 (luminance). Random RGB is bounded by issue 18's target
-  // (1.05); the others, which miss it, leave ~1 % for compiler differences.
-  const ShImage sets[2] = {random_lighting_set(20000, 7), smooth_scene()};
-  const double bound[2][2] = {{1.05, 1.293}, {1.087, 1.118}};  // [set][rgb, luminance]
-  const double gain[2] = {0.78, 0.97};                         // refined / linear at most
-  for (int s = 0; s < 2; ++s)
+  // Mean over texels of the hemisphere RMS error (exact integrals) / the same for the LS fit at the
+  // linear d. Sets 0, 1: issue 18's calibrated sets, where the linear fit reproduces the issue's
+  // "today" (random 1.31 / 1.57, smooth 1.03 / 1.05; asserted, so that the calibration cannot
+  // drift) and the refined fit is bounded by the issue's targets (measured: random 0.985 / 1.173,
+  // smooth 0.998 / 1.014). Sets 2, 3: the harder sets (independent light colours, the canonical
+  // scene 64²), measured 0.973 / 1.283 and 1.077 / 1.107, bounded 1–2 % above.
+  const ShImage sets[4] = {calibrated_random_set(20000, 7), calibrated_smooth_scene(), random_lighting_set(20000, 7),
+                           smooth_scene()};
+  const double today[2][2] = {{1.31, 1.57}, {1.03, 1.05}};
+  const double bound[4][2] = {{1.05, 1.20}, {1.00, 1.02}, {0.996, 1.304}, {1.088, 1.119}};  // [set][rgb, luminance]
+  const double gain[4] = {0.78, 0.98, 0.78, 0.97};                                          // refined / linear at most
+  for (int s = 0; s < 4; ++s)
     for (int f = 0; f < 2; ++f) {
       const RatioForm form = f ? RatioForm::Luminance : RatioForm::Rgb;
       const FitOptions lin = options(form, DirectionFit::Linear), ref = options(form, DirectionFit::Refined);
       const FitQuality ql = fit_quality(sets[s], fit_image(sets[s], lin, 2), lin, 2);
       const FitQuality qr = fit_quality(sets[s], fit_image(sets[s], ref, 2), ref, 2);
       std::printf("set %d %s: linear %.4f refined %.4f\n", s, f ? "luminance" : "rgb", ql.ratio(), qr.ratio());
+      if (s < 2) EXPECT_NEAR(ql.ratio(), today[s][f], 0.01) << "set " << s << " form " << f;
       EXPECT_LE(qr.ratio(), bound[s][f]) << "set " << s << " form " << f;
       EXPECT_LE(qr.ratio(), gain[s] * ql.ratio()) << "set " << s << " form " << f;
     }
+}
+
+TEST(FitRefine, AnalyticGradientMatchesFiniteDifferences) {
+  // refine_objective.h's gradient (envelope theorem over the lune) against central differences of
+  // the objective along the two tangents, both ratio forms, at several directions.
+  const ShImage sh = random_lighting_set(300, 3);
+  const double dirs[3][3] = {{0.3, -0.4, 0.8660254037844386}, {-0.8, 0.1, 0.5916079783099616}, {0.0, 0.2, 0.9797958971132712}};
+  double worst = 0;
+  for (int form = 0; form < 2; ++form)
+    for (size_t i = 0; i < sh.texels(); ++i)
+      for (const auto& d : dirs) {
+        IrradiancePoly p[3];
+        double iz[3];
+        polys_and_iz(sh, i, p, iz);
+        const RefineObjective f(p, iz, form ? RatioForm::Luminance : RatioForm::Rgb);
+        double g[3], R[3][3];
+        const double fd0 = f.value_grad(d, g);
+        frame_from_normal(d, R);
+        for (int k = 0; k < 2; ++k) {
+          const double h = 1e-6;
+          double dp[3], dm[3];
+          for (int j = 0; j < 3; ++j) dp[j] = d[j] + h * R[k][j], dm[j] = d[j] - h * R[k][j];
+          const double lp = std::sqrt(dp[0] * dp[0] + dp[1] * dp[1] + dp[2] * dp[2]);
+          const double lm = std::sqrt(dm[0] * dm[0] + dm[1] * dm[1] + dm[2] * dm[2]);
+          for (int j = 0; j < 3; ++j) dp[j] /= lp, dm[j] /= lm;
+          const double fd = (f.value(dp) - f.value(dm)) / (2 * h);
+          const double an = g[0] * R[k][0] + g[1] * R[k][1] + g[2] * R[k][2];
+          worst = std::max(worst, std::fabs(fd - an) / (std::fabs(fd) + 1e-6 * std::fabs(fd0)));
+        }
+        ASSERT_NEAR(g[0] * d[0] + g[1] * d[1] + g[2] * d[2], 0.0, 1e-9 * (std::fabs(fd0) + 1e-30));  // tangent
+      }
+  std::printf("analytic gradient vs central differences: worst relative difference %.3g\n", worst);
+  EXPECT_LT(worst, 2e-3);  // measured 2e-4 (the differences' own error)
+}
+
+TEST(FitRefine, CoherencePassIsDeterministicAndHelpsTheSmoothScene) {
+  // The neighbour pass reads only the first pass's output: the same bytes for 1 and 3 threads. On
+  // the calibrated smooth scene 64² it lowers the neighbour-angle p99 (measured: linear 4.64°,
+  // refined without the pass 3.91° / 3.82°, with it 3.14° / 3.33°, RGB / luminance) at no cost in
+  // error (0.998 / 1.014 either way).
+  const ShImage sh = calibrated_smooth_scene();
+  for (RatioForm form : {RatioForm::Rgb, RatioForm::Luminance}) {
+    const FitOptions lin = options(form, DirectionFit::Linear), ref = options(form, DirectionFit::Refined);
+    FitOptions off = ref;
+    off.coherence_tolerance = 0;
+    const AhdImage a = fit_image(sh, ref, 1), b = fit_image(sh, ref, 3), c = fit_image(sh, off, 2);
+    ASSERT_EQ(a.texels.size(), b.texels.size());
+    for (size_t i = 0; i < a.texels.size(); ++i)
+      ASSERT_EQ(std::memcmp(&a.texels[i], &b.texels[i], offsetof(AhdFit, flags) + 1), 0) << "texel " << i;
+    const double p_lin = direction_p99_angle_deg(fit_image(sh, lin, 2));
+    const double p_off = direction_p99_angle_deg(c), p_on = direction_p99_angle_deg(a);
+    const double e_off = fit_quality(sh, c, ref, 2).ratio(), e_on = fit_quality(sh, a, ref, 2).ratio();
+    std::printf("%s: neighbour angle p99 linear %.2f, refined %.2f, + coherence pass %.2f deg; error %.4f -> %.4f\n",
+                form == RatioForm::Rgb ? "rgb" : "luminance", p_lin, p_off, p_on, e_off, e_on);
+    EXPECT_LT(p_on, p_off);
+    EXPECT_LE(p_on, p_lin);
+    EXPECT_LE(e_on, e_off * 1.002);
+  }
 }
 
 TEST(FitRefine, IssueMeasureSampledDirections) {

@@ -1,0 +1,105 @@
+#include "fit/refine_objective.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "fit/direction_refine.h"
+
+namespace ahd {
+
+RefineObjective::RefineObjective(const IrradiancePoly p3[3], const double iz3[3], RatioForm form)
+    : p(p3), luminance(form == RatioForm::Luminance) {
+  for (int c = 0; c < 3; ++c) iz[c] = iz3[c], f0[c] = hemisphere_integral(p3[c]);
+}
+
+namespace {
+
+// The colours the fit chooses at d (d_z = dz) from the moments: a = C_a, b = C_d.
+void colours(const RefineObjective& o, const LuneMoments& m, double dz, double a[3], double b[3]) {
+  const double g0 = 2.0 * kPi, inv_dz = 1.0 / dz;
+  if (o.luminance) {
+    const double r = least_squares_ratio(m, o.f0, o.iz, dz);
+    for (int c = 0; c < 3; ++c) {
+      const double I = o.iz[c] > 0.0 ? o.iz[c] : 0.0;
+      a[c] = r * I, b[c] = (I - a[c]) * inv_dz;
+    }
+    return;
+  }
+  // fit_channel's arithmetic with the channel-independent divisions hoisted out.
+  const double kk = 1.0 / (dz * dz + 1.0);
+  const double hh = m.g2 - 2.0 * dz * m.g1 + dz * dz * g0;
+  const double inv_hh = hh > 0 ? 1.0 / hh : 0.0;
+  for (int c = 0; c < 3; ++c) {
+    if (!(o.iz[c] > 0.0)) {
+      a[c] = b[c] = 0.0;
+      continue;
+    }
+    const double a0 = o.iz[c] * kk, b0 = a0 * dz;
+    const double rh = a0 * m.g1 + b0 * m.g2 - m.f1[c] - dz * (a0 * g0 + b0 * m.g1 - o.f0[c]);
+    const double t = std::clamp(-rh * inv_hh, -b0, a0 * inv_dz);
+    a[c] = std::max(0.0, a0 - dz * t), b[c] = std::max(0.0, b0 + t);
+  }
+}
+
+double error_sum(const RefineObjective& o, const LuneMoments& m, const double a[3], const double b[3]) {
+  const double g0 = 2.0 * kPi;
+  double e = 0;
+  for (int c = 0; c < 3; ++c)
+    e += a[c] * a[c] * g0 + b[c] * b[c] * m.g2 + 2.0 * a[c] * b[c] * m.g1 - 2.0 * a[c] * o.f0[c] -
+         2.0 * b[c] * m.f1[c];
+  return e;
+}
+
+}  // namespace
+
+double RefineObjective::value(const double d[3]) const {
+  const LuneMoments m = lune_moments(p, d);
+  double a[3], b[3];
+  colours(*this, m, d[2], a, b);
+  return error_sum(*this, m, a, b);
+}
+
+double RefineObjective::value_grad(const double d[3], double grad[3]) const {
+  const LuneMoments m = lune_moments(p, d);
+  double a[3], b[3];
+  colours(*this, m, d[2], a, b);
+  const double f = error_sum(*this, m, a, b);
+  // The lune frame: rotate about z by −φ so that d = (s, 0, c), s ≥ 0 (as lune_moments does).
+  const double s = m.s, cp = m.cphi, sp = m.sphi, c = m.c, B = m.B;
+  // ∫_lune of the monomials ω·(1, x, z, …) with no factor ω·d (closed forms of lune_monomial, p = 0).
+  const double Mx = kPi / 2 * s, Mz = kPi / 2 * (1 + c);
+  const double Mxx = 2.0 / 3 * (B - s * c), Mzz = 2.0 / 3 * (B + s * c), Mxz = 2.0 / 3 * s * s, Myy = 2.0 / 3 * B;
+  const double c3 = c * c * c, s3 = s * s * s;
+  const double Mxxx = 3 * kPi / 8 * (s - s3 / 3), Mxxz = kPi / 8 * (1 + c3), Mxzz = kPi / 8 * s3;
+  const double Mzzz = kPi / 8 * (2 + 3 * c - c3), Myyx = kPi / 8 * s, Myyz = kPi / 8 * (1 + c);
+  // ∫_lune (ω·d) x and (ω·d) z (half of ∇G2).
+  const double lx = 2.0 / 3 * s * B, lz = 2.0 / 3 * (c * B + s);
+  double gx = 0, gy = 0, gz = 0, gzz = 0;
+  const double cc = cp * cp, ss = sp * sp, cs = cp * sp;
+  for (int k = 0; k < 3; ++k) {
+    if (a[k] == 0.0 && b[k] == 0.0) continue;
+    const IrradiancePoly& q = p[k];
+    const double ex = cp * q.e[0] + sp * q.e[1], ey = -sp * q.e[0] + cp * q.e[1], ez = q.e[2];
+    const double qxx = cc * q.q[0][0] + 2 * cs * q.q[0][1] + ss * q.q[1][1];
+    const double qyy = ss * q.q[0][0] - 2 * cs * q.q[0][1] + cc * q.q[1][1];
+    const double qzz = q.q[2][2];
+    const double qxy = -cs * q.q[0][0] + (cc - ss) * q.q[0][1] + cs * q.q[1][1];
+    const double qxz = cp * q.q[0][2] + sp * q.q[1][2], qyz = -sp * q.q[0][2] + cp * q.q[1][2];
+    const double Fx = q.e0 * Mx + ex * Mxx + ez * Mxz + qxx * Mxxx + qyy * Myyx + qzz * Mxzz + 2 * qxz * Mxxz;
+    const double Fy = ey * Myy + 2 * qxy * Myyx + 2 * qyz * Myyz;
+    const double Fz = q.e0 * Mz + ex * Mxz + ez * Mzz + qxx * Mxxz + qyy * Myyz + qzz * Mzzz + 2 * qxz * Mxzz;
+    const double bb = b[k] * b[k], ab2 = 2 * a[k] * b[k], b2 = 2 * b[k];
+    gx += bb * 2 * lx + ab2 * Mx - b2 * Fx;
+    gy -= b2 * Fy;
+    gz += bb * 2 * lz + ab2 * Mz - b2 * Fz;
+    gzz -= b2 / c * (b[k] * m.g2 + a[k] * m.g1 - m.f1[k]);  // through C_d = (I − a)/d_z
+  }
+  gz += gzz;
+  // Back to the texel frame, then onto the tangent plane of the unit sphere at d.
+  double g[3] = {cp * gx - sp * gy, sp * gx + cp * gy, gz};
+  const double dot = g[0] * d[0] + g[1] * d[1] + g[2] * d[2];
+  for (int i = 0; i < 3; ++i) grad[i] = g[i] - dot * d[i];
+  return f;
+}
+
+}  // namespace ahd

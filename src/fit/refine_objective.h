@@ -1,0 +1,29 @@
+// The objective of the direction refinement (direction_refine.h) and its gradient over d, both in
+// closed form through the lune integrals of hemisphere_moments.cpp.
+//
+// f(d) = Σ_c ∫_{Ω+} (C_a + C_d max(0,ω·d) − E_c)² − Σ_c ∫ E_c², at the colours the fit chooses for d.
+// Gradient: written with a_c = C_a ∈ [0, I_c] (a box that does not depend on d) and
+// C_d = (I_c − a_c)/d_z, the optimal a_c's own change does not move f (envelope theorem), so
+//   ∂f/∂d = Σ_c b² ∇G2 + 2ab ∇G1 − 2b ∇F1_c  +  e_z Σ_c (−2b/d_z)(b G2 + a G1 − F1_c),
+// b = C_d, with ∇G1 = ∫_lune ω, ∇G2 = 2∫_lune (ω·d) ω, ∇F1 = ∫_lune E ω (the boundary terms vanish
+// because ω·d = 0 on the lune's edge): monomials of degree ≤ 3 over the same lune.
+#pragma once
+#include "fit/ahd_fit.h"
+
+namespace ahd {
+
+struct RefineObjective {
+  const IrradiancePoly* p;  // the three channels' polynomials (local frame)
+  double iz[3];             // irradiance along z, ≥ 0
+  double f0[3];             // ∫_{Ω+} E_c (hemisphere_integral)
+  bool luminance;           // ratio form: luminance (least_squares_ratio) or RGB (per channel)
+
+  RefineObjective(const IrradiancePoly p3[3], const double iz3[3], RatioForm form);
+
+  // f(d) for a unit d with d_z > 0.
+  double value(const double d[3]) const;
+  // f(d) and its gradient on the unit sphere (a tangent vector at d, world/local frame).
+  double value_grad(const double d[3], double grad[3]) const;
+};
+
+}  // namespace ahd
