@@ -1249,9 +1249,10 @@ bool noise_along_one_line(const float rgb[48], const Block& b) {
 // instead of two +3 % on smooth; a noise test of texels far from any one line saved nothing on
 // the noisy image (its noise lies along the grey line: off-line shares of 2^-13..2^-8) and cost
 // hard +4 %.
-void encode_block_default(const uint16_t h[48], const float rgb[48], const uint8_t valid[16], uint8_t out[16]) {
-  OneRegionFit fit;
-  fit_one_region_fast(h, rgb, valid, &fit);
+// `fit` is the block's fit_one_region_fast (images take it from fit_blocks_fast, eight blocks per
+// AVX2 batch; the same fit bit for bit).
+void encode_block_default(const uint16_t h[48], const float rgb[48], const uint8_t valid[16], OneRegionFit fit,
+                          uint8_t out[16]) {
   if (fit.err <= kFastGood) {
     pack_one_region(fit, out);
     return;
@@ -1302,7 +1303,9 @@ void encode_block_ruled(const float rgb[48], const uint8_t valid[16], bool is_si
   if (q == Bc6hQuality::Default && !is_signed) {
     uint16_t h[48];
     floats_to_half(rgb, h, 48);
-    encode_block_default(h, rgb, valid, out);
+    OneRegionFit fit;
+    fit_one_region_fast(h, rgb, valid, &fit);
+    encode_block_default(h, rgb, valid, fit, out);
     return;
   }
   encode_block_searched(rgb, valid, is_signed, q, out);
@@ -1341,8 +1344,9 @@ std::vector<uint8_t> bc6h_encode_image(const ImageF& img, const Bc6hOptions& opt
     for (int i = 0; i < 4; ++i)
       if (local[i]) counts[i].fetch_add(local[i], std::memory_order_relaxed);
   };
-  if (opt.quality == Bc6hQuality::Fast && !opt.is_signed) {
-    // The real-time path takes eight blocks per call (one AVX2 batch; bc6h_fast.cpp).
+  if ((opt.quality == Bc6hQuality::Fast || opt.quality == Bc6hQuality::Default) && !opt.is_signed) {
+    // The one-region fits of `fast` and of `default`'s incumbents, eight blocks per call (one
+    // AVX2 batch; bc6h_fast.cpp); `default` then searches the blocks that need it one by one.
     constexpr size_t kBatch = 8;
     parallel_for((blocks + kBatch - 1) / kBatch, opt.threads, 2, [&](size_t g) {
       const int n = int(std::min(kBatch, blocks - g * kBatch));
@@ -1361,7 +1365,10 @@ std::vector<uint8_t> bc6h_encode_image(const ImageF& img, const Bc6hOptions& opt
         gather(blk, rgb[i], valid[i]);
       }
       floats_to_half(rgb[0], h[0], 48 * n);
-      encode_blocks_fast(h[0], rgb[0], valid[0], n, &out[g * kBatch * 16]);
+      if (opt.quality == Bc6hQuality::Fast) return encode_blocks_fast(h[0], rgb[0], valid[0], n, &out[g * kBatch * 16]);
+      OneRegionFit fits[kBatch];
+      fit_blocks_fast(h[0], rgb[0], valid[0], n, fits);
+      for (int i = 0; i < n; ++i) encode_block_default(h[i], rgb[i], valid[i], fits[i], &out[(g * kBatch + size_t(i)) * 16]);
     });
   } else {
     parallel_for(blocks, opt.threads, 16, [&](size_t blk) {
