@@ -11,7 +11,8 @@
 // Quality levels choose how many candidates are tried:
 //   fast    UF16: the real-time path of bc6h_fast.cpp (one region, no search). SF16: one region +
 //           the best two-region partition, the 2 most precise modes whose deltas fit, no refinement
-//   default UF16: the real-time fit as the incumbent; where that fit is poor, its indices re-picked
+//   default UF16: the real-time fit as the incumbent (eight blocks per AVX2 batch in images, as
+//           fast); where that fit is poor, its indices re-picked
 //           in the judged metric and its endpoints polished, and 2 partitions only for blocks
 //           that are not noise along one line (encode_block_default). SF16: one region + 2 best
 //           partitions, 2 refinement passes on the best candidate of each
