@@ -11,7 +11,8 @@
 // Quality levels choose how many candidates are tried:
 //   fast    UF16: the real-time path of bc6h_fast.cpp (one region, no search). SF16: one region +
 //           the best two-region partition, the 2 most precise modes whose deltas fit, no refinement
-//   default UF16: the real-time fit as the incumbent; where that fit is poor, its indices re-picked
+//   default UF16: the real-time fit as the incumbent (eight blocks per AVX2 batch in images, as
+//           fast); where that fit is poor, its indices re-picked
 //           in the judged metric and its endpoints polished, and 2 partitions only for blocks
 //           that are not noise along one line (encode_block_default). SF16: one region + 2 best
 //           partitions, 2 refinement passes on the best candidate of each
@@ -195,6 +196,43 @@ double pick_indices_sse2(const Block& b, const float pal[2][3][16], uint16_t mas
 }
 #endif
 
+#ifdef __SSE2__
+// evaluate()'s palettes for UF16 blocks: the decoded half bits four entries at a time in float
+// lanes, where every intermediate is an exact integer (below 2^23), so the palette is the scalar
+// loop's (SF16 and the forced scalar path take that loop).
+void palettes_uf16_sse2(const Block& b, const Candidate& cand, float pal[2][3][16]) {
+  const ModeInfo& mi = mode(cand.mode);
+  const int n = 1 << mi.index_bits;
+  const uint8_t* weights = mi.index_bits == 3 ? kWeights3 : kWeights4;
+  const float* L = log_table();
+  const __m128 inv64 = _mm_set1_ps(1.0f / 64.0f), k31 = _mm_set1_ps(31.0f), k32 = _mm_set1_ps(32.0f),
+               k64 = _mm_set1_ps(64.0f);
+  alignas(16) int hv[3][16], out[16];
+  for (int r = 0; r < mi.regions; ++r) {
+    __m128i outside[4] = {_mm_setzero_si128(), _mm_setzero_si128(), _mm_setzero_si128(), _mm_setzero_si128()};
+    for (int c = 0; c < 3; ++c) {
+      const __m128 a = _mm_set1_ps(float(unquantize(cand.e[r * 2][c], mi.epb, false)));
+      const __m128 bb = _mm_set1_ps(float(unquantize(cand.e[r * 2 + 1][c], mi.epb, false)));
+      const __m128i cap = _mm_set1_epi32(b.cap[c]);
+      for (int v = 0; v < n / 4; ++v) {
+        const __m128 w = _mm_setr_ps(float(weights[4 * v]), float(weights[4 * v + 1]), float(weights[4 * v + 2]),
+                                     float(weights[4 * v + 3]));
+        const __m128 sum = _mm_add_ps(_mm_add_ps(_mm_mul_ps(a, _mm_sub_ps(k64, w)), _mm_mul_ps(bb, w)), k32);
+        const __m128 ci = _mm_cvtepi32_ps(_mm_cvttps_epi32(_mm_mul_ps(sum, inv64)));  // >> 6 (non-negative)
+        const __m128i h = _mm_cvttps_epi32(_mm_mul_ps(_mm_mul_ps(ci, k31), inv64));    // (c·31) >> 6
+        _mm_store_si128(reinterpret_cast<__m128i*>(&hv[c][4 * v]), h);
+        outside[v] = _mm_or_si128(outside[v], _mm_cmpgt_epi32(h, cap));
+      }
+    }
+    for (int v = 0; v < n / 4; ++v) _mm_store_si128(reinterpret_cast<__m128i*>(&out[4 * v]), outside[v]);
+    for (int k = 0; k < n; ++k) {
+      for (int c = 0; c < 3; ++c) pal[r][c][k] = L[hv[c][k]];
+      if (out[k]) pal[r][0][k] = kOff;
+    }
+  }
+}
+#endif
+
 double evaluate(const Block& b, Candidate& cand) {
   const ModeInfo& mi = mode(cand.mode);
   const uint16_t mask = mi.regions == 2 ? kPartitions[cand.partition] : 0;
@@ -203,6 +241,12 @@ double evaluate(const Block& b, Candidate& cand) {
   const float* L = log_table();
   // Palettes as channel planes (pal[r][c][k]) so the distance loop below vectorises.
   alignas(16) float pal[2][3][16];
+#ifdef __SSE2__
+  if (!b.is_signed && !scalar_forced()) {  // UF16: the palettes in SSE2 lanes, the same values
+    palettes_uf16_sse2(b, cand, pal);
+    return cand.err = pick_indices_sse2(b, pal, mask, n, cand.idx);
+  }
+#endif
   for (int r = 0; r < mi.regions; ++r) {
     int ua[3], ub[3];
     for (int c = 0; c < 3; ++c) {
@@ -534,49 +578,6 @@ void refine(const Block& b, Candidate& best, int passes, bool perturb) {
       }
 }
 
-// evaluate() for quality `default` (UF16): the palette's decoded half bits four entries at a time
-// in float lanes, where every intermediate is an exact integer (below 2^23), so the palette, the
-// indices and the error are evaluate()'s; then its SSE2 index step. The scalar path is evaluate().
-double evaluate_default(const Block& b, Candidate& cand) {
-#ifdef __SSE2__
-  if (!scalar_forced()) {
-    const ModeInfo& mi = mode(cand.mode);
-    const int n = 1 << mi.index_bits;
-    const uint8_t* weights = mi.index_bits == 3 ? kWeights3 : kWeights4;
-    const float* L = log_table();
-    const __m128 inv64 = _mm_set1_ps(1.0f / 64.0f), k31 = _mm_set1_ps(31.0f), k32 = _mm_set1_ps(32.0f),
-                 k64 = _mm_set1_ps(64.0f);
-    alignas(16) float pal[2][3][16];
-    alignas(16) int hv[3][16], out[16];
-    for (int r = 0; r < mi.regions; ++r) {
-      __m128i outside[4] = {_mm_setzero_si128(), _mm_setzero_si128(), _mm_setzero_si128(), _mm_setzero_si128()};
-      for (int c = 0; c < 3; ++c) {
-        const __m128 a = _mm_set1_ps(float(unquantize(cand.e[r * 2][c], mi.epb, false)));
-        const __m128 bb = _mm_set1_ps(float(unquantize(cand.e[r * 2 + 1][c], mi.epb, false)));
-        const __m128i cap = _mm_set1_epi32(b.cap[c]);
-        for (int v = 0; v < n / 4; ++v) {
-          const __m128 w = _mm_setr_ps(float(weights[4 * v]), float(weights[4 * v + 1]), float(weights[4 * v + 2]),
-                                       float(weights[4 * v + 3]));
-          const __m128 sum = _mm_add_ps(_mm_add_ps(_mm_mul_ps(a, _mm_sub_ps(k64, w)), _mm_mul_ps(bb, w)), k32);
-          const __m128 ci = _mm_cvtepi32_ps(_mm_cvttps_epi32(_mm_mul_ps(sum, inv64)));  // >> 6 (non-negative)
-          const __m128i h = _mm_cvttps_epi32(_mm_mul_ps(_mm_mul_ps(ci, k31), inv64));    // (c·31) >> 6
-          _mm_store_si128(reinterpret_cast<__m128i*>(&hv[c][4 * v]), h);
-          outside[v] = _mm_or_si128(outside[v], _mm_cmpgt_epi32(h, cap));
-        }
-      }
-      for (int v = 0; v < n / 4; ++v) _mm_store_si128(reinterpret_cast<__m128i*>(&out[4 * v]), outside[v]);
-      for (int k = 0; k < n; ++k) {
-        for (int c = 0; c < 3; ++c) pal[r][c][k] = L[hv[c][k]];
-        if (out[k]) pal[r][0][k] = kOff;
-      }
-    }
-    const uint16_t mask = mi.regions == 2 ? kPartitions[cand.partition] : 0;
-    return cand.err = pick_indices_sse2(b, pal, mask, n, cand.idx);
-  }
-#endif
-  return evaluate(b, cand);
-}
-
 // Quality `default`'s polish: coordinate descent over `best`'s quantised endpoints with its
 // indices held. With the indices held, each channel's error depends only on that channel's
 // endpoint components, so a ±1 step costs one lookup per (region, index) group of that channel
@@ -635,7 +636,7 @@ bool polish_steps(const Block& b, Candidate& best, int rounds, double* gain = nu
       alignas(16) float part[4] = {0, 0, 0, 0};
       bool over = false;
 #ifdef __SSE2__
-      if (simd) {  // four groups at a time; the decoded values in exact float lanes (as evaluate_default)
+      if (simd) {  // four groups at a time; the decoded values in exact float lanes (as palettes_uf16_sse2)
         const __m128 a0 = _mm_set1_ps(float(u[0])), b0 = _mm_set1_ps(float(u[1]));
         const __m128 da = _mm_set1_ps(float(u[2] - u[0])), db = _mm_set1_ps(float(u[3] - u[1]));
         const __m128 inv64 = _mm_set1_ps(1.0f / 64.0f), k31 = _mm_set1_ps(31.0f), k32 = _mm_set1_ps(32.0f);
@@ -1249,9 +1250,10 @@ bool noise_along_one_line(const float rgb[48], const Block& b) {
 // instead of two +3 % on smooth; a noise test of texels far from any one line saved nothing on
 // the noisy image (its noise lies along the grey line: off-line shares of 2^-13..2^-8) and cost
 // hard +4 %.
-void encode_block_default(const uint16_t h[48], const float rgb[48], const uint8_t valid[16], uint8_t out[16]) {
-  OneRegionFit fit;
-  fit_one_region_fast(h, rgb, valid, &fit);
+// `fit` is the block's fit_one_region_fast (images take it from fit_blocks_fast, eight blocks per
+// AVX2 batch; the same fit bit for bit).
+void encode_block_default(const uint16_t h[48], const float rgb[48], const uint8_t valid[16], OneRegionFit fit,
+                          uint8_t out[16]) {
   if (fit.err <= kFastGood) {
     pack_one_region(fit, out);
     return;
@@ -1261,7 +1263,7 @@ void encode_block_default(const uint16_t h[48], const float rgb[48], const uint8
   Candidate best;
   best.mode = fit.mode;
   std::memcpy(best.e, fit.e, sizeof fit.e);
-  evaluate_default(b, best);  // inside the block's range by construction: never rejected
+  evaluate(b, best);  // inside the block's range by construction: never rejected
   fix_anchors(b, best);
   if (best.err >= 1e300) best = in_range_candidate(b);  // defensive: the bound holds regardless
   // Polished with the indices held; the error follows from the per-channel gains.
@@ -1274,7 +1276,7 @@ void encode_block_default(const uint16_t h[48], const float rgb[48], const uint8
     // A block that may need two regions: the polished endpoints' indices re-picked first.
     if (moved) {
       Candidate c = held;
-      evaluate_default(b, c);
+      evaluate(b, c);
       fix_anchors(b, c);
       if (c.err < best.err) best = c;
     }
@@ -1302,7 +1304,9 @@ void encode_block_ruled(const float rgb[48], const uint8_t valid[16], bool is_si
   if (q == Bc6hQuality::Default && !is_signed) {
     uint16_t h[48];
     floats_to_half(rgb, h, 48);
-    encode_block_default(h, rgb, valid, out);
+    OneRegionFit fit;
+    fit_one_region_fast(h, rgb, valid, &fit);
+    encode_block_default(h, rgb, valid, fit, out);
     return;
   }
   encode_block_searched(rgb, valid, is_signed, q, out);
@@ -1341,8 +1345,9 @@ std::vector<uint8_t> bc6h_encode_image(const ImageF& img, const Bc6hOptions& opt
     for (int i = 0; i < 4; ++i)
       if (local[i]) counts[i].fetch_add(local[i], std::memory_order_relaxed);
   };
-  if (opt.quality == Bc6hQuality::Fast && !opt.is_signed) {
-    // The real-time path takes eight blocks per call (one AVX2 batch; bc6h_fast.cpp).
+  if ((opt.quality == Bc6hQuality::Fast || opt.quality == Bc6hQuality::Default) && !opt.is_signed) {
+    // The one-region fits of `fast` and of `default`'s incumbents, eight blocks per call (one
+    // AVX2 batch; bc6h_fast.cpp); `default` then searches the blocks that need it one by one.
     constexpr size_t kBatch = 8;
     parallel_for((blocks + kBatch - 1) / kBatch, opt.threads, 2, [&](size_t g) {
       const int n = int(std::min(kBatch, blocks - g * kBatch));
@@ -1361,7 +1366,10 @@ std::vector<uint8_t> bc6h_encode_image(const ImageF& img, const Bc6hOptions& opt
         gather(blk, rgb[i], valid[i]);
       }
       floats_to_half(rgb[0], h[0], 48 * n);
-      encode_blocks_fast(h[0], rgb[0], valid[0], n, &out[g * kBatch * 16]);
+      if (opt.quality == Bc6hQuality::Fast) return encode_blocks_fast(h[0], rgb[0], valid[0], n, &out[g * kBatch * 16]);
+      OneRegionFit fits[kBatch];
+      fit_blocks_fast(h[0], rgb[0], valid[0], n, fits);
+      for (int i = 0; i < n; ++i) encode_block_default(h[i], rgb[i], valid[i], fits[i], &out[(g * kBatch + size_t(i)) * 16]);
     });
   } else {
     parallel_for(blocks, opt.threads, 16, [&](size_t blk) {

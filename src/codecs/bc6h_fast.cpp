@@ -17,8 +17,9 @@
 //    it), and every palette entry lies between the endpoints, so no texel can speckle.
 //  * Solid blocks are mode 14 with exact endpoints (a half-bit value is always representable).
 // This file is the one-block path (plain C++ and SSE2 over the 16 texels); images go through
-// encode_blocks_fast, which on AVX2 CPUs fits eight blocks per batch (bc6h_fast_avx2.cpp, the
-// same operations lane by lane). Bytes depend only on the block.
+// fit_blocks_fast (`fast`, and `default` for its incumbents), which on AVX2 CPUs fits eight
+// blocks per batch (bc6h_fast_avx2.cpp, the same operations lane by lane). Bytes depend only on
+// the block.
 #include "codecs/bc6h_fast.h"
 
 #include <Imath/half.h>
@@ -349,7 +350,7 @@ Endpoints quantize(const Fit& f, const float a[3], const float b[3]) {
 }
 
 // Least squares for the endpoints given the indices (per channel, weighted), in half bits.
-bool refit(const Fit& f, const uint8_t idx[16], bool hold_cap, float a[3], float b[3]) {
+bool refit(const Fit& f, const uint8_t idx[16], float a[3], float b[3]) {
   float g[16];
   for (int t = 0; t < 16; ++t) g[t] = float(kW4[idx[t]]) * (1.0f / 64.0f);
   for (int c = 0; c < 3; ++c) {
@@ -381,13 +382,12 @@ bool refit(const Fit& f, const uint8_t idx[16], bool hold_cap, float a[3], float
     const float det = s00 * s11 - s01 * s01;
     if (!(std::fabs(det) > 1e-6f * (s00 * s11 + 1e-30f))) return false;
     float va = (t0 * s11 - s01 * t1) / det, vb = (s00 * t1 - s01 * t0) / det;
-    // hold_cap: one endpoint past the cap is held at it and the other solved again (the
-    // least-squares optimum on that edge of the allowed range, not both clamped on their own):
-    // the no-specks cap costs less (`fast` on the noisy image 0.04711 → 0.04687, smooth
-    // 0.01212 → 0.01188).
+    // One endpoint past the cap is held at it and the other solved again (the least-squares
+    // optimum on that edge of the allowed range, not both clamped on their own): the no-specks
+    // cap costs less (`fast` on the noisy image 0.04711 → 0.04687, smooth 0.01212 → 0.01188).
     const float cp = float(f.cap[c]);
-    if (hold_cap && vb > cp && !(va > cp)) vb = cp, va = (t0 - s01 * cp) / s00;
-    else if (hold_cap && va > cp && !(vb > cp)) va = cp, vb = (t1 - s01 * cp) / s11;
+    if (vb > cp && !(va > cp)) vb = cp, va = (t0 - s01 * cp) / s00;
+    else if (va > cp && !(vb > cp)) va = cp, vb = (t1 - s01 * cp) / s11;
     a[c] = std::clamp(va, 0.0f, cp);
     b[c] = std::clamp(vb, 0.0f, cp);
   }
@@ -447,7 +447,7 @@ void pack(const Endpoints& ep, uint64_t idx, uint8_t out[16]) {
 
 }  // namespace
 
-void fit_one_region_fast(const uint16_t h[48], const float x[48], const uint8_t valid[16], OneRegionFit* out, bool hold_cap) {
+void fit_one_region_fast(const uint16_t h[48], const float x[48], const uint8_t valid[16], OneRegionFit* out) {
   Fit f;
   // Channel planes. Padding texels take the values of the first real one, so that plain minima
   // and maxima over all 16 are those of the real texels; their weight is 0.
@@ -521,7 +521,7 @@ void fit_one_region_fast(const uint16_t h[48], const float x[48], const uint8_t 
   Endpoints best = quantize(f, a, b);
   float best_err = assign(f, best, idx);
   for (int pass = 0; pass < kPasses && best_err > 0; ++pass) {
-    if (!refit(f, idx, hold_cap, a, b)) break;
+    if (!refit(f, idx, a, b)) break;
     const Endpoints ep = quantize(f, a, b);
     uint8_t trial[16];
     const float err = assign(f, ep, trial);
@@ -534,7 +534,7 @@ void fit_one_region_fast(const uint16_t h[48], const float x[48], const uint8_t 
 
 void encode_block_fast(const uint16_t h[48], const float x[48], const uint8_t valid[16], uint8_t out[16]) {
   OneRegionFit fit;
-  fit_one_region_fast(h, x, valid, &fit, /*hold_cap=*/true);
+  fit_one_region_fast(h, x, valid, &fit);
   pack_one_region(fit, out);
 }
 
@@ -561,24 +561,33 @@ bool copy_block_in_range(const float* p, size_t stride, float rgb[48]) {
 #endif
 }
 
-void encode_blocks_fast(const uint16_t* h, const float* x, const uint8_t* valid, int n, uint8_t* out) {
+void fit_blocks_fast(const uint16_t* h, const float* x, const uint8_t* valid, int n, OneRegionFit* fits) {
   int i = 0;
   if (!scalar_forced() && cpu_has_avx2()) {
     for (; i < n; i += 8) {
       const uint16_t* hp[8];
       const float* xp[8];
       const uint8_t* vp[8];
+      OneRegionFit* op[8];
       for (int l = 0; l < 8; ++l) {
         const int b = i + l < n ? i + l : i;  // a partial batch repeats its first block
         hp[l] = h + 48 * b, xp[l] = x + 48 * b, vp[l] = valid + 16 * b;
+        op[l] = i + l < n ? fits + i + l : nullptr;
       }
-      uint8_t* op[8];
-      for (int l = 0; l < 8; ++l) op[l] = i + l < n ? out + 16 * (i + l) : nullptr;
-      encode_blocks_fast_x8(hp, xp, vp, op);
+      fit_blocks_fast_x8(hp, xp, vp, op);
     }
     return;
   }
-  for (; i < n; ++i) encode_block_fast(h + 48 * i, x + 48 * i, valid + 16 * i, out + 16 * i);
+  for (; i < n; ++i) fit_one_region_fast(h + 48 * i, x + 48 * i, valid + 16 * i, fits + i);
+}
+
+void encode_blocks_fast(const uint16_t* h, const float* x, const uint8_t* valid, int n, uint8_t* out) {
+  for (int i = 0; i < n; i += 8) {  // eight fits on the stack at a time
+    const int m = std::min(8, n - i);
+    OneRegionFit fits[8];
+    fit_blocks_fast(h + 48 * i, x + 48 * i, valid + 16 * i, m, fits);
+    for (int j = 0; j < m; ++j) pack_one_region(fits[j], out + 16 * (i + j));
+  }
 }
 
 void pack_one_region(OneRegionFit fit, uint8_t out[16]) { pack_one_region(fit.mode, fit.e, nibbles(fit.idx), out); }

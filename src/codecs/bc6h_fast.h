@@ -31,29 +31,30 @@ struct OneRegionFit {
   float err;
 };
 
-// The fit encode_block_fast writes (with hold_cap = true), before the anchor mirror and packing
-// (same arguments and guarantees); quality `default` starts its search from it. hold_cap: the
-// least-squares step holds an endpoint that lands past the no-specks cap at the cap and solves
-// the other again, instead of clamping both (lower error; false keeps `default`'s incumbent, and
-// so its bytes and the golden files, as they were before `fast` took it up).
-void fit_one_region_fast(const uint16_t h[48], const float x[48], const uint8_t valid[16], OneRegionFit* out,
-                         bool hold_cap = false);
+// The fit encode_block_fast writes, before the anchor mirror and packing (same arguments and
+// guarantees); quality `default` starts its search from it. The least-squares step holds an
+// endpoint that lands past the no-specks cap at the cap and solves the other again.
+void fit_one_region_fast(const uint16_t h[48], const float x[48], const uint8_t valid[16], OneRegionFit* out);
 
 // Writes a one-region fit as a block (mirrored first when texel 0's index has its top bit set);
 // the second form takes the indices as nibbles, texel t's at bits 4t.
 void pack_one_region(OneRegionFit fit, uint8_t out[16]);
 void pack_one_region(int mode, const int e[2][3], uint64_t idx, uint8_t out[16]);
 
-// encode_block_fast for eight blocks at once, one per AVX2 lane (bc6h_fast_avx2.cpp): out[l]
-// (skipped when null) gets exactly the bytes encode_block_fast(h[l], x[l], valid[l]) writes,
-// whatever the other lanes hold. Call only when cpu_has_avx2().
-void encode_blocks_fast_x8(const uint16_t* const h[8], const float* const x[8], const uint8_t* const valid[8],
-                           uint8_t* const out[8]);
+// fit_one_region_fast for eight blocks at once, one per AVX2 lane (bc6h_fast_avx2.cpp): *out[l]
+// (skipped when null) gets exactly the fit fit_one_region_fast(h[l], x[l], valid[l]) gives, its
+// error bit for bit, whatever the other lanes hold. Call only when cpu_has_avx2().
+void fit_blocks_fast_x8(const uint16_t* const h[8], const float* const x[8], const uint8_t* const valid[8],
+                        OneRegionFit* const out[8]);
 bool cpu_has_avx2();
 
-// Encodes n UF16 blocks (block i: h + 48i, x + 48i, valid + 16i → out + 16i), each exactly as
-// encode_block_fast encodes it alone: eight per AVX2 batch when the CPU has AVX2 and the scalar
+// Fits n UF16 blocks (block i: h + 48i, x + 48i, valid + 16i → fits[i]), each exactly as
+// fit_one_region_fast fits it alone: eight per AVX2 batch when the CPU has AVX2 and the scalar
 // path is not forced (force_scalar), a partial batch padded with copies of its first block.
+void fit_blocks_fast(const uint16_t* h, const float* x, const uint8_t* valid, int n, OneRegionFit* fits);
+
+// Encodes n UF16 blocks (block i → out + 16i), each exactly as encode_block_fast encodes it
+// alone (the fits of fit_blocks_fast, packed).
 void encode_blocks_fast(const uint16_t* h, const float* x, const uint8_t* valid, int n, uint8_t* out);
 
 // Copies the 4×4 block of a 3-channel float image whose top-left texel is `p` (rows `stride`

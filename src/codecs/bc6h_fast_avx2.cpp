@@ -1,12 +1,12 @@
-// BC6H `fast`, eight blocks at a time: the fit of fit_one_region_fast (bc6h_fast.cpp) with one
-// block per AVX2 lane, so that the per-block scalar work (the principal axis, the endpoint
+// The one-region fit of `fast` (and `default`'s incumbent), eight blocks at a time: the fit of
+// fit_one_region_fast (bc6h_fast.cpp) with one block per AVX2 lane, so that the per-block scalar work (the principal axis, the endpoint
 // quantisation with its mode choice and cap, the least-squares solve) and the palette lookups of
 // the index step (per-texel gathers in the one-block code) become lane-wise arithmetic.
 //
-// Same bytes as the one-block path, lane by lane: every float operation is the one-block code's,
+// Same fit as the one-block path (error included), lane by lane: every float operation is the one-block code's,
 // in the same order (no FMA: this file enables AVX2 only, and the build has -ffp-contract=off);
 // a lane's branches become masks, and a loop runs while any lane still needs it, changing only
-// the lanes that do. No lane reads another lane, so a block's bytes never depend on the other
+// the lanes that do. No lane reads another lane, so a block's fit never depends on the other
 // blocks of its batch (tested: blocks alone, in mixed batches, and with the scalar path forced).
 //
 // Built for plain x86-64: only the functions here are compiled for AVX2 (target attribute, no
@@ -295,8 +295,8 @@ AVX2_INLINE F sum16(const F v[16]) {
 
 }  // namespace
 
-AVX2_FN void encode_blocks_fast_x8(const uint16_t* const h[8], const float* const x[8], const uint8_t* const valid[8],
-                                   uint8_t* const out[8]) {
+AVX2_FN void fit_blocks_fast_x8(const uint16_t* const h[8], const float* const x[8], const uint8_t* const valid[8],
+                                OneRegionFit* const out[8]) {
   Lanes L;
   bool all_valid = true;
   for (int l = 0; l < 8; ++l) {
@@ -437,32 +437,31 @@ AVX2_FN void encode_blocks_fast_x8(const uint16_t* const h[8], const float* cons
     best_err = select(as_f(active), err, best_err);
   }
 
-  // Each lane's indices as nibbles (texel t at bits 4t): two 32-bit words per lane.
-  I nib_lo = idx[0], nib_hi = idx[8];
-  for (int t = 1; t < 8; ++t) {
-    nib_lo = _mm256_or_si256(nib_lo, _mm256_slli_epi32(idx[t], 4 * t));
-    nib_hi = _mm256_or_si256(nib_hi, _mm256_slli_epi32(idx[t + 8], 4 * t));
-  }
-  alignas(32) int m[8], e[2][3][8], hb[3][8];
-  alignas(32) unsigned nl[8], nh[8];
+  // Each lane's fit, as the one-block code stores it.
+  alignas(32) int m[8], e[2][3][8], hb[3][8], id[16][8];
+  alignas(32) float err[8];
   _mm256_store_si256(reinterpret_cast<I*>(m), best.m);
   for (int k = 0; k < 2; ++k)
     for (int c = 0; c < 3; ++c) _mm256_store_si256(reinterpret_cast<I*>(e[k][c]), best.e[k][c]);
-  _mm256_store_si256(reinterpret_cast<I*>(nl), nib_lo);
-  _mm256_store_si256(reinterpret_cast<I*>(nh), nib_hi);
+  for (int t = 0; t < 16; ++t) _mm256_store_si256(reinterpret_cast<I*>(id[t]), idx[t]);
+  _mm256_store_ps(err, best_err);
   for (int c = 0; c < 3; ++c) _mm256_store_si256(reinterpret_cast<I*>(hb[c]), _mm256_cvttps_epi32(hi[c]));
   const int solid_bits = _mm256_movemask_ps(solid);
   for (int l = 0; l < 8; ++l) {
-    if (!out[l]) continue;
-    int ends[2][3];
+    OneRegionFit* const f = out[l];
+    if (!f) continue;
     if ((solid_bits >> l) & 1) {  // mode 14 with both endpoints the exact 16-bit value, indices 0
-      for (int c = 0; c < 3; ++c) ends[0][c] = ends[1][c] = (hb[c][l] * 64 + 30) / 31;
-      pack_one_region(kModeNumber[0], ends, 0, out[l]);
+      f->mode = kModeNumber[0];
+      for (int c = 0; c < 3; ++c) f->e[0][c] = f->e[1][c] = (hb[c][l] * 64 + 30) / 31;
+      std::memset(f->idx, 0, 16);
+      f->err = 0.0f;
       continue;
     }
+    f->mode = kModeNumber[m[l]];
     for (int k = 0; k < 2; ++k)
-      for (int c = 0; c < 3; ++c) ends[k][c] = e[k][c][l];
-    pack_one_region(kModeNumber[m[l]], ends, uint64_t(nl[l]) | uint64_t(nh[l]) << 32, out[l]);
+      for (int c = 0; c < 3; ++c) f->e[k][c] = e[k][c][l];
+    for (int t = 0; t < 16; ++t) f->idx[t] = uint8_t(id[t][l]);
+    f->err = err[l];
   }
 }
 
@@ -486,7 +485,7 @@ bool cpu_has_avx2() {
 #else
 
 namespace ahd::bc6h {
-void encode_blocks_fast_x8(const uint16_t* const*, const float* const*, const uint8_t* const*, uint8_t* const*) {}
+void fit_blocks_fast_x8(const uint16_t* const*, const float* const*, const uint8_t* const*, OneRegionFit* const*) {}
 bool cpu_has_avx2() { return false; }
 }  // namespace ahd::bc6h
 

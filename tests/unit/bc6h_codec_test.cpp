@@ -6,6 +6,7 @@
 #include <Imath/half.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -179,6 +180,19 @@ TEST(Bc6h, DeterministicAndIndependentOfNeighbours) {
     const std::vector<uint8_t> single = bc6h_encode_image(alone, a);
     const size_t at = (3 * 16 + 5) * 16;
     EXPECT_TRUE(std::equal(single.begin(), single.end(), one.begin() + std::ptrdiff_t(at))) << bc6h_quality_name(q);
+    // And every block through bc6h_encode_block (the one-block fit, where the image takes
+    // `fast`'s and `default`'s fits from the eight-block batches) gives the image's bytes.
+    for (int by = 0; by < 8; ++by)
+      for (int bx = 0; bx < 16; ++bx) {
+        float rgb[48];
+        const uint8_t valid[16] = {1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1};
+        for (int t = 0; t < 16; ++t)
+          for (int c = 0; c < 3; ++c) rgb[t * 3 + c] = img.at(bx * 4 + t % 4, by * 4 + t / 4)[c];
+        uint8_t blk[16];
+        bc6h_encode_block(rgb, valid, false, q, blk);
+        ASSERT_TRUE(std::equal(blk, blk + 16, one.begin() + std::ptrdiff_t((by * 16 + bx) * 16)))
+            << bc6h_quality_name(q) << " block " << bx << "," << by;
+      }
   }
 }
 
@@ -449,6 +463,19 @@ TEST(Bc6h, FastBatchedBlocksAreTheBlocksEncodedAlone) {
     uint8_t one[16];
     bc6h::encode_block_fast(&h[b * 48], &x[b * 48], &valid[b * 16], one);
     ASSERT_TRUE(std::equal(one, one + 16, &scalar[b * 16])) << b;
+  }
+  // The fits themselves (`default` starts from them and reads their error against a threshold):
+  // batched fits equal the one-block fits field by field, the error bit for bit.
+  std::vector<bc6h::OneRegionFit> fits(kBlocks);
+  bc6h::fit_blocks_fast(h.data(), x.data(), valid.data(), kBlocks, fits.data());
+  for (int b = 0; b < kBlocks; ++b) {
+    bc6h::OneRegionFit one;
+    bc6h::fit_one_region_fast(&h[b * 48], &x[b * 48], &valid[b * 16], &one);
+    ASSERT_EQ(fits[b].mode, one.mode) << b;
+    for (int k = 0; k < 2; ++k)
+      for (int c = 0; c < 3; ++c) ASSERT_EQ(fits[b].e[k][c], one.e[k][c]) << b;
+    ASSERT_TRUE(std::equal(one.idx, one.idx + 16, fits[b].idx)) << b;
+    ASSERT_EQ(std::bit_cast<uint32_t>(fits[b].err), std::bit_cast<uint32_t>(one.err)) << b << " " << one.err;
   }
   for (int offset = 0; offset < 8; ++offset) {  // every block in every lane position
     std::vector<uint8_t> batched((kBlocks - offset) * 16);
