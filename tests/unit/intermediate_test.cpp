@@ -13,12 +13,16 @@
 
 using namespace ahd;
 
-TEST(Intermediate, RoundTripIsExactAndTranscodeMatchesConvert) {
+static ShImage small_scene(int width, int height, int area_samples) {
   BakerOptions bo;
-  bo.width = 23;
-  bo.height = 17;
-  bo.area_samples = 3;
-  const ShImage sh = bake_analytic_scene(bo);
+  bo.width = width;
+  bo.height = height;
+  bo.area_samples = area_samples;
+  return bake_analytic_scene(bo);
+}
+
+TEST(Intermediate, RoundTripIsExactAndTranscodeMatchesConvert) {
+  const ShImage sh = small_scene(23, 17, 3);
   ConvertOptions opt;
   opt.threads = 2;
   ConvertResult direct;
@@ -56,14 +60,10 @@ TEST(Intermediate, RefusesOtherFiles) {
   EXPECT_THROW(read_intermediate("/nonexistent/x.ahd.exr", nullptr), Error);
 }
 
-// convert() fits L0 images (plain lightmaps) as their I_z plane alone; the stored chain
+// convert() stores no fit for L0 images (plain lightmaps: ambient-only levels); the stored chain
 // (fit_levels, what --keep-intermediate writes) fits them in full. Both must write the same bytes.
 TEST(Intermediate, PlainL0ConversionWritesTheStoredChainsBytes) {
-  BakerOptions bo;
-  bo.width = 29;
-  bo.height = 19;
-  bo.area_samples = 2;
-  const ShImage l2 = bake_analytic_scene(bo);
+  const ShImage l2 = small_scene(29, 19, 2);
   ShImage sh = make_sh_image(l2.width, l2.height, 1);
   for (size_t i = 0; i < sh.texels(); ++i)
     for (int c = 0; c < 3; ++c) sh.texel(i)[c] = l2.texel(i)[c];
