@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #include "core/error.h"
 #include "core/parallel.h"
@@ -115,6 +116,40 @@ ShImage downsample_sh(const ShImage& src, int threads, NormalRule rule) {
   std::vector<MipTap> col_taps(size_t(W) * 3);
   std::vector<int> col_count(static_cast<size_t>(W));
   for (int X = 0; X < W; ++X) col_count[size_t(X)] = mip_taps(src.width, X, &col_taps[size_t(X) * 3]);
+  if (!world) {
+    // Tangent-space SH (no normals): the same sums in the same order, with the coefficient count
+    // known at compile time (3, 12 or 27 values a texel).
+    auto rows = [&](auto nv_constant) {
+      constexpr int NV = decltype(nv_constant)::value;
+      parallel_for(size_t(H), threads, 1, [&](size_t row) {
+        MipTap ty[3];
+        const int ny = mip_taps(src.height, int(row), ty);
+        for (int X = 0; X < W; ++X) {
+          const MipTap* tx = &col_taps[size_t(X) * 3];
+          const int nx = col_count[size_t(X)];
+          double acc[NV] = {}, wsum = 0;
+          for (int b = 0; b < ny; ++b)
+            for (int a = 0; a < nx; ++a) {
+              const size_t i = size_t(ty[b].index) * src.width + tx[a].index;
+              if (!src.coverage[i]) continue;
+              const double wgt = tx[a].weight * ty[b].weight;
+              const float* t = src.texel(i);
+              for (int k = 0; k < NV; ++k) acc[k] += wgt * double(t[k]);
+              wsum += wgt;
+            }
+          if (wsum <= 0) continue;  // uncovered: zero SH, dilation fills the fitted planes later
+          const size_t o = row * size_t(W) + size_t(X);
+          dst.coverage[o] = 1;
+          float* out = dst.texel(o);
+          for (int k = 0; k < NV; ++k) out[k] = float(acc[k] / wsum);
+        }
+      });
+    };
+    if (nv == 3) rows(std::integral_constant<int, 3>{});
+    else if (nv == 12) rows(std::integral_constant<int, 12>{});
+    else rows(std::integral_constant<int, 27>{});
+    return dst;
+  }
   parallel_for(size_t(H), threads, 1, [&](size_t row) {
     const int Y = int(row);
     MipTap ty[3];
