@@ -24,10 +24,19 @@ void dilate_rings(int w, int h, int ch, const std::vector<uint8_t>& coverage, in
                   const Read& read, const Write& write) {
   const size_t n = size_t(w) * h;
   DilateStats st;
-  // filled[i]: 0 = not yet, 1 = covered or filled by an earlier ring.
-  std::vector<uint8_t> filled(n, 0);
-  for (size_t i = 0; i < n; ++i) filled[i] = coverage[i] ? 1 : 0;
-  for (size_t i = 0; i < n; ++i) st.covered += filled[i];
+  // state[i]: kFilled = covered or filled by an earlier ring; kQueued = in the current or an
+  // earlier ring's candidate list (one byte array for both: at level 0 each is a byte a texel).
+  constexpr uint8_t kFilled = 1, kQueued = 2;
+  std::vector<uint8_t> state(n);
+  const size_t wn = size_t(w);
+  std::vector<size_t> covered_rows(static_cast<size_t>(h), 0);
+  parallel_for(size_t(h), threads, 16, [&](size_t y) {
+    for (size_t i = y * wn; i < (y + 1) * wn; ++i) {
+      state[i] = coverage[i] ? kFilled | kQueued : 0;
+      covered_rows[y] += coverage[i] ? 1 : 0;
+    }
+  });
+  for (size_t c : covered_rows) st.covered += c;
   st.filled = n - st.covered;
   if (st.covered == 0) {
     // Nothing to extend: a defined value rather than whatever was there.
@@ -41,24 +50,28 @@ void dilate_rings(int w, int h, int ch, const std::vector<uint8_t>& coverage, in
     return;
   }
 
-  // queued[i]: already in the current or an earlier ring's candidate list.
-  std::vector<uint8_t> queued = filled;
-  std::vector<size_t> ring;
-  // Ring 1: uncovered texels next to a covered one (row-major scan = deterministic order).
-  for (int y = 0; y < h; ++y)
+  // Ring 1: uncovered texels next to a covered one, found row by row in parallel and joined in row
+  // order (= the row-major scan's order: deterministic).
+  std::vector<std::vector<size_t>> ring_rows(static_cast<size_t>(h));
+  parallel_for(size_t(h), threads, 16, [&](size_t yy) {
+    const int y = int(yy);
     for (int x = 0; x < w; ++x) {
-      const size_t i = size_t(y) * w + x;
-      if (filled[i]) continue;
+      const size_t i = size_t(y) * wn + size_t(x);
+      if (state[i] & kFilled) continue;
       for (int k = 0; k < 8; ++k) {
         const int nx = x + kDx[k], ny = y + kDy[k];
         if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
-        if (filled[size_t(ny) * w + nx]) {
-          ring.push_back(i);
-          queued[i] = 1;
+        if (coverage[size_t(ny) * wn + size_t(nx)]) {
+          ring_rows[yy].push_back(i);
           break;
         }
       }
     }
+  });
+  std::vector<size_t> ring;
+  for (const std::vector<size_t>& r : ring_rows) ring.insert(ring.end(), r.begin(), r.end());
+  ring_rows = {};
+  for (size_t i : ring) state[i] |= kQueued;
   st.guard = ring.size();
 
   std::vector<float> values;
@@ -85,7 +98,7 @@ void dilate_rings(int w, int h, int ch, const std::vector<uint8_t>& coverage, in
       for (int k = 0; k < 8; ++k) {
         const int nx = x + kDx[k], ny = y + kDy[k];
         if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
-        if (!filled[size_t(ny) * w + nx]) continue;
+        if (!(state[size_t(ny) * w + nx] & kFilled)) continue;
         read(size_t(ny) * w + nx, v);
         for (int c = 0; c < ch; ++c) a[c] += kW[k] * double(v[c]);
         wsum += kW[k];
@@ -94,7 +107,7 @@ void dilate_rings(int w, int h, int ch, const std::vector<uint8_t>& coverage, in
     });
     for (size_t r = 0; r < ring.size(); ++r) {
       write(ring[r], &values[r * size_t(ch)]);
-      filled[ring[r]] = 1;
+      state[ring[r]] |= kFilled;
     }
     // Next ring: unfilled neighbours of this ring, sorted so the order never depends on discovery.
     std::vector<size_t> next;
@@ -104,8 +117,8 @@ void dilate_rings(int w, int h, int ch, const std::vector<uint8_t>& coverage, in
         const int nx = x + kDx[k], ny = y + kDy[k];
         if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
         const size_t j = size_t(ny) * w + nx;
-        if (queued[j]) continue;
-        queued[j] = 1;
+        if (state[j] & kQueued) continue;
+        state[j] |= kQueued;
         next.push_back(j);
       }
     }
