@@ -536,6 +536,7 @@ void encode_block_fast(const uint16_t h[48], const float x[48], const uint8_t va
   OneRegionFit fit;
   fit_one_region_fast(h, x, valid, &fit, /*hold_cap=*/true);
   pack_one_region(fit, out);
+  improve_with_two_regions(h, x, valid, fit.err, out);
 }
 
 bool copy_block_in_range(const float* p, size_t stride, float rgb[48]) {
@@ -574,7 +575,9 @@ void encode_blocks_fast(const uint16_t* h, const float* x, const uint8_t* valid,
       }
       uint8_t* op[8];
       for (int l = 0; l < 8; ++l) op[l] = i + l < n ? out + 16 * (i + l) : nullptr;
-      encode_blocks_fast_x8(hp, xp, vp, op);
+      float err[8];
+      encode_blocks_fast_x8_err(hp, xp, vp, op, err);
+      for (int l = 0; l < 8 && i + l < n; ++l) improve_with_two_regions(hp[l], xp[l], vp[l], err[l], op[l]);
     }
     return;
   }

@@ -50,6 +50,16 @@ void pack_one_region(int mode, const int e[2][3], uint64_t idx, uint8_t out[16])
 void encode_blocks_fast_x8(const uint16_t* const h[8], const float* const x[8], const uint8_t* const valid[8],
                            uint8_t* const out[8]);
 bool cpu_has_avx2();
+// The same, and err[l] gets lane l's one-region error (OneRegionFit::err; 0 for a solid block).
+void encode_blocks_fast_x8_err(const uint16_t* const h[8], const float* const x[8], const uint8_t* const valid[8],
+                               uint8_t* const out[8], float err[8]);
+
+// The two-region candidate of `fast` (bc6h_fast_two_region.cpp): when one_err (the one-region
+// fit's error, weighted squared half steps) is above its gate, fits the best-ranked partition and
+// overwrites out (the one-region block) when its error is lower. Same no-specks bound; depends
+// only on its arguments.
+void improve_with_two_regions(const uint16_t h[48], const float x[48], const uint8_t valid[16], float one_err,
+                              uint8_t out[16]);
 
 // Encodes n UF16 blocks (block i: h + 48i, x + 48i, valid + 16i → out + 16i), each exactly as
 // encode_block_fast encodes it alone: eight per AVX2 batch when the CPU has AVX2 and the scalar

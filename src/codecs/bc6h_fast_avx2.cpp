@@ -295,8 +295,8 @@ AVX2_INLINE F sum16(const F v[16]) {
 
 }  // namespace
 
-AVX2_FN void encode_blocks_fast_x8(const uint16_t* const h[8], const float* const x[8], const uint8_t* const valid[8],
-                                   uint8_t* const out[8]) {
+AVX2_FN void encode_blocks_fast_x8_err(const uint16_t* const h[8], const float* const x[8],
+                                       const uint8_t* const valid[8], uint8_t* const out[8], float err_out[8]) {
   Lanes L;
   bool all_valid = true;
   for (int l = 0; l < 8; ++l) {
@@ -437,6 +437,8 @@ AVX2_FN void encode_blocks_fast_x8(const uint16_t* const h[8], const float* cons
     best_err = select(as_f(active), err, best_err);
   }
 
+  if (err_out) _mm256_storeu_ps(err_out, _mm256_andnot_ps(solid, best_err));  // solid: exact, 0
+
   // Each lane's indices as nibbles (texel t at bits 4t): two 32-bit words per lane.
   I nib_lo = idx[0], nib_hi = idx[8];
   for (int t = 1; t < 8; ++t) {
@@ -466,6 +468,11 @@ AVX2_FN void encode_blocks_fast_x8(const uint16_t* const h[8], const float* cons
   }
 }
 
+void encode_blocks_fast_x8(const uint16_t* const h[8], const float* const x[8], const uint8_t* const valid[8],
+                           uint8_t* const out[8]) {
+  encode_blocks_fast_x8_err(h, x, valid, out, nullptr);
+}
+
 bool cpu_has_avx2() {
   static const bool has = [] {
     unsigned a = 0, b = 0, c = 0, d = 0;
@@ -487,6 +494,8 @@ bool cpu_has_avx2() {
 
 namespace ahd::bc6h {
 void encode_blocks_fast_x8(const uint16_t* const*, const float* const*, const uint8_t* const*, uint8_t* const*) {}
+void encode_blocks_fast_x8_err(const uint16_t* const*, const float* const*, const uint8_t* const*, uint8_t* const*,
+                               float*) {}
 bool cpu_has_avx2() { return false; }
 }  // namespace ahd::bc6h
 

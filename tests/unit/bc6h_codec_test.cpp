@@ -367,13 +367,13 @@ TEST(Bc6h, FastSolidBlocksAreExact) {
 TEST(Bc6h, FastBeatsTheRealTimePeerOnTheSharedImages) {
   // PEERS.md (2026-12-01): Basis Universal's real-time encoder, log-RMSE 0.01247 / 0.02072 /
   // 0.04633. Its speed is compared by `ahdpack bench bc6h`, not here (no timed assertions).
-  // On the noisy image `fast` does not reach it (0.04711): the no-specks rule costs 2 % there
-  // (0.04612 with it disabled, measured); the bound below is what holds, so a regression fails.
+  // On the noisy image one region does not reach it (0.04687); the two-region candidate for the
+  // blocks one region fits poorly (bc6h_fast_two_region.cpp) brings it to 0.04629.
   const struct {
     const char* file;
     double basis, bound;
   } images[] = {{"lightmap_smooth.exr", 0.01247, 0.01247}, {"hdr_hard.exr", 0.02072, 0.02072},
-                {"lightmap_noisy.exr", 0.04633, 0.04720}};
+                {"lightmap_noisy.exr", 0.04633, 0.04633}};
   for (const auto& im : images) {
     const ImageF src = clamp_rgb(read_image(std::string(AHD_SHARED_DIR) + "/data/bc6h/" + im.file));
     Bc6hOptions o;
