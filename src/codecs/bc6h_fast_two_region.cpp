@@ -27,17 +27,18 @@ namespace ahd::bc6h {
 
 namespace {
 
-// One-region error (weighted squared half steps) above which the candidate is tried, the
-// partitions fitted (best-ranked first) and the least-squares passes on each. Chosen on
-// ../shared/data/bc6h (fast, log-RMSE smooth / hard / noisy; blocks above the gate): with the gate
-// at 3000, 15 % / 23 % / 100 % of the blocks, 1 partition, 1 pass: 0.00951 / 0.00851 / 0.04636,
-// noisy 3.6 MPix/s. Nearly all of the gain on noisy and smooth comes from blocks above 3·10⁵
-// (0.3 % / 0.0 % / 2.3 % of the blocks, 95 % of noisy's gain); below it, the noise of a lightmap
-// lies along one line and two regions (3-bit indices) rarely win. Noisy at 2.5·10⁵: 8 partitions
-// 2 passes 0.04629; 16/2 0.04627 (half the speed); at 3·10⁵: 8/2 0.04631, 16/2 0.04630, 32/2
-// 0.04628; at 10⁵: 4/1 0.04630 at 4.7 MPix/s.
+// One-region error (weighted squared half steps) above which the candidate is tried; partitions
+// fitted from their axes (best-ranked first); how many of the best of those get least-squares
+// passes, and how many passes. Chosen on ../shared/data/bc6h (fast, log-RMSE smooth / hard /
+// noisy). With the gate at 3000 (15 % / 23 % / 100 % of the blocks), one partition, one pass:
+// 0.00951 / 0.00851 / 0.04636 at 3.6 MPix/s on noisy. Nearly all of the gain on noisy and smooth
+// comes from blocks above 3·10⁵ (0.3 % / 0.0 % / 2.3 % of the blocks; 95 % of noisy's gain):
+// below it a lightmap's noise lies along one line, and two regions (3-bit indices) rarely win.
+// Noisy, every tried partition refined: gate 2.5·10⁵, 8 partitions 0.04629, 16 0.04627 (half the
+// speed); gate 3·10⁵, 8 0.04631, 32 0.04628; gate 10⁵, 4 partitions one pass 0.04630 at 4.7 MPix/s.
+// Refining only the 2 best of 8: 0.04630 at about 1.4× the speed (16 partitions: 0.04629).
 constexpr float kGate = 2.5e5f;
-constexpr int kTried = 8, kPasses = 2;
+constexpr int kTried = 8, kRefined = 2, kPasses = 2;
 
 // Two-region modes (0-based) by endpoint precision, most precise first; the last has absolute
 // endpoints and always fits.
@@ -94,9 +95,11 @@ float assign_region(const Planes& f, uint16_t mask, int r, const int a[3], const
   float P[3][8];
   palette(a, b, bits, P);
   const float d0 = P[0][7] - P[0][0], d1 = P[1][7] - P[1][0], d2 = P[2][7] - P[2][0];
+  int list[16], n = 0;  // the region's texels in order, without a branch per texel
+  for (int t = 0; t < 16; ++t) list[n] = t, n += int((mask >> t) & 1) == r;
   float total = 0;
-  for (int t = 0; t < 16; ++t) {
-    if (int((mask >> t) & 1) != r) continue;
+  for (int i = 0; i < n; ++i) {
+    const int t = list[i];
     const float w0 = f.W[0][t], w1 = f.W[1][t], w2 = f.W[2][t];
     const float num = w0 * d0 * (f.H[0][t] - P[0][0]) + w1 * d1 * (f.H[1][t] - P[1][0]) + w2 * d2 * (f.H[2][t] - P[2][0]);
     const float den = w0 * d0 * d0 + w1 * d1 * d1 + w2 * d2 * d2;
@@ -304,12 +307,20 @@ Cand make(const Planes& f, int p, const float t[2][2][3]) {
     for (int r = 0; r < 2; ++r)
       for (int j = 0; j < 2; ++j)
         for (int ch = 0; ch < 3; ++ch) e[2 * r + j][ch] = quantize_capped(t[r][j][ch], mi.epb, f.cap[ch]);
-    // A mode whose deltas cannot fit either way round is skipped before the index step.
+    // A mode whose deltas fit in none of the four orientations (each region either way round)
+    // is skipped before the index step.
     if (mi.transformed) {
-      int e2[4][3];
-      std::memcpy(e2, e, sizeof e);
-      for (int ch = 0; ch < 3; ++ch) std::swap(e2[0][ch], e2[1][ch]);
-      if (!deltas_fit(mi, e) && !deltas_fit(mi, e2)) continue;
+      bool any_fits = false;
+      for (int o = 0; o < 4 && !any_fits; ++o) {
+        int e2[4][3];
+        std::memcpy(e2, e, sizeof e);
+        for (int ch = 0; ch < 3; ++ch) {
+          if (o & 1) std::swap(e2[0][ch], e2[1][ch]);
+          if (o & 2) std::swap(e2[2][ch], e2[3][ch]);
+        }
+        any_fits = deltas_fit(mi, e2);
+      }
+      if (!any_fits) continue;
     }
     uint8_t idx[16] = {};
     float err = 0;
@@ -375,17 +386,27 @@ void improve_with_two_regions(const uint16_t h[48], const float x[48], const uin
   }
   int parts[32];
   rank_partitions(f, kTried, parts);
+  // Every ranked partition from its axes; least squares only on the kRefined best of them.
+  Cand cand[kTried];
+  float targets[kTried][2][2][3];
+  int order[kTried];
+  for (int i = 0; i < kTried; ++i) {
+    const uint16_t mask = kPartitions[parts[i]];
+    for (int r = 0; r < 2; ++r) axis_targets(f, mask, r, targets[i][r][0], targets[i][r][1]);
+    cand[i] = make(f, parts[i], targets[i]);
+    order[i] = i;
+  }
+  std::stable_sort(order, order + kTried, [&](int a, int b) { return cand[a].err < cand[b].err; });
   Cand best;
   int best_p = 0;
-  for (int i = 0; i < kTried; ++i) {
-    const int p = parts[i];
-    const uint16_t mask = kPartitions[p];
-    float t[2][2][3];
-    for (int r = 0; r < 2; ++r) axis_targets(f, mask, r, t[r][0], t[r][1]);
-    Cand c = make(f, p, t);
+  for (int j = 0; j < kTried; ++j) {
+    const int i = order[j], p = parts[i];
+    Cand c = cand[i];
     if (c.mode < 0) continue;
+    const uint16_t mask = kPartitions[p];
+    float(&t)[2][2][3] = targets[i];
     // Least-squares passes on both regions' indices, each kept when it lowers the error.
-    for (int pass = 0; pass < kPasses; ++pass) {
+    for (int pass = 0; pass < (j < kRefined ? kPasses : 0); ++pass) {
       bool ok = true;
       for (int r = 0; r < 2 && ok; ++r) ok = refit_region(f, mask, r, c.idx, t[r][0], t[r][1]);
       if (!ok) break;
