@@ -18,7 +18,8 @@
 //  * Solid blocks are mode 14 with exact endpoints (a half-bit value is always representable).
 // This file is the one-block path (plain C++ and SSE2 over the 16 texels); images go through
 // encode_blocks_fast, which on AVX2 CPUs fits eight blocks per batch (bc6h_fast_avx2.cpp, the
-// same operations lane by lane). Bytes depend only on the block.
+// same operations lane by lane). Blocks whose one-region error is high then get a two-region
+// candidate (bc6h_fast_two_region.cpp), kept when it is better. Bytes depend only on the block.
 #include "codecs/bc6h_fast.h"
 
 #include <Imath/half.h>

@@ -527,7 +527,7 @@ TEST(Bc6h, FastTwoClustersGetTwoRegions) {
   const int code = out[0] & 0x1F;
   EXPECT_TRUE(code != 0x03 && code != 0x07 && code != 0x0B && code != 0x0F) << "mode bits " << code;
   bc6h::OneRegionFit fit;
-  bc6h::fit_one_region_fast(h, x, valid, &fit, /*hold_cap=*/true);
+  bc6h::fit_one_region_fast(h, x, valid, &fit);  // the one-region fit alone
   bc6h::pack_one_region(fit, one);
   uint16_t dec[48], dec_one[48];
   bc6h_decode_block(out, false, dec);
