@@ -18,8 +18,9 @@
 //  * Solid blocks are mode 14 with exact endpoints (a half-bit value is always representable).
 // This file is the one-block path (plain C++ and SSE2 over the 16 texels); images go through
 // fit_blocks_fast (`fast`, and `default` for its incumbents), which on AVX2 CPUs fits eight
-// blocks per batch (bc6h_fast_avx2.cpp, the same operations lane by lane). Bytes depend only on
-// the block.
+// blocks per batch (bc6h_fast_avx2.cpp, the same operations lane by lane). In `fast`, blocks whose
+// one-region error is high then get a two-region candidate (bc6h_fast_two_region.cpp), kept when
+// it is better. Bytes depend only on the block.
 #include "codecs/bc6h_fast.h"
 
 #include <Imath/half.h>
@@ -536,6 +537,7 @@ void encode_block_fast(const uint16_t h[48], const float x[48], const uint8_t va
   OneRegionFit fit;
   fit_one_region_fast(h, x, valid, &fit);
   pack_one_region(fit, out);
+  improve_with_two_regions(h, x, valid, fit.err, out);
 }
 
 bool copy_block_in_range(const float* p, size_t stride, float rgb[48]) {
@@ -586,7 +588,11 @@ void encode_blocks_fast(const uint16_t* h, const float* x, const uint8_t* valid,
     const int m = std::min(8, n - i);
     OneRegionFit fits[8];
     fit_blocks_fast(h + 48 * i, x + 48 * i, valid + 16 * i, m, fits);
-    for (int j = 0; j < m; ++j) pack_one_region(fits[j], out + 16 * (i + j));
+    for (int j = 0; j < m; ++j) {
+      const int b = i + j;
+      pack_one_region(fits[j], out + 16 * b);
+      improve_with_two_regions(h + 48 * b, x + 48 * b, valid + 16 * b, fits[j].err, out + 16 * b);
+    }
   }
 }
 

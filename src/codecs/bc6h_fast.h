@@ -48,6 +48,13 @@ void fit_blocks_fast_x8(const uint16_t* const h[8], const float* const x[8], con
                         OneRegionFit* const out[8]);
 bool cpu_has_avx2();
 
+// The two-region candidate of `fast` (bc6h_fast_two_region.cpp): when one_err (the one-region
+// fit's error, weighted squared half steps) is above its gate, fits the best-ranked partition and
+// overwrites out (the one-region block) when its error is lower. Same no-specks bound; depends
+// only on its arguments.
+void improve_with_two_regions(const uint16_t h[48], const float x[48], const uint8_t valid[16], float one_err,
+                              uint8_t out[16]);
+
 // Fits n UF16 blocks (block i: h + 48i, x + 48i, valid + 16i → fits[i]), each exactly as
 // fit_one_region_fast fits it alone: eight per AVX2 batch when the CPU has AVX2 and the scalar
 // path is not forced (force_scalar), a partial batch padded with copies of its first block.

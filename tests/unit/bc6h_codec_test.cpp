@@ -381,13 +381,13 @@ TEST(Bc6h, FastSolidBlocksAreExact) {
 TEST(Bc6h, FastBeatsTheRealTimePeerOnTheSharedImages) {
   // PEERS.md (2026-12-01): Basis Universal's real-time encoder, log-RMSE 0.01247 / 0.02072 /
   // 0.04633. Its speed is compared by `ahdpack bench bc6h`, not here (no timed assertions).
-  // On the noisy image `fast` does not reach it (0.04711): the no-specks rule costs 2 % there
-  // (0.04612 with it disabled, measured); the bound below is what holds, so a regression fails.
+  // On the noisy image one region does not reach it (0.04687); the two-region candidate for the
+  // blocks one region fits poorly (bc6h_fast_two_region.cpp) brings it to 0.04629.
   const struct {
     const char* file;
     double basis, bound;
   } images[] = {{"lightmap_smooth.exr", 0.01247, 0.01247}, {"hdr_hard.exr", 0.02072, 0.02072},
-                {"lightmap_noisy.exr", 0.04633, 0.04720}};
+                {"lightmap_noisy.exr", 0.04633, 0.04633}};
   for (const auto& im : images) {
     const ImageF src = clamp_rgb(read_image(std::string(AHD_SHARED_DIR) + "/data/bc6h/" + im.file));
     Bc6hOptions o;
@@ -507,5 +507,64 @@ TEST(Bc6h, FastBatchedBlocksAreTheBlocksEncodedAlone) {
         if (valid[b * 16 + t]) top = std::max(top, int(h[b * 48 + t * 3 + c]));
       for (int t = 0; t < 16; ++t) ASSERT_LE(int(dec[t * 3 + c]), top + 1) << b;
     }
+  }
+  // The blocks above include ones the two-region candidate wrote (so the comparisons above
+  // cover it): a one-region block's 5 mode bits are 0x03, 0x07, 0x0B or 0x0F.
+  int two_region = 0;
+  for (int b = 0; b < kBlocks; ++b) {
+    const int code = alone[b * 16] & 0x1F;
+    two_region += code != 0x03 && code != 0x07 && code != 0x0B && code != 0x0F;
+  }
+  std::printf("two-region blocks: %d of %d\n", two_region, kBlocks);
+  EXPECT_GT(two_region, 0);
+}
+
+namespace {
+
+// The weighted squared error in half steps (the fast fit's measure) of a decoded block.
+double fast_measure(const uint16_t h[48], const float x[48], const uint16_t dec[48]) {
+  double e = 0;
+  for (int i = 0; i < 48; ++i) {
+    const double v = std::max(x[i], 0.25f), s = v / (1 + v), d = double(dec[i]) - double(h[i]);
+    e += s * s * d * d;
+  }
+  return e;
+}
+
+}  // namespace
+
+TEST(Bc6h, FastTwoClustersGetTwoRegions) {
+  // Two clusters that no one line follows (the top half varies along grey, the bottom half
+  // along red): `fast` writes a two-region block, lower in its error measure than the one-region
+  // fit, in the no-specks bound, and the same with the scalar path forced.
+  float x[48];
+  uint16_t h[48];
+  const uint8_t valid[16] = {1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1};
+  for (int t = 0; t < 16; ++t) {
+    const float s = std::exp2(float((t * 7) % 8) * 0.5f - 2);  // 0.25 … 2.8, shuffled
+    for (int c = 0; c < 3; ++c) x[t * 3 + c] = t < 8 ? s : (c == 0 ? 16 * s : 4.0f);
+  }
+  bc6h::floats_to_half(x, h, 48);
+  uint8_t out[16], scalar[16], one[16];
+  bc6h::encode_blocks_fast(h, x, valid, 1, out);
+  bc6h::force_scalar(true);
+  bc6h::encode_blocks_fast(h, x, valid, 1, scalar);
+  bc6h::force_scalar(false);
+  EXPECT_TRUE(std::equal(out, out + 16, scalar));
+  const int code = out[0] & 0x1F;
+  EXPECT_TRUE(code != 0x03 && code != 0x07 && code != 0x0B && code != 0x0F) << "mode bits " << code;
+  bc6h::OneRegionFit fit;
+  bc6h::fit_one_region_fast(h, x, valid, &fit);  // the one-region fit alone
+  bc6h::pack_one_region(fit, one);
+  uint16_t dec[48], dec_one[48];
+  bc6h_decode_block(out, false, dec);
+  bc6h_decode_block(one, false, dec_one);
+  const double e2 = fast_measure(h, x, dec), e1 = fast_measure(h, x, dec_one);
+  std::printf("one region %.0f, written %.0f\n", e1, e2);
+  EXPECT_LT(e2, 0.5 * e1);
+  for (int c = 0; c < 3; ++c) {
+    int top = 0;
+    for (int t = 0; t < 16; ++t) top = std::max(top, int(h[t * 3 + c]));
+    for (int t = 0; t < 16; ++t) EXPECT_LE(int(dec[t * 3 + c]), top + 1) << t;
   }
 }

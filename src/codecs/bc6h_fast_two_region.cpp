@@ -1,0 +1,423 @@
+// BC6H `fast`: the two-region candidate, for the blocks one region fits poorly.
+//
+// The one-region fit (bc6h_fast.cpp) cannot follow a block with two clusters of colour, and on
+// noisy lightmaps no amount of least squares on one region gets below the real-time peers (Basis
+// Universal's real-time encoder tries 2-subset patterns, facts only). This candidate stays in the
+// fast path's style: float arithmetic on half bits weighted by the metric's slope, the partition
+// chosen by a cheap ranking (how well two lines fit its two regions, from moment sums), endpoints
+// from each region's principal axis, indices by projection, one least-squares pass. It runs only
+// for blocks whose one-region error is above kGate (so smooth and hard blocks, nearly all below,
+// keep their speed), and replaces the one-region block only when its error is lower, in the same
+// measure. Plain C++, one block at a time: the bytes depend only on the block and on the
+// one-region error, which every path of encode_blocks_fast computes identically.
+//
+// No specks: every endpoint is quantised so that it decodes at most one half step above its
+// channel's brightest input (as the one-region fit), and palette entries lie between endpoints.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <utility>
+#include <cstdio>
+#include <cstdlib>
+
+#include "codecs/bc6h_fast.h"
+#include "codecs/bc6h_tables.h"
+
+namespace ahd::bc6h {
+
+namespace {
+
+// One-region error (weighted squared half steps) above which the candidate is tried; partitions
+// fitted from their axes (best-ranked first); how many of the best of those get least-squares
+// passes, and how many passes. Chosen on ../shared/data/bc6h (fast, log-RMSE smooth / hard /
+// noisy). With the gate at 3000 (15 % / 23 % / 100 % of the blocks), one partition, one pass:
+// 0.00951 / 0.00851 / 0.04636 at 3.6 MPix/s on noisy. Nearly all of the gain on noisy and smooth
+// comes from blocks above 3·10⁵ (0.3 % / 0.0 % / 2.3 % of the blocks; 95 % of noisy's gain):
+// below it a lightmap's noise lies along one line, and two regions (3-bit indices) rarely win.
+// Noisy, every tried partition refined: gate 2.5·10⁵, 8 partitions 0.04629, 16 0.04627 (half the
+// speed); gate 3·10⁵, 8 0.04631, 32 0.04628; gate 10⁵, 4 partitions one pass 0.04630 at 4.7 MPix/s.
+// Refining only the 2 best of 8: 0.04630 at about 1.4× the speed (16 partitions: 0.04629).
+constexpr float kGate = 2.5e5f;
+constexpr int kTried = 8, kRefined = 2, kPasses = 2;
+
+// Two-region modes (0-based) by endpoint precision, most precise first; the last has absolute
+// endpoints and always fits.
+constexpr int kOrder[10] = {2, 3, 4, 0, 5, 6, 7, 8, 1, 9};
+
+constexpr int kW3[8] = {0, 9, 18, 27, 37, 46, 55, 64};  // kWeights3, usable in constant expressions
+
+inline int unq(int e, int bits) {
+  if (e == 0) return 0;
+  if (e == (1 << bits) - 1) return 0xFFFF;
+  return ((e << 16) + 0x8000) >> bits;
+}
+inline int dec(int c) { return (c * 31) >> 6; }
+
+// The component (bits wide) decoding nearest `target` (half bits) without exceeding `cap`.
+int quantize_capped(float target, int bits, int cap) {
+  const int maxv = (1 << bits) - 1;
+  int e = std::clamp(int(target * (64.0f / 31.0f) * float(1 << bits) * (1.0f / 65536.0f)), 0, maxv);
+  if (e < maxv && std::fabs(float(dec(unq(e + 1, bits))) - target) < std::fabs(float(dec(unq(e, bits))) - target)) ++e;
+  while (e > 0 && dec(unq(e, bits)) > cap) --e;
+  return e;
+}
+
+struct Planes {
+  float H[3][16], W[3][16], tw[16];
+  int cap[3];
+  uint8_t valid[16];
+};
+
+// The palette entry whose weight is at or below p, for p = 0..64.
+struct Below {
+  uint8_t k[65];
+  constexpr Below() : k{} {
+    for (int p = 0; p <= 64; ++p) {
+      int j = 0;
+      while (j < 7 && kW3[j + 1] <= p) ++j;
+      k[p] = uint8_t(j);
+    }
+  }
+};
+constexpr Below kBelow;
+
+// Palette of one region (decoded half bits as floats), 8 entries per channel.
+void palette(const int a[3], const int b[3], int bits, float P[3][8]) {
+  for (int c = 0; c < 3; ++c) {
+    const int ua = unq(a[c], bits), ub = unq(b[c], bits);
+    for (int k = 0; k < 8; ++k) P[c][k] = float(dec(interpolate(ua, ub, kWeights3[k])));
+  }
+}
+
+// Indices of one region's texels (projection on the palette's segment, then the better
+// neighbour); returns their weighted squared error.
+float assign_region(const Planes& f, uint16_t mask, int r, const int a[3], const int b[3], int bits, uint8_t idx[16]) {
+  float P[3][8];
+  palette(a, b, bits, P);
+  const float d0 = P[0][7] - P[0][0], d1 = P[1][7] - P[1][0], d2 = P[2][7] - P[2][0];
+  int list[16], n = 0;  // the region's texels in order, without a branch per texel
+  for (int t = 0; t < 16; ++t) list[n] = t, n += int((mask >> t) & 1) == r;
+  float total = 0;
+  for (int i = 0; i < n; ++i) {
+    const int t = list[i];
+    const float w0 = f.W[0][t], w1 = f.W[1][t], w2 = f.W[2][t];
+    const float num = w0 * d0 * (f.H[0][t] - P[0][0]) + w1 * d1 * (f.H[1][t] - P[1][0]) + w2 * d2 * (f.H[2][t] - P[2][0]);
+    const float den = w0 * d0 * d0 + w1 * d1 * d1 + w2 * d2 * d2;
+    const float p = std::clamp(64.0f * num / (den > 0 ? den : 1.0f), 0.0f, 64.0f);  // weight units
+    const int k = kBelow.k[int(p)];  // the entry at or below p, then the better of it and the next
+    auto err = [&](int j) {
+      const float e0 = P[0][j] - f.H[0][t], e1 = P[1][j] - f.H[1][t], e2 = P[2][j] - f.H[2][t];
+      return w0 * e0 * e0 + w1 * e1 * e1 + w2 * e2 * e2;
+    };
+    float best = err(k);
+    int kb = k;
+    if (k < 7) {
+      const float e = err(k + 1);
+      if (e < best) best = e, kb = k + 1;
+    }
+    idx[t] = uint8_t(kb);
+    total += best;
+  }
+  return total;
+}
+
+// Least squares for one region's endpoints given its indices (half bits), held under the cap as
+// the one-region refit does. Returns false when a channel's system is singular.
+bool refit_region(const Planes& f, uint16_t mask, int r, const uint8_t idx[16], float a[3], float b[3]) {
+  for (int c = 0; c < 3; ++c) {
+    float s00 = 0, s01 = 0, s11 = 0, t0 = 0, t1 = 0;
+    for (int t = 0; t < 16; ++t) {
+      if (int((mask >> t) & 1) != r) continue;
+      const float g = float(kWeights3[idx[t]]) * (1.0f / 64.0f), w = f.W[c][t], wa = w * (1 - g), wb = w * g;
+      s00 += wa * (1 - g), s01 += wa * g, s11 += wb * g, t0 += wa * f.H[c][t], t1 += wb * f.H[c][t];
+    }
+    const float det = s00 * s11 - s01 * s01;
+    if (!(std::fabs(det) > 1e-6f * (s00 * s11 + 1e-30f))) return false;
+    float va = (t0 * s11 - s01 * t1) / det, vb = (s00 * t1 - s01 * t0) / det;
+    const float cp = float(f.cap[c]);
+    if (vb > cp && !(va > cp)) vb = cp, va = (t0 - s01 * cp) / s00;
+    else if (va > cp && !(vb > cp)) va = cp, vb = (t1 - s01 * cp) / s11;
+    a[c] = std::clamp(va, 0.0f, cp), b[c] = std::clamp(vb, 0.0f, cp);
+  }
+  return true;
+}
+
+// Weighted moments of a set of texels (centred half bits): w, Σw·x, Σw·x·xᵀ (xx yy zz xy xz yz).
+struct Mom {
+  float v[10];
+};
+
+// trace − principal eigenvalue of a region's covariance (two power steps, Rayleigh quotient): the
+// weighted squared distance of its texels from their best line.
+float line_residual(const Mom& m) {
+  if (!(m.v[0] > 0)) return 0;
+  const float iw = 1.0f / m.v[0], mx = m.v[1] * iw, my = m.v[2] * iw, mz = m.v[3] * iw;
+  const float xx = m.v[4] - m.v[1] * mx, yy = m.v[5] - m.v[2] * my, zz = m.v[6] - m.v[3] * mz;
+  const float xy = m.v[7] - m.v[1] * my, xz = m.v[8] - m.v[1] * mz, yz = m.v[9] - m.v[2] * mz;
+  const float trace = xx + yy + zz;
+  if (!(trace > 0)) return 0;
+  float v0 = xx + xy + xz, v1 = xy + yy + yz, v2 = xz + yz + zz;  // C·(1,1,1): lightmaps vary along grey
+  for (int it = 0; it < 2; ++it) {
+    const float inv = 1.0f / trace;
+    const float u0 = (xx * v0 + xy * v1 + xz * v2) * inv, u1 = (xy * v0 + yy * v1 + yz * v2) * inv,
+                u2 = (xz * v0 + yz * v1 + zz * v2) * inv;
+    v0 = u0, v1 = u1, v2 = u2;
+  }
+  const float vv = v0 * v0 + v1 * v1 + v2 * v2;
+  if (!(vv > 0)) return trace;
+  const float lambda =
+      (v0 * (xx * v0 + xy * v1 + xz * v2) + v1 * (xy * v0 + yy * v1 + yz * v2) + v2 * (xz * v0 + yz * v1 + zz * v2)) / vv;
+  return std::max(trace - lambda, 0.0f);
+}
+
+// The n partitions whose two regions lie closest to two lines, best first (ties: the lower
+// number first), into best[].
+void rank_partitions(const Planes& f, int n, int best[]) {
+  float mean[3] = {0, 0, 0}, w = 0;
+  for (int t = 0; t < 16; ++t) w += f.tw[t];
+  for (int c = 0; c < 3; ++c) {
+    for (int t = 0; t < 16; ++t) mean[c] += f.tw[t] * f.H[c][t];
+    mean[c] /= w;
+  }
+  Mom tex[16], all{};
+  for (int t = 0; t < 16; ++t) {
+    const float x = f.H[0][t] - mean[0], y = f.H[1][t] - mean[1], z = f.H[2][t] - mean[2], tw = f.tw[t];
+    const float v[10] = {tw, tw * x, tw * y, tw * z, tw * x * x, tw * y * y, tw * z * z, tw * x * y, tw * x * z, tw * y * z};
+    std::memcpy(tex[t].v, v, sizeof v);
+    for (int i = 0; i < 10; ++i) all.v[i] += v[i];
+  }
+  // Subset sums of each row of four texels, so a region costs 3 additions per moment.
+  Mom rows[4][16];
+  for (int g = 0; g < 4; ++g) {
+    rows[g][0] = Mom{};
+    for (int m = 1; m < 16; ++m) {
+      const Mom& prev = rows[g][m & (m - 1)];
+      const Mom& add = tex[4 * g + __builtin_ctz(unsigned(m))];
+      for (int i = 0; i < 10; ++i) rows[g][m].v[i] = prev.v[i] + add.v[i];
+    }
+  }
+  std::pair<float, int> ranked[32];
+  for (int p = 0; p < 32; ++p) {
+    const unsigned mask = kPartitions[p];
+    Mom r1, r0;
+    for (int i = 0; i < 10; ++i) {
+      r1.v[i] = ((rows[0][mask & 15].v[i] + rows[1][(mask >> 4) & 15].v[i]) + rows[2][(mask >> 8) & 15].v[i]) +
+                rows[3][mask >> 12].v[i];
+      r0.v[i] = all.v[i] - r1.v[i];
+    }
+    ranked[p] = {line_residual(r0) + line_residual(r1), p};
+  }
+  std::partial_sort(ranked, ranked + n, ranked + 32);
+  for (int i = 0; i < n; ++i) best[i] = ranked[i].second;
+}
+
+// Region r's endpoint targets (half bits) from its principal axis, inside its channel ranges.
+void axis_targets(const Planes& f, uint16_t mask, int r, float a[3], float b[3]) {
+  float w = 0, mean[3] = {0, 0, 0}, lo[3] = {1e30f, 1e30f, 1e30f}, hi[3] = {-1e30f, -1e30f, -1e30f};
+  for (int t = 0; t < 16; ++t) {
+    if (int((mask >> t) & 1) != r || !f.valid[t]) continue;
+    w += f.tw[t];
+    for (int c = 0; c < 3; ++c) {
+      mean[c] += f.tw[t] * f.H[c][t];
+      lo[c] = std::min(lo[c], f.H[c][t]), hi[c] = std::max(hi[c], f.H[c][t]);
+    }
+  }
+  if (!(lo[0] <= hi[0])) {  // no valid texel in this region (a partial block): any endpoints
+    for (int c = 0; c < 3; ++c) a[c] = b[c] = 0;
+    return;
+  }
+  if (!(w > 0)) {
+    for (int c = 0; c < 3; ++c) a[c] = lo[c], b[c] = hi[c];
+    return;
+  }
+  for (int c = 0; c < 3; ++c) mean[c] /= w;
+  float cov[6] = {0, 0, 0, 0, 0, 0};
+  for (int t = 0; t < 16; ++t) {
+    if (int((mask >> t) & 1) != r || !f.valid[t]) continue;
+    const float d0 = f.H[0][t] - mean[0], d1 = f.H[1][t] - mean[1], d2 = f.H[2][t] - mean[2], tw = f.tw[t];
+    cov[0] += tw * d0 * d0, cov[1] += tw * d1 * d1, cov[2] += tw * d2 * d2;
+    cov[3] += tw * d0 * d1, cov[4] += tw * d0 * d2, cov[5] += tw * d1 * d2;
+  }
+  float ax[3] = {cov[0], cov[1], cov[2]};
+  for (int it = 0; it < 4; ++it) {
+    const float v0 = cov[0] * ax[0] + cov[3] * ax[1] + cov[4] * ax[2];
+    const float v1 = cov[3] * ax[0] + cov[1] * ax[1] + cov[5] * ax[2];
+    const float v2 = cov[4] * ax[0] + cov[5] * ax[1] + cov[2] * ax[2];
+    const float m = std::max({std::fabs(v0), std::fabs(v1), std::fabs(v2)});
+    if (!(m > 0)) break;
+    ax[0] = v0 / m, ax[1] = v1 / m, ax[2] = v2 / m;
+  }
+  float len2 = ax[0] * ax[0] + ax[1] * ax[1] + ax[2] * ax[2];
+  if (!(len2 > 0)) ax[0] = ax[1] = ax[2] = 1, len2 = 3;
+  float tmin = 1e30f, tmax = -1e30f;
+  for (int t = 0; t < 16; ++t) {
+    if (int((mask >> t) & 1) != r || !f.valid[t]) continue;
+    const float p = (f.H[0][t] - mean[0]) * ax[0] + (f.H[1][t] - mean[1]) * ax[1] + (f.H[2][t] - mean[2]) * ax[2];
+    tmin = std::min(tmin, p), tmax = std::max(tmax, p);
+  }
+  for (int c = 0; c < 3; ++c) {
+    a[c] = std::clamp(mean[c] + tmin / len2 * ax[c], lo[c], hi[c]);
+    b[c] = std::clamp(mean[c] + tmax / len2 * ax[c], lo[c], hi[c]);
+  }
+}
+
+struct Cand {
+  int mode = -1;  // 0-based, two-region
+  int e[4][3];    // region r's endpoints are e[2r], e[2r+1]
+  uint8_t idx[16];
+  float err = 1e30f;
+};
+
+bool deltas_fit(const ModeInfo& mi, const int e[4][3]) {
+  if (!mi.transformed) return true;
+  for (int c = 0; c < 3; ++c) {
+    const int lim = 1 << (mi.delta[c] - 1);
+    for (int k = 1; k < 4; ++k) {
+      const int d = e[k][c] - e[0][c];
+      if (d < -lim || d >= lim) return false;
+    }
+  }
+  return true;
+}
+
+// The most precise mode whose deltas fit after the anchors are fixed (texel 0 and region 1's
+// anchor need an index below 4: a region whose anchor is not is mirrored, which changes no
+// decoded value), with its indices and error.
+Cand make(const Planes& f, int p, const float t[2][2][3]) {
+  const uint16_t mask = kPartitions[p];
+  const int anchor[2] = {0, kAnchor2[p]};
+  Cand c;
+  // The targets' spread per channel (16-bit interpolation units): all four endpoints must lie
+  // within a transformed mode's delta range of one of them, which quantising (under one step per
+  // endpoint) cannot change by more than two steps.
+  float spread[3];
+  for (int ch = 0; ch < 3; ++ch) {
+    const float v[4] = {t[0][0][ch], t[0][1][ch], t[1][0][ch], t[1][1][ch]};
+    spread[ch] = (std::max({v[0], v[1], v[2], v[3]}) - std::min({v[0], v[1], v[2], v[3]})) * (64.0f / 31.0f);
+  }
+  for (int m : kOrder) {
+    const ModeInfo& mi = mode(m);
+    if (mi.transformed) {
+      bool may_fit = true;
+      for (int ch = 0; ch < 3; ++ch)
+        may_fit &= spread[ch] <= float(((1 << mi.delta[ch]) + 2) << (16 - mi.epb));
+      if (!may_fit) continue;
+    }
+    int e[4][3];
+    for (int r = 0; r < 2; ++r)
+      for (int j = 0; j < 2; ++j)
+        for (int ch = 0; ch < 3; ++ch) e[2 * r + j][ch] = quantize_capped(t[r][j][ch], mi.epb, f.cap[ch]);
+    // A mode whose deltas fit in none of the four orientations (each region either way round)
+    // is skipped before the index step.
+    if (mi.transformed) {
+      bool any_fits = false;
+      for (int o = 0; o < 4 && !any_fits; ++o) {
+        int e2[4][3];
+        std::memcpy(e2, e, sizeof e);
+        for (int ch = 0; ch < 3; ++ch) {
+          if (o & 1) std::swap(e2[0][ch], e2[1][ch]);
+          if (o & 2) std::swap(e2[2][ch], e2[3][ch]);
+        }
+        any_fits = deltas_fit(mi, e2);
+      }
+      if (!any_fits) continue;
+    }
+    uint8_t idx[16] = {};
+    float err = 0;
+    for (int r = 0; r < 2; ++r) {
+      err += assign_region(f, mask, r, e[2 * r], e[2 * r + 1], mi.epb, idx);
+      if (idx[anchor[r]] >= 4) {
+        for (int ch = 0; ch < 3; ++ch) std::swap(e[2 * r][ch], e[2 * r + 1][ch]);
+        for (int tt = 0; tt < 16; ++tt)
+          if (int((mask >> tt) & 1) == r) idx[tt] = uint8_t(7 - idx[tt]);
+      }
+    }
+    if (!deltas_fit(mi, e)) continue;
+    c.mode = m, c.err = err;
+    std::memcpy(c.e, e, sizeof e);
+    std::memcpy(c.idx, idx, 16);
+    return c;
+  }
+  return c;  // unreachable: the last mode always fits
+}
+
+// Writes a two-region block from the mode's bit layout (bc6h_tables), then the indices.
+void pack(const Cand& c, int p, uint8_t out[16]) {
+  const ModeInfo& mi = mode(c.mode);
+  uint64_t w[2] = {0, 0};
+  int pos = 0;
+  auto put = [&](uint32_t v, int n) {
+    for (int i = 0; i < n; ++i, ++pos) w[pos >> 6] |= uint64_t((v >> i) & 1) << (pos & 63);
+  };
+  put(mi.code, mi.code < 2 ? 2 : 5);
+  int field[12];
+  for (int k = 0; k < 4; ++k)
+    for (int ch = 0; ch < 3; ++ch) {
+      const int v = k > 0 && mi.transformed ? c.e[k][ch] - c.e[0][ch] : c.e[k][ch];
+      field[k * 3 + ch] = v & ((1 << (k > 0 ? mi.delta[ch] : mi.epb)) - 1);
+    }
+  for (int i = 0; i < mi.layout_count; ++i) {
+    const int fi = mi.layout_field[i];
+    put(uint32_t(fi == D ? p : field[fi]) >> mi.layout_bit[i], 1);
+  }
+  for (int t = 0; t < 16; ++t) put(c.idx[t], t == 0 || t == kAnchor2[p] ? 2 : 3);
+  for (int i = 0; i < 16; ++i) out[i] = uint8_t(w[i >> 3] >> (8 * (i & 7)));
+}
+
+}  // namespace
+
+void improve_with_two_regions(const uint16_t h[48], const float x[48], const uint8_t valid[16], float one_err,
+                              uint8_t out[16]) {
+  if (!(one_err > kGate)) return;
+  Planes f;
+  int first = 0;
+  while (first < 15 && !valid[first]) ++first;
+  for (int c = 0; c < 3; ++c) f.cap[c] = 0;
+  for (int t = 0; t < 16; ++t) {
+    const int s = valid[t] ? t : first;
+    f.valid[t] = valid[t] ? 1 : 0;
+    for (int c = 0; c < 3; ++c) {
+      f.H[c][t] = float(h[s * 3 + c]);
+      const float xv = std::max(x[s * 3 + c], 0.25f), slope = xv / (1.0f + xv);
+      f.W[c][t] = valid[t] ? slope * slope : 0.0f;
+      f.cap[c] = std::max(f.cap[c], int(h[s * 3 + c]) + 1);
+    }
+    f.tw[t] = (f.W[0][t] + f.W[1][t] + f.W[2][t]) * (1.0f / 3.0f);
+  }
+  int parts[32];
+  rank_partitions(f, kTried, parts);
+  // Every ranked partition from its axes; least squares only on the kRefined best of them.
+  Cand cand[kTried];
+  float targets[kTried][2][2][3];
+  int order[kTried];
+  for (int i = 0; i < kTried; ++i) {
+    const uint16_t mask = kPartitions[parts[i]];
+    for (int r = 0; r < 2; ++r) axis_targets(f, mask, r, targets[i][r][0], targets[i][r][1]);
+    cand[i] = make(f, parts[i], targets[i]);
+    order[i] = i;
+  }
+  std::stable_sort(order, order + kTried, [&](int a, int b) { return cand[a].err < cand[b].err; });
+  Cand best;
+  int best_p = 0;
+  for (int j = 0; j < kTried; ++j) {
+    const int i = order[j], p = parts[i];
+    Cand c = cand[i];
+    if (c.mode < 0) continue;
+    const uint16_t mask = kPartitions[p];
+    float(&t)[2][2][3] = targets[i];
+    // Least-squares passes on both regions' indices, each kept when it lowers the error.
+    for (int pass = 0; pass < (j < kRefined ? kPasses : 0); ++pass) {
+      bool ok = true;
+      for (int r = 0; r < 2 && ok; ++r) ok = refit_region(f, mask, r, c.idx, t[r][0], t[r][1]);
+      if (!ok) break;
+      const Cand d = make(f, p, t);
+      if (!(d.mode >= 0 && d.err < c.err)) break;
+      c = d;
+    }
+    if (c.err < best.err) best = c, best_p = p;
+  }
+  if (best.mode < 0) return;
+  if (best.err < one_err) pack(best, best_p, out);
+}
+
+}  // namespace ahd::bc6h
