@@ -323,3 +323,26 @@ TEST(FitRefine, IntermediateRecordsTheDirectionFit) {
   }
   std::filesystem::remove(path);
 }
+
+TEST(FitRefine, LuneWidthMatchesLibmAtan2) {
+  // lune_moments' B = π − atan2(s, d_z) is a polynomial form for d_z > 0 (three octant branches):
+  // within 1e-14 of libm's on a dense sweep of the polar angle, including the branch edges π/8 and
+  // 3π/8, grazing and zenith; and it keeps the libm value below the horizon.
+  IrradiancePoly p[3] = {};
+  double worst = 0;
+  const double edges[] = {kPi / 8, 3 * kPi / 8};
+  std::vector<double> thetas;
+  for (int i = 0; i <= 20000; ++i) thetas.push_back(0.5 * kPi * i / 20000 * (1 - 1e-12));
+  for (double e : edges)
+    for (double k : {-1e-15, 0.0, 1e-15}) thetas.push_back(e + k);
+  for (double th : thetas) {
+    const double d[3] = {std::sin(th) * 0.6, std::sin(th) * 0.8, std::cos(th)};
+    const LuneMoments m = lune_moments(p, d);
+    const double s = std::sqrt(d[0] * d[0] + d[1] * d[1]);
+    worst = std::max(worst, std::fabs(m.B - (kPi - std::atan2(s, d[2]))));
+  }
+  std::printf("lune width vs libm atan2: worst %.3g\n", worst);
+  EXPECT_LT(worst, 1e-14);
+  const double below[3] = {0.8, 0.0, -0.6};
+  EXPECT_EQ(lune_moments(p, below).B, kPi - std::atan2(0.8, -0.6));
+}
