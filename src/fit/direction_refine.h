@@ -23,6 +23,9 @@ struct LuneMoments {
   double s = 0, c = 1, B = kPi / 2;
 };
 LuneMoments lune_moments(const IrradiancePoly p[3], const double d[3]);
+// lune_moments for the n directions d[i] into out[i], stage by stage (their latencies overlap); the
+// same bytes as n single calls.
+void lune_moments(const IrradiancePoly p[3], const double* const* d, int n, LuneMoments* out);
 
 // ∫_{Ω+} E for one channel (HemisphereMoments::f0; independent of d).
 double hemisphere_integral(const IrradiancePoly& p);

@@ -157,37 +157,50 @@ HemisphereMoments hemisphere_moments(const IrradiancePoly& poly, const double d[
 }
 
 LuneMoments lune_moments(const IrradiancePoly p[3], const double d[3]) {
+  LuneMoments m;
+  lune_moments(p, &d, 1, &m);
+  return m;
+}
+
+void lune_moments(const IrradiancePoly p[3], const double* const* d, int n, LuneMoments* out) {
   // The same lune integrals as hemisphere_moments(), shared by the three channels, each reduced to
   // its closed form for a unit d = (s, 0, c) (B = π − θ the lune's width; s² + c² = 1):
   //   ∫g = π/2 (1+c), ∫g² = 2/3 (B + sc), ∫x g = 2/3 sB, ∫z g = 2/3 (cB + s), ∫y² g = π/8 (1+c),
   //   ∫x² g = 3π/8 (c/3 + c⁴/3 + s² − s⁴/3), ∫z² g = 3π/8 (2c/3 + c² − c⁴/3 + s⁴/3), ∫xz g = π/8 s(1+c)
-  // (this runs several times per texel in the refinement; tests compare it with hemisphere_moments).
-  const double rxy = std::sqrt(d[0] * d[0] + d[1] * d[1]);
-  const double c = std::clamp(d[2], -1.0, 1.0);
-  const double s = rxy;
-  const double B = kPi - (c > 0.0 ? lune_angle(s, c) : std::atan2(s, c));
-  const double s4 = s * s * s * s, c4 = c * c * c * c;
-  LuneMoments m;
-  m.s = s, m.c = c, m.B = B;
-  m.g1 = kPi / 2 * (1 + c);
-  m.g2 = 2.0 / 3 * (B + s * c);
+  // (this runs about 12 times per texel in the refinement; tests compare it with hemisphere_moments).
+  // One stage at a time over the n directions: their square roots, divisions and polynomials are
+  // independent, so they overlap in the pipeline instead of waiting on each other's latency.
+  for (int i = 0; i < n; ++i) {
+    out[i].s = std::sqrt(d[i][0] * d[i][0] + d[i][1] * d[i][1]);
+    out[i].c = std::clamp(d[i][2], -1.0, 1.0);
+  }
+  for (int i = 0; i < n; ++i) {
+    const double s = out[i].s, c = out[i].c;
+    out[i].B = kPi - (c > 0.0 ? lune_angle(s, c) : std::atan2(s, c));
+  }
   // Per channel, in d's own coordinates (no rotation into the lune frame): with u = (cos φ, sin φ)
   // and d_xy = s u, ∫x g·e_x = 2/3 B (e·d_xy); q_xx ∫x² g + q_yy ∫y² g = π/8 d_xyᵀQd_xy + (Q_xx+Q_yy) ∫y² g
   // (q_xx + q_yy is invariant and ∫x² g − ∫y² g = π/8 s²); 2 q_xz ∫xz g = π/4 (1+c)(Q_xz d_x + Q_yz d_y).
-  const double dx = d[0], dy = d[1];
-  const double lz = 2.0 / 3 * (c * B + s), lyy = kPi / 8 * (1 + c);
-  const double lzz = 3 * kPi / 8 * (2 * c / 3 + c * c - c4 / 3 + s4 / 3);
-  const double kx = 2.0 / 3 * B, kq = kPi / 8, kxz = kPi / 4 * (1 + c);
-  const double dxx = dx * dx, dyy = dy * dy, dxy2 = 2.0 * dx * dy;
-  for (int k = 0; k < 3; ++k) {
-    const IrradiancePoly& q = p[k];
-    const double ed = q.e[0] * dx + q.e[1] * dy;
-    const double qdd = q.q[0][0] * dxx + q.q[0][1] * dxy2 + q.q[1][1] * dyy;
-    const double qzd = q.q[0][2] * dx + q.q[1][2] * dy;
-    m.f1[k] = q.e0 * m.g1 + kx * ed + q.e[2] * lz + kq * qdd + (q.q[0][0] + q.q[1][1]) * lyy + q.q[2][2] * lzz +
-              kxz * qzd;
+  for (int i = 0; i < n; ++i) {
+    LuneMoments& m = out[i];
+    const double s = m.s, c = m.c, B = m.B;
+    const double s4 = s * s * s * s, c4 = c * c * c * c;
+    m.g1 = kPi / 2 * (1 + c);
+    m.g2 = 2.0 / 3 * (B + s * c);
+    const double dx = d[i][0], dy = d[i][1];
+    const double lz = 2.0 / 3 * (c * B + s), lyy = kPi / 8 * (1 + c);
+    const double lzz = 3 * kPi / 8 * (2 * c / 3 + c * c - c4 / 3 + s4 / 3);
+    const double kx = 2.0 / 3 * B, kq = kPi / 8, kxz = kPi / 4 * (1 + c);
+    const double dxx = dx * dx, dyy = dy * dy, dxy2 = 2.0 * dx * dy;
+    for (int k = 0; k < 3; ++k) {
+      const IrradiancePoly& q = p[k];
+      const double ed = q.e[0] * dx + q.e[1] * dy;
+      const double qdd = q.q[0][0] * dxx + q.q[0][1] * dxy2 + q.q[1][1] * dyy;
+      const double qzd = q.q[0][2] * dx + q.q[1][2] * dy;
+      m.f1[k] = q.e0 * m.g1 + kx * ed + q.e[2] * lz + kq * qdd + (q.q[0][0] + q.q[1][1]) * lyy + q.q[2][2] * lzz +
+                kxz * qzd;
+    }
   }
-  return m;
 }
 
 double hemisphere_square_integral(const IrradiancePoly& p) {

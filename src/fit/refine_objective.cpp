@@ -57,10 +57,23 @@ double error_sum(const RefineObjective& o, const LuneMoments& m, const double a[
 }  // namespace
 
 double RefineObjective::value(const double d[3]) const {
-  const LuneMoments m = lune_moments(p, d);
-  double a[3], b[3];
-  colours(*this, m, d[2], a, b);
-  return error_sum(*this, m, a, b);
+  double f;
+  values(&d, 1, &f);
+  return f;
+}
+
+void RefineObjective::values(const double* const* d, int n, double* out) const {
+  constexpr int kBatch = 8;
+  LuneMoments m[kBatch];
+  for (int i0 = 0; i0 < n; i0 += kBatch) {
+    const int k = std::min(kBatch, n - i0);
+    lune_moments(p, d + i0, k, m);
+    for (int i = 0; i < k; ++i) {
+      double a[3], b[3];
+      colours(*this, m[i], d[i0 + i][2], a, b);
+      out[i0 + i] = error_sum(*this, m[i], a, b);
+    }
+  }
 }
 
 double RefineObjective::value_grad(const double d[3], double grad[3]) const {

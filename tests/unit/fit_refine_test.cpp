@@ -346,3 +346,35 @@ TEST(FitRefine, LuneWidthMatchesLibmAtan2) {
   const double below[3] = {0.8, 0.0, -0.6};
   EXPECT_EQ(lune_moments(p, below).B, kPi - std::atan2(0.8, -0.6));
 }
+
+TEST(FitRefine, BatchedStartsGiveTheSameBytesAsSingleEvaluations) {
+  // refine_direction evaluates its starts in one RefineObjective::values batch (lune_moments stage
+  // by stage); each must equal value() of that direction bit for bit, both ratio forms, batches
+  // longer than the internal block of 8 included.
+  const ShImage sh = random_lighting_set(200, 9);
+  std::mt19937 rng(4);
+  std::normal_distribution<double> g;
+  for (int form = 0; form < 2; ++form)
+    for (size_t i = 0; i < sh.texels(); ++i) {
+      IrradiancePoly p[3];
+      double iz[3];
+      polys_and_iz(sh, i, p, iz);
+      const RefineObjective f(p, iz, form ? RatioForm::Luminance : RatioForm::Rgb);
+      double dirs[11][3];
+      const double* ptr[11];
+      for (int k = 0; k < 11; ++k) {
+        double len = 0;
+        for (double& x : dirs[k]) x = g(rng), len += x * x;
+        for (double& x : dirs[k]) x /= std::sqrt(len);
+        dirs[k][2] = std::fabs(dirs[k][2]);
+        if (k == 7) dirs[k][2] = -dirs[k][2];  // one below the horizon: lune_moments' libm branch
+        ptr[k] = dirs[k];
+      }
+      double batch[11];
+      f.values(ptr, 11, batch);
+      for (int k = 0; k < 11; ++k) {
+        const double single = f.value(dirs[k]);
+        ASSERT_EQ(std::memcmp(&single, &batch[k], sizeof single), 0) << "texel " << i << " dir " << k;
+      }
+    }
+}
