@@ -100,30 +100,27 @@ void refine_direction(const IrradiancePoly p[3], const double iz[3], const FitOp
 void refine_direction(const IrradiancePoly p[3], const double iz[3], const FitOptions& opt, double d[3],
                       const RefineSearch& search, int* winner) {
   const RefineObjective f(p, iz, opt.ratio_form);
-  double best[3] = {d[0], d[1], d[2]};
-  double fbest = f.value(best);
-  if (winner) *winner = 0;
-  if (!std::isfinite(fbest)) return;
   // Cheap global starts: the local search from the linear d misses the better basin on varied
   // lighting (the L1 band averages the lights' directions; the best lobe follows the strongest).
   // Candidates: each channel's own L1 direction and the axis of the luminance L2 band's quadratic
   // form, which points along the dominant light. The best of them and the linear d is polished
-  // below. (Which pay: README "Choosing the direction".)
-  auto try_start = [&](double s[3], int id) {
-    tilt_above_horizon(s, opt.dz_min);
-    const double fs = f.value(s);
-    if (fs < fbest) {
-      fbest = fs, best[0] = s[0], best[1] = s[1], best[2] = s[2];
-      if (winner) *winner = id;
-    }
+  // below. (Which pay: README "Choosing the direction".) All are evaluated in one batch
+  // (RefineObjective::values) and the first smallest kept, as trying them one by one would.
+  double cand[6][3];
+  int ids[6], n = 0;
+  auto add_start = [&](const double s[3], int id) {
+    for (int i = 0; i < 3; ++i) cand[n][i] = s[i];
+    if (id) tilt_above_horizon(cand[n], opt.dz_min);
+    ids[n++] = id;
   };
+  add_start(d, 0);
   if (search.starts & kStartChannelL1)
     for (int c = 0; c < 3; ++c) {
       double s[3] = {p[c].e[0], p[c].e[1], p[c].e[2]};
       const double len = std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
       if (!(len > 0) || !std::isfinite(len)) continue;
       for (double& x : s) x /= len;
-      try_start(s, 1 + c);
+      add_start(s, 1 + c);
     }
   if (search.starts & (kStartL2Axis | kStartL2AxisBoth)) {
     double Q[3][3] = {};
@@ -140,30 +137,43 @@ void refine_direction(const IrradiancePoly p[3], const double iz[3], const FitOp
       const double first = l1 >= 0 ? 1.0 : -1.0;
       for (int k = 0; k < ((search.starts & kStartL2AxisBoth) ? 2 : 1); ++k) {
         const double sign = k ? -first : first;
-        double s[3] = {sign * axis[0], sign * axis[1], sign * axis[2]};
-        try_start(s, 4 + k);
+        const double s[3] = {sign * axis[0], sign * axis[1], sign * axis[2]};
+        add_start(s, 4 + k);
       }
     }
   }
+  const double* ptr[6];
+  double fs[6];
+  for (int i = 0; i < n; ++i) ptr[i] = cand[i];
+  f.values(ptr, n, fs);
+  double best[3] = {d[0], d[1], d[2]};
+  double fbest = fs[0];
+  if (winner) *winner = 0;
+  if (!std::isfinite(fbest)) return;
+  for (int i = 1; i < n; ++i)
+    if (fs[i] < fbest) {
+      fbest = fs[i], best[0] = cand[i][0], best[1] = cand[i][1], best[2] = cand[i][2];
+      if (winner) *winner = ids[i];
+    }
   // Polish: Newton steps along the descent direction with the analytic gradient
-  // (refine_objective.h): the curvature along −∇f from the gradient's change over a small step h
-  // there, then the 1-D Newton step (a fixed 0.1 rad where the curvature is not positive), at most
-  // 0.5 rad. The best point seen is kept, so this never loses what the starts found.
+  // (refine_objective.h): the curvature along −∇f from the value at a small step h there (a
+  // parabola through f and its slope −|∇f| at the centre: one value, half the cost of a second
+  // gradient), then the 1-D Newton step (a fixed 0.1 rad where the curvature is not positive), at
+  // most 0.5 rad. The best point seen is kept, so this never loses what the starts found.
   if (search.line) {
-    const double h = 0.02;
+    const double h = 0.05;
     double g[3];
     double centre[3] = {best[0], best[1], best[2]};
-    f.value_grad(centre, g);
+    double fcentre = f.value_grad(centre, g);
     for (int step = 0; step < search.steps; ++step) {
       const double gl = std::sqrt(dot3(g, g));
       if (!(gl > 0) || !std::isfinite(gl)) break;
       double u[3] = {-g[0] / gl, -g[1] / gl, -g[2] / gl}, v[3] = {0, 0, 0};
-      double xh[3], gh[3];
+      double xh[3];
       offset_dir(centre, u, v, h, 0, opt.dz_min, xh);
-      const double fh = f.value_grad(xh, gh);
+      const double fh = f.value(xh);
       if (fh < fbest) fbest = fh, best[0] = xh[0], best[1] = xh[1], best[2] = xh[2];
-      // Slope along u at the centre is −gl; at xh it is gh·u (u transported: still nearly tangent).
-      const double kappa = (dot3(gh, u) + gl) / h;
+      const double kappa = 2.0 * (fh - fcentre + gl * h) / (h * h);
       double t = kappa > 0 ? gl / kappa : 0.1;
       t = std::min(t, 0.5);
       double cand[3];
@@ -172,6 +182,7 @@ void refine_direction(const IrradiancePoly p[3], const double iz[3], const FitOp
       const double fc = last ? f.value(cand) : f.value_grad(cand, g);
       if (!(fc < fbest)) break;
       fbest = fc, best[0] = cand[0], best[1] = cand[1], best[2] = cand[2];
+      fcentre = fc;
       for (int i = 0; i < 3; ++i) centre[i] = cand[i];
     }
     for (int i = 0; i < 3; ++i) d[i] = best[i];

@@ -16,12 +16,17 @@ bool parse_direction_fit(const std::string& s, DirectionFit* out);
 
 // The d-dependent hemisphere moments of the three channels at once (see HemisphereMoments):
 // g1 = ∫ g, g2 = ∫ g², f1[c] = ∫ E_c g over Ω+, g = max(0, ω·d). d unit, d_z > 0. Also the lune's
-// frame, for the gradient (refine_objective.h): d = (s·cos φ, s·sin φ, c), B = π − atan2(s, c).
+// shape, for the gradient (refine_objective.h): d = (s·cos φ, s·sin φ, c), B = π − atan2(s, c)
+// (for d_z > 0 atan2 is a polynomial form within 1e-15 of libm's).
+// (No member initialisers: the refinement keeps arrays of these on the stack per evaluation.)
 struct LuneMoments {
   double g1, g2, f1[3];
-  double s = 0, c = 1, cphi = 1, sphi = 0, B = kPi / 2;
+  double s, c, B;
 };
 LuneMoments lune_moments(const IrradiancePoly p[3], const double d[3]);
+// lune_moments for the n directions d[i] into out[i], stage by stage (their latencies overlap); the
+// same bytes as n single calls.
+void lune_moments(const IrradiancePoly p[3], const double* const* d, int n, LuneMoments* out);
 
 // ∫_{Ω+} E for one channel (HemisphereMoments::f0; independent of d).
 double hemisphere_integral(const IrradiancePoly& p);

@@ -16,9 +16,9 @@ namespace {
 
 // The colours the fit chooses at d (d_z = dz) from the moments: a = C_a, b = C_d.
 void colours(const RefineObjective& o, const LuneMoments& m, double dz, double a[3], double b[3]) {
-  const double g0 = 2.0 * kPi, inv_dz = 1.0 / dz;
+  const double g0 = 2.0 * kPi;
   if (o.luminance) {
-    const double r = least_squares_ratio(m, o.f0, o.iz, dz);
+    const double r = least_squares_ratio(m, o.f0, o.iz, dz), inv_dz = 1.0 / dz;
     for (int c = 0; c < 3; ++c) {
       const double I = o.iz[c] > 0.0 ? o.iz[c] : 0.0;
       a[c] = r * I, b[c] = (I - a[c]) * inv_dz;
@@ -26,9 +26,13 @@ void colours(const RefineObjective& o, const LuneMoments& m, double dz, double a
     return;
   }
   // fit_channel's arithmetic with the channel-independent divisions hoisted out.
-  const double kk = 1.0 / (dz * dz + 1.0);
+  // One division for 1/(d_z² + 1), 1/hh and 1/d_z.
   const double hh = m.g2 - 2.0 * dz * m.g1 + dz * dz * g0;
-  const double inv_hh = hh > 0 ? 1.0 / hh : 0.0;
+  const double dz1 = dz * dz + 1.0;
+  const double inv_all = 1.0 / (dz * dz1 * (hh > 0 ? hh : 1.0));
+  const double kk = inv_all * dz * (hh > 0 ? hh : 1.0);
+  const double inv_hh = hh > 0 ? inv_all * dz * dz1 : 0.0;
+  const double inv_dz = inv_all * dz1 * (hh > 0 ? hh : 1.0);
   for (int c = 0; c < 3; ++c) {
     if (!(o.iz[c] > 0.0)) {
       a[c] = b[c] = 0.0;
@@ -53,10 +57,23 @@ double error_sum(const RefineObjective& o, const LuneMoments& m, const double a[
 }  // namespace
 
 double RefineObjective::value(const double d[3]) const {
-  const LuneMoments m = lune_moments(p, d);
-  double a[3], b[3];
-  colours(*this, m, d[2], a, b);
-  return error_sum(*this, m, a, b);
+  double f;
+  values(&d, 1, &f);
+  return f;
+}
+
+void RefineObjective::values(const double* const* d, int n, double* out) const {
+  constexpr int kBatch = 8;
+  LuneMoments m[kBatch];
+  for (int i0 = 0; i0 < n; i0 += kBatch) {
+    const int k = std::min(kBatch, n - i0);
+    lune_moments(p, d + i0, k, m);
+    for (int i = 0; i < k; ++i) {
+      double a[3], b[3];
+      colours(*this, m[i], d[i0 + i][2], a, b);
+      out[i0 + i] = error_sum(*this, m[i], a, b);
+    }
+  }
 }
 
 double RefineObjective::value_grad(const double d[3], double grad[3]) const {
@@ -65,7 +82,9 @@ double RefineObjective::value_grad(const double d[3], double grad[3]) const {
   colours(*this, m, d[2], a, b);
   const double f = error_sum(*this, m, a, b);
   // The lune frame: rotate about z by −φ so that d = (s, 0, c), s ≥ 0 (as lune_moments does).
-  const double s = m.s, cp = m.cphi, sp = m.sphi, c = m.c, B = m.B;
+  const double s = m.s, c = m.c, B = m.B;
+  const double inv_s = s > 0 ? 1.0 / s : 0.0;
+  const double cp = s > 0 ? d[0] * inv_s : 1.0, sp = d[1] * inv_s;
   // ∫_lune of the monomials ω·(1, x, z, …) with no factor ω·d (closed forms of lune_monomial, p = 0).
   const double Mx = kPi / 2 * s, Mz = kPi / 2 * (1 + c);
   const double Mxx = 2.0 / 3 * (B - s * c), Mzz = 2.0 / 3 * (B + s * c), Mxz = 2.0 / 3 * s * s, Myy = 2.0 / 3 * B;
@@ -74,27 +93,35 @@ double RefineObjective::value_grad(const double d[3], double grad[3]) const {
   const double Mzzz = kPi / 8 * (2 + 3 * c - c3), Myyx = kPi / 8 * s, Myyz = kPi / 8 * (1 + c);
   // ∫_lune (ω·d) x and (ω·d) z (half of ∇G2).
   const double lx = 2.0 / 3 * s * B, lz = 2.0 / 3 * (c * B + s);
-  double gx = 0, gy = 0, gz = 0, gzz = 0;
-  const double cc = cp * cp, ss = sp * sp, cs = cp * sp;
+  // The gradient is linear in the channels' polynomials: sum them weighted by 2 C_d first, then
+  // rotate and integrate one polynomial instead of three.
+  double sbb = 0, sab = 0, gzz = 0;
+  double w0 = 0, we[3] = {0, 0, 0}, wq00 = 0, wq01 = 0, wq11 = 0, wq22 = 0, wq02 = 0, wq12 = 0;
   for (int k = 0; k < 3; ++k) {
     if (a[k] == 0.0 && b[k] == 0.0) continue;
     const IrradiancePoly& q = p[k];
-    const double ex = cp * q.e[0] + sp * q.e[1], ey = -sp * q.e[0] + cp * q.e[1], ez = q.e[2];
-    const double qxx = cc * q.q[0][0] + 2 * cs * q.q[0][1] + ss * q.q[1][1];
-    const double qyy = ss * q.q[0][0] - 2 * cs * q.q[0][1] + cc * q.q[1][1];
-    const double qzz = q.q[2][2];
-    const double qxy = -cs * q.q[0][0] + (cc - ss) * q.q[0][1] + cs * q.q[1][1];
-    const double qxz = cp * q.q[0][2] + sp * q.q[1][2], qyz = -sp * q.q[0][2] + cp * q.q[1][2];
-    const double Fx = q.e0 * Mx + ex * Mxx + ez * Mxz + qxx * Mxxx + qyy * Myyx + qzz * Mxzz + 2 * qxz * Mxxz;
-    const double Fy = ey * Myy + 2 * qxy * Myyx + 2 * qyz * Myyz;
-    const double Fz = q.e0 * Mz + ex * Mxz + ez * Mzz + qxx * Mxxz + qyy * Myyz + qzz * Mzzz + 2 * qxz * Mxzz;
-    const double bb = b[k] * b[k], ab2 = 2 * a[k] * b[k], b2 = 2 * b[k];
-    gx += bb * 2 * lx + ab2 * Mx - b2 * Fx;
-    gy -= b2 * Fy;
-    gz += bb * 2 * lz + ab2 * Mz - b2 * Fz;
-    gzz -= b2 / c * (b[k] * m.g2 + a[k] * m.g1 - m.f1[k]);  // through C_d = (I − a)/d_z
+    const double b2 = 2 * b[k];
+    sbb += b[k] * b[k], sab += 2 * a[k] * b[k];
+    w0 += b2 * q.e0;
+    for (int i = 0; i < 3; ++i) we[i] += b2 * q.e[i];
+    wq00 += b2 * q.q[0][0], wq01 += b2 * q.q[0][1], wq11 += b2 * q.q[1][1], wq22 += b2 * q.q[2][2];
+    wq02 += b2 * q.q[0][2], wq12 += b2 * q.q[1][2];
+    gzz -= b2 * (b[k] * m.g2 + a[k] * m.g1 - m.f1[k]);  // through C_d = (I − a)/d_z (÷ d_z below)
   }
-  gz += gzz;
+  const double cc = cp * cp, ss = sp * sp, cs = cp * sp;
+  const double ex = cp * we[0] + sp * we[1], ey = -sp * we[0] + cp * we[1], ez = we[2];
+  const double qxx = cc * wq00 + 2 * cs * wq01 + ss * wq11;
+  const double qyy = ss * wq00 - 2 * cs * wq01 + cc * wq11;
+  const double qzz = wq22;
+  const double qxy = -cs * wq00 + (cc - ss) * wq01 + cs * wq11;
+  const double qxz = cp * wq02 + sp * wq12, qyz = -sp * wq02 + cp * wq12;
+  const double Fx = w0 * Mx + ex * Mxx + ez * Mxz + qxx * Mxxx + qyy * Myyx + qzz * Mxzz + 2 * qxz * Mxxz;
+  const double Fy = ey * Myy + 2 * qxy * Myyx + 2 * qyz * Myyz;
+  const double Fz = w0 * Mz + ex * Mxz + ez * Mzz + qxx * Mxxz + qyy * Myyz + qzz * Mzzz + 2 * qxz * Mxzz;
+  const double gx = sbb * 2 * lx + sab * Mx - Fx;
+  const double gy = -Fy;
+  double gz = sbb * 2 * lz + sab * Mz - Fz;
+  gz += gzz / c;
   // Back to the texel frame, then onto the tangent plane of the unit sphere at d.
   double g[3] = {cp * gx - sp * gy, sp * gx + cp * gy, gz};
   const double dot = g[0] * d[0] + g[1] * d[1] + g[2] * d[2];

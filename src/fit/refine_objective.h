@@ -22,6 +22,8 @@ struct RefineObjective {
 
   // f(d) for a unit d with d_z > 0.
   double value(const double d[3]) const;
+  // value(d[i]) into out[i] for n directions at once (lune_moments' batch form): the same bytes.
+  void values(const double* const* d, int n, double* out) const;
   // f(d) and its gradient on the unit sphere (a tangent vector at d, world/local frame).
   double value_grad(const double d[3], double grad[3]) const;
 };
