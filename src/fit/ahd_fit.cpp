@@ -78,43 +78,12 @@ bool irradiance_is_constant(const IrradiancePoly p[3]) {
 
 namespace {
 
-// I_z = E(z) per channel, made usable: non-finite → 0 (kFitNonFinite in *flags), negative (SH
-// ringing: no non-negative lobe reaches it) → 0 with *negative set.
-void usable_iz(const double ez[3], double iz[3], uint8_t* flags, bool* negative) {
-  *negative = false;
-  for (int c = 0; c < 3; ++c) {
-    iz[c] = ez[c];
-    if (!std::isfinite(iz[c])) {
-      iz[c] = 0.0;  // readers sanitise; this keeps the fit total even when called directly
-      *flags |= kFitNonFinite;
-    } else if (iz[c] < 0.0) {
-      iz[c] = 0.0;
-      *negative = true;
-    }
-  }
-}
-
 // E(z), the irradiance along the normal, per channel.
 void irradiance_along_z(const IrradiancePoly p[3], double ez[3]) {
   for (int c = 0; c < 3; ++c) ez[c] = p[c].e0 + p[c].e[2] + p[c].q[2][2];
 }
 
 }  // namespace
-
-AhdFit fit_constant_irradiance(const double ez[3], const FitOptions& opt) {
-  AhdFit out{};
-  out.d[2] = 1.0f;
-  for (int c = 0; c < 3; ++c) out.ratio[c] = 1.0f;
-  out.flags = kFitNoDirection;
-  double iz[3];
-  bool negative;
-  usable_iz(ez, iz, &out.flags, &negative);
-  for (int c = 0; c < 3; ++c) out.iz[c] = float(iz[c]);
-  const double lum_iz = opt.luma[0] * iz[0] + opt.luma[1] * iz[1] + opt.luma[2] * iz[2];
-  if (!(lum_iz > 0.0)) out.flags |= kFitBlack;
-  if (negative) out.flags |= kFitNegativeIz;
-  return out;
-}
 
 AhdFit fit_texel_constant(const IrradiancePoly p[3], const FitOptions& opt) {
   double ez[3];

@@ -4,6 +4,7 @@
 // Stored: I_z = C_a + d_z C_d (exact, linear under filtering), d, and ratio = C_a / I_z (RGB form) or
 // L(C_a)/L(I_z) (luminance form). Decode: fit/ahd_decode.h.
 #pragma once
+#include <cmath>
 #include <limits>
 #include <ahd/types.h>
 #include <cstdint>
@@ -95,8 +96,38 @@ AhdFit fit_texel(const IrradiancePoly p[3], const FitOptions& opt);
 // I_z = E(z) (non-finite or negative → 0, flagged), d = z, ratio = 1, flag kFitNoDirection.
 AhdFit fit_texel_constant(const IrradiancePoly p[3], const FitOptions& opt);
 
-// The same from E(z) per channel (ez: the irradiance along the normal, any value).
-AhdFit fit_constant_irradiance(const double ez[3], const FitOptions& opt);
+// I_z = E(z) per channel, made usable: non-finite → 0 (kFitNonFinite in *flags), negative (SH
+// ringing: no non-negative lobe reaches it) → 0 with *negative set.
+inline void usable_iz(const double ez[3], double iz[3], uint8_t* flags, bool* negative) {
+  *negative = false;
+  for (int c = 0; c < 3; ++c) {
+    iz[c] = ez[c];
+    if (!std::isfinite(iz[c])) {
+      iz[c] = 0.0;  // readers sanitise; this keeps the fit total even when called directly
+      *flags |= kFitNonFinite;
+    } else if (iz[c] < 0.0) {
+      iz[c] = 0.0;
+      *negative = true;
+    }
+  }
+}
+
+// fit_texel_constant from E(z) per channel (ez: the irradiance along the normal, any value).
+// Inline: the per-texel loops of plain lightmaps call it for every texel.
+inline AhdFit fit_constant_irradiance(const double ez[3], const FitOptions& opt) {
+  AhdFit out{};
+  out.d[2] = 1.0f;
+  for (int c = 0; c < 3; ++c) out.ratio[c] = 1.0f;
+  out.flags = kFitNoDirection;
+  double iz[3];
+  bool negative;
+  usable_iz(ez, iz, &out.flags, &negative);
+  for (int c = 0; c < 3; ++c) out.iz[c] = float(iz[c]);
+  const double lum_iz = opt.luma[0] * iz[0] + opt.luma[1] * iz[1] + opt.luma[2] * iz[2];
+  if (!(lum_iz > 0.0)) out.flags |= kFitBlack;
+  if (negative) out.flags |= kFitNegativeIz;
+  return out;
+}
 
 // fit_constant_irradiance's I_z for one channel of an L0 texel in its own frame, E(z) =
 // l0_irradiance(c0) + 0 (non-finite or negative → 0), without the flags: the hot loops of plain

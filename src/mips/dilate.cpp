@@ -184,13 +184,14 @@ void dilate_ambient(ShImage& sh, int threads, DilateStats* stats) {
   const size_t n = sh.texels();
   if (sh.coeffs != 1 || sh.data.size() != n * 3 || sh.coverage.size() != n)
     throw Error("dilate_ambient: needs a well-formed L0 image");
+  // dilate_ahd clamps the filled I_z at 0 after the last ring; the means of values ≥ +0 are ≥ +0
+  // (never −0: the sums start at +0), so clamping as each texel is written gives the same bits
+  // without another pass over the level.
   dilate_rings(sh.width, sh.height, 3, sh.coverage, threads, stats,
                [&](size_t i, float* v) { ambient_level_iz(sh, i, v); },
-               [&](size_t i, const float* v) { std::copy_n(v, 3, sh.texel(i)); });
-  parallel_for(n, threads, 4096, [&](size_t i) {
-    if (sh.coverage[i]) return;
-    for (int c = 0; c < 3; ++c) sh.texel(i)[c] = std::max(0.0f, sh.texel(i)[c]);
-  });
+               [&](size_t i, const float* v) {
+                 for (int c = 0; c < 3; ++c) sh.texel(i)[c] = std::max(0.0f, v[c]);
+               });
 }
 
 Image8 coverage_plane(int width, int height, const std::vector<uint8_t>& coverage) {
