@@ -496,17 +496,8 @@ void fit_one_region_fast(const uint16_t h[48], const float x[48], const uint8_t 
   }
   float cov[6];  // xx yy zz xy xz yz
   for (int i = 0; i < 6; ++i) cov[i] = sum16(tmp[i]);
-  float ax[3] = {cov[0], cov[1], cov[2]};
-  for (int it = 0; it < 4; ++it) {
-    const float v0 = cov[0] * ax[0] + cov[3] * ax[1] + cov[4] * ax[2];
-    const float v1 = cov[3] * ax[0] + cov[1] * ax[1] + cov[5] * ax[2];
-    const float v2 = cov[4] * ax[0] + cov[5] * ax[1] + cov[2] * ax[2];
-    const float m = std::max({std::fabs(v0), std::fabs(v1), std::fabs(v2)});
-    if (!(m > 0)) break;
-    ax[0] = v0 / m, ax[1] = v1 / m, ax[2] = v2 / m;
-  }
-  float len2 = ax[0] * ax[0] + ax[1] * ax[1] + ax[2] * ax[2];
-  if (!(len2 > 0)) ax[0] = ax[1] = ax[2] = 1, len2 = 3;
+  float ax[3], len2;
+  principal_axis(cov, ax, &len2);
   float tmin = 1e30f, tmax = -1e30f;
   for (int t = 0; t < 16; ++t) {
     if (!valid[t]) continue;

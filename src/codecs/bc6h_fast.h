@@ -2,6 +2,8 @@
 // codec: bc6h_encode_image calls it; tests call it to force each conversion path.
 #pragma once
 #include <cstddef>
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 
 namespace ahd::bc6h {
@@ -21,6 +23,23 @@ bool scalar_forced();
 // Which conversion floats_to_half uses: true = the portable path whatever the CPU (tests).
 void force_portable_half(bool portable);
 bool cpu_has_f16c();
+
+// The principal axis of a weighted covariance (xx yy zz xy xz yz) by four power steps from its
+// diagonal, each normalised by its largest component (no square root); *len2 = |ax|² (an axis of
+// ones, 3, when the covariance is zero). The fast fit and its two-region candidate share it.
+inline void principal_axis(const float cov[6], float ax[3], float* len2) {
+  ax[0] = cov[0], ax[1] = cov[1], ax[2] = cov[2];
+  for (int it = 0; it < 4; ++it) {
+    const float v0 = cov[0] * ax[0] + cov[3] * ax[1] + cov[4] * ax[2];
+    const float v1 = cov[3] * ax[0] + cov[1] * ax[1] + cov[5] * ax[2];
+    const float v2 = cov[4] * ax[0] + cov[5] * ax[1] + cov[2] * ax[2];
+    const float m = std::max({std::fabs(v0), std::fabs(v1), std::fabs(v2)});
+    if (!(m > 0)) break;
+    ax[0] = v0 / m, ax[1] = v1 / m, ax[2] = v2 / m;
+  }
+  *len2 = ax[0] * ax[0] + ax[1] * ax[1] + ax[2] * ax[2];
+  if (!(*len2 > 0)) ax[0] = ax[1] = ax[2] = 1, *len2 = 3;
+}
 
 // A one-region fit: mode (10..13, 0-based), absolute endpoints, indices (texel 0's may have its
 // top bit set: the caller mirrors), and the weighted squared error in half steps it minimised.
