@@ -380,17 +380,7 @@ bool refit(const Fit& f, const uint8_t idx[16], float a[3], float b[3]) {
     const float s00 = (p00[0] + p00[1]) + (p00[2] + p00[3]), s01 = (p01[0] + p01[1]) + (p01[2] + p01[3]),
                 s11 = (p11[0] + p11[1]) + (p11[2] + p11[3]), t0 = (q0[0] + q0[1]) + (q0[2] + q0[3]),
                 t1 = (q1[0] + q1[1]) + (q1[2] + q1[3]);
-    const float det = s00 * s11 - s01 * s01;
-    if (!(std::fabs(det) > 1e-6f * (s00 * s11 + 1e-30f))) return false;
-    float va = (t0 * s11 - s01 * t1) / det, vb = (s00 * t1 - s01 * t0) / det;
-    // One endpoint past the cap is held at it and the other solved again (the least-squares
-    // optimum on that edge of the allowed range, not both clamped on their own): the no-specks
-    // cap costs less (`fast` on the noisy image 0.04711 → 0.04687, smooth 0.01212 → 0.01188).
-    const float cp = float(f.cap[c]);
-    if (vb > cp && !(va > cp)) vb = cp, va = (t0 - s01 * cp) / s00;
-    else if (va > cp && !(vb > cp)) va = cp, vb = (t1 - s01 * cp) / s11;
-    a[c] = std::clamp(va, 0.0f, cp);
-    b[c] = std::clamp(vb, 0.0f, cp);
+    if (!solve_endpoints_held_cap(s00, s01, s11, t0, t1, float(f.cap[c]), &a[c], &b[c])) return false;
   }
   return true;
 }

@@ -41,6 +41,23 @@ inline void principal_axis(const float cov[6], float ax[3], float* len2) {
   if (!(*len2 > 0)) ax[0] = ax[1] = ax[2] = 1, *len2 = 3;
 }
 
+// One channel's endpoints (a, b) from the least-squares sums of a region (s00 = Σw(1−g)²,
+// s01 = Σw(1−g)g, s11 = Σwg², t0 = Σw(1−g)h, t1 = Σwgh), kept in [0, cap]: one endpoint past the
+// cap is held at it and the other solved again (the optimum on that edge of the allowed range,
+// not both clamped on their own — the no-specks cap costs less: `fast` on the noisy image
+// 0.04711 → 0.04687). Returns false when the system is singular.
+inline bool solve_endpoints_held_cap(float s00, float s01, float s11, float t0, float t1, float cap, float* a,
+                                     float* b) {
+  const float det = s00 * s11 - s01 * s01;
+  if (!(std::fabs(det) > 1e-6f * (s00 * s11 + 1e-30f))) return false;
+  float va = (t0 * s11 - s01 * t1) / det, vb = (s00 * t1 - s01 * t0) / det;
+  if (vb > cap && !(va > cap)) vb = cap, va = (t0 - s01 * cap) / s00;
+  else if (va > cap && !(vb > cap)) va = cap, vb = (t1 - s01 * cap) / s11;
+  *a = std::clamp(va, 0.0f, cap);
+  *b = std::clamp(vb, 0.0f, cap);
+  return true;
+}
+
 // A one-region fit: mode (10..13, 0-based), absolute endpoints, indices (texel 0's may have its
 // top bit set: the caller mirrors), and the weighted squared error in half steps it minimised.
 struct OneRegionFit {

@@ -131,13 +131,7 @@ bool refit_region(const Planes& f, uint16_t mask, int r, const uint8_t idx[16], 
       const float g = float(kWeights3[idx[t]]) * (1.0f / 64.0f), w = f.W[c][t], wa = w * (1 - g), wb = w * g;
       s00 += wa * (1 - g), s01 += wa * g, s11 += wb * g, t0 += wa * f.H[c][t], t1 += wb * f.H[c][t];
     }
-    const float det = s00 * s11 - s01 * s01;
-    if (!(std::fabs(det) > 1e-6f * (s00 * s11 + 1e-30f))) return false;
-    float va = (t0 * s11 - s01 * t1) / det, vb = (s00 * t1 - s01 * t0) / det;
-    const float cp = float(f.cap[c]);
-    if (vb > cp && !(va > cp)) vb = cp, va = (t0 - s01 * cp) / s00;
-    else if (va > cp && !(vb > cp)) va = cp, vb = (t1 - s01 * cp) / s11;
-    a[c] = std::clamp(va, 0.0f, cp), b[c] = std::clamp(vb, 0.0f, cp);
+    if (!solve_endpoints_held_cap(s00, s01, s11, t0, t1, float(f.cap[c]), &a[c], &b[c])) return false;
   }
   return true;
 }
