@@ -39,8 +39,6 @@ double texel_relative(double se, double mean_lum_sum, int directions) {
   return mean_lum > 0 ? rmse / mean_lum : 0.0;
 }
 
-
-
 // The report over measured texels; `population` = the covered texels they stand for.
 ErrorReport summarise_texels(const std::vector<TexelError>& e, size_t population) {
   ErrorReport r;

@@ -138,8 +138,10 @@ LevelPlanes quantise_level(const FittedLevel& lv, const Profile& profile, const 
   auto ratio_rows = [&](int y0, ImageF& ratio, bool closed) {
     const int y1 = y0 + ratio.height;
     const size_t first = size_t(y0) * size_t(w);
-    for (size_t j = 0; j < ratio.texels(); ++j)
-      for (int c = 0; c < rch; ++c) ratio.data[j * rch + c] = fitted_texel(lv, first + j).ratio[c];
+    for (size_t j = 0; j < ratio.texels(); ++j) {
+      const AhdFit f = fitted_texel(lv, first + j);
+      for (int c = 0; c < rch; ++c) ratio.data[j * rch + c] = f.ratio[c];
+    }
     if (!closed) return;
     const ImageF iz_dec = decode_plane(profile.iz, level_rows(profile.iz, out.iz, y0, y1));
     ImageF dir_dec;
