@@ -4,6 +4,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/large_buffer.h"
+
 namespace ahd {
 
 // A w×h image of `channels` floats per texel, row-major, top row first.
@@ -14,7 +16,7 @@ struct ImageF {
   std::vector<float> data;  // width*height*channels
 
   ImageF() = default;
-  ImageF(int w, int h, int c) : width(w), height(h), channels(c), data(size_t(w) * h * c, 0.0f) {}
+  ImageF(int w, int h, int c) : width(w), height(h), channels(c) { assign_large(data, size_t(w) * h * c, 0.0f); }
   size_t texels() const { return size_t(width) * height; }
   float* at(int x, int y) { return data.data() + (size_t(y) * width + x) * channels; }
   const float* at(int x, int y) const { return data.data() + (size_t(y) * width + x) * channels; }
@@ -28,7 +30,7 @@ struct Image8 {
   std::vector<uint8_t> data;
 
   Image8() = default;
-  Image8(int w, int h, int c) : width(w), height(h), channels(c), data(size_t(w) * h * c, 0) {}
+  Image8(int w, int h, int c) : width(w), height(h), channels(c) { assign_large(data, size_t(w) * h * c, uint8_t(0)); }
   uint8_t* at(int x, int y) { return data.data() + (size_t(y) * width + x) * channels; }
   const uint8_t* at(int x, int y) const { return data.data() + (size_t(y) * width + x) * channels; }
 };

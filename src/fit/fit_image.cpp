@@ -1,6 +1,7 @@
 #include "fit/fit_image.h"
 
 #include "core/error.h"
+#include "core/large_buffer.h"
 #include "core/parallel.h"
 #include "fit/direction_coherence.h"
 
@@ -11,7 +12,7 @@ AhdImage fit_image(const ShImage& sh, const FitOptions& opt, int threads, FitSta
   out.width = sh.width;
   out.height = sh.height;
   out.coverage = sh.coverage;
-  out.texels.resize(sh.texels());
+  assign_large(out.texels, sh.texels(), AhdFit{});
   parallel_for(sh.texels(), threads, 1024, [&](size_t i) {
     IrradiancePoly p[3];
     local_polys(sh, i, p);

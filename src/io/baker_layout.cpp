@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "core/large_buffer.h"
 #include "core/parallel.h"
 #include "sh/sh.h"
 #include "core/json_number.h"
@@ -309,7 +310,7 @@ ShImage to_canonical(const LayoutPreset& layout, std::vector<SetImage>& set) {
     sh.height = height;
     sh.coeffs = 1;
     sh.data = std::move(set[0].img.data);
-    sh.coverage.assign(sh.texels(), 1);
+    assign_large(sh.coverage, sh.texels(), uint8_t(1));
     const double scale = layout.coefficients[0].scale;
     parallel_for(size_t(height), 0, 16, [&](size_t y) {
       for (size_t j = y * w * 3; j < (y + 1) * w * 3; ++j)

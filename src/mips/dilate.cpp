@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/large_buffer.h"
 #include "core/parallel.h"
 #include "fit/ahd_decode.h"
 
@@ -27,7 +28,8 @@ void dilate_rings(int w, int h, int ch, const std::vector<uint8_t>& coverage, in
   // state[i]: kFilled = covered or filled by an earlier ring; kQueued = in the current or an
   // earlier ring's candidate list (one byte array for both: at level 0 each is a byte a texel).
   constexpr uint8_t kFilled = 1, kQueued = 2;
-  std::vector<uint8_t> state(n);
+  std::vector<uint8_t> state;
+  assign_large(state, n, uint8_t(0));
   const size_t wn = size_t(w);
   std::vector<size_t> covered_rows(static_cast<size_t>(h), 0);
   parallel_for(size_t(h), threads, 16, [&](size_t y) {

@@ -3,6 +3,7 @@
 #include <type_traits>
 
 #include "core/error.h"
+#include "core/large_buffer.h"
 #include "core/parallel.h"
 #include "mips/mips.h"
 #include "sh/sh.h"
@@ -102,8 +103,8 @@ ShImage downsample_sh(const ShImage& src, int threads, NormalRule rule) {
   dst.width = W;
   dst.height = H;
   dst.coeffs = src.coeffs;
-  dst.data.assign(size_t(W) * H * src.coeffs * 3, 0.0f);
-  dst.coverage.assign(size_t(W) * H, 0);
+  assign_large(dst.data, size_t(W) * H * src.coeffs * 3, 0.0f);
+  assign_large(dst.coverage, size_t(W) * H, uint8_t(0));
   if (keep_world) dst.normals.assign(size_t(W) * H * 3, 0.0f);
   if (world && !keep_world) {
     // Local-frame SH, flagged as "world space with normal +z": the identity frame (see NormalRule).

@@ -11,6 +11,7 @@
 #include "codecs/bc6h_codec.h"
 #include "codecs/packed_float.h"
 #include "core/error.h"
+#include "core/large_buffer.h"
 
 namespace ahd {
 namespace {
@@ -50,7 +51,7 @@ TextureLevel encode_plane(PixelFormat f, const ImageF& img, const PlaneCodecOpti
   TextureLevel lvl;
   lvl.width = uint32_t(img.width);
   lvl.height = uint32_t(img.height);
-  lvl.data.resize(level_size_bytes(f, lvl.width, lvl.height));
+  assign_large(lvl.data, level_size_bytes(f, lvl.width, lvl.height), uint8_t(0));
   const size_t n = img.texels();
   PlaneCodecStats local;
   PlaneCodecStats& st = stats ? *stats : local;

@@ -1,6 +1,7 @@
 #include "sh/sh_image.h"
 
 #include "core/error.h"
+#include "core/large_buffer.h"
 
 namespace ahd {
 
@@ -11,8 +12,8 @@ ShImage make_sh_image(int width, int height, int coeffs) {
   img.width = width;
   img.height = height;
   img.coeffs = coeffs;
-  img.data.assign(size_t(width) * height * coeffs * 3, 0.0f);
-  img.coverage.assign(size_t(width) * height, 1);
+  assign_large(img.data, size_t(width) * height * coeffs * 3, 0.0f);
+  assign_large(img.coverage, size_t(width) * height, uint8_t(1));
   return img;
 }
 
