@@ -2,6 +2,12 @@
 
 #include <cstring>
 
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define AHD_SHA_NI 1
+#include <cpuid.h>
+#include <immintrin.h>
+#endif
+
 namespace ahd {
 namespace {
 
@@ -36,12 +42,77 @@ void compress(uint32_t h[8], const uint8_t block[64]) {
   h[0] += a, h[1] += b, h[2] += c, h[3] += d, h[4] += e, h[5] += f, h[6] += g, h[7] += k;
 }
 
+void compress_blocks(uint32_t h[8], const uint8_t* data, size_t blocks) {
+  for (size_t b = 0; b < blocks; ++b) compress(h, data + 64 * b);
+}
+
+#ifdef AHD_SHA_NI
+// The same compression with the SHA extensions: sha256rnds2 does two rounds on the state held as
+// (A, B, E, F) and (C, D, G, H) lanes, sha256msg1/msg2 the message schedule's σ0 and σ1 parts.
+__attribute__((target("sha,sse4.1,ssse3"))) void compress_blocks_ni(uint32_t h[8], const uint8_t* data,
+                                                                     size_t blocks) {
+  const __m128i bswap = _mm_set_epi8(12, 13, 14, 15, 8, 9, 10, 11, 4, 5, 6, 7, 0, 1, 2, 3);
+  __m128i abcd = _mm_loadu_si128(reinterpret_cast<const __m128i*>(h));
+  __m128i efgh = _mm_loadu_si128(reinterpret_cast<const __m128i*>(h + 4));
+  abcd = _mm_shuffle_epi32(abcd, 0xB1);                 // B A D C
+  efgh = _mm_shuffle_epi32(efgh, 0x1B);                 // H G F E
+  __m128i abef = _mm_alignr_epi8(abcd, efgh, 8);        // F E B A (lane 3 = A)
+  __m128i cdgh = _mm_blend_epi16(efgh, abcd, 0xF0);     // H G D C
+  for (size_t b = 0; b < blocks; ++b, data += 64) {
+    const __m128i abef0 = abef, cdgh0 = cdgh;
+    __m128i m[4];
+    for (int g = 0; g < 16; ++g) {
+      __m128i& w = m[g & 3];
+      if (g < 4) {
+        w = _mm_shuffle_epi8(_mm_loadu_si128(reinterpret_cast<const __m128i*>(data + 16 * g)), bswap);
+      } else {
+        // W[t..t+3] = σ1(W[t-2..]) + W[t-7..] + σ0(W[t-15..]) + W[t-16..], four at a time.
+        const __m128i w7 = _mm_alignr_epi8(m[(g - 1) & 3], m[(g - 2) & 3], 4);
+        w = _mm_sha256msg2_epu32(_mm_add_epi32(_mm_sha256msg1_epu32(w, m[(g - 3) & 3]), w7), m[(g - 1) & 3]);
+      }
+      __m128i k = _mm_add_epi32(w, _mm_loadu_si128(reinterpret_cast<const __m128i*>(kK + 4 * g)));
+      cdgh = _mm_sha256rnds2_epu32(cdgh, abef, k);
+      k = _mm_shuffle_epi32(k, 0x0E);
+      abef = _mm_sha256rnds2_epu32(abef, cdgh, k);
+    }
+    abef = _mm_add_epi32(abef, abef0);
+    cdgh = _mm_add_epi32(cdgh, cdgh0);
+  }
+  const __m128i feba = _mm_shuffle_epi32(abef, 0x1B);   // A B E F
+  const __m128i dchg = _mm_shuffle_epi32(cdgh, 0xB1);   // G H C D
+  _mm_storeu_si128(reinterpret_cast<__m128i*>(h), _mm_blend_epi16(feba, dchg, 0xF0));      // A B C D
+  _mm_storeu_si128(reinterpret_cast<__m128i*>(h + 4), _mm_alignr_epi8(dchg, feba, 8));  // E F G H
+}
+
+bool cpu_has_sha_ni() {
+  unsigned a, b, c, d;
+  if (!__get_cpuid(1, &a, &b, &c, &d) || !(c & bit_SSE4_1) || !(c & bit_SSSE3)) return false;
+  if (!__get_cpuid_count(7, 0, &a, &b, &c, &d)) return false;
+  return (b & (1u << 29)) != 0;  // CPUID.(EAX=7,ECX=0):EBX.SHA[bit 29]
+}
+#endif
+
 }  // namespace
 
-std::string sha256_hex(const uint8_t* data, size_t size) {
+bool sha256_hardware() {
+#ifdef AHD_SHA_NI
+  static const bool has = cpu_has_sha_ni();
+  return has;
+#else
+  return false;
+#endif
+}
+
+std::string sha256_hex(const uint8_t* data, size_t size, Sha256Path path) {
   uint32_t h[8] = {0x6a09e667, 0xbb67ae85, 0x3c6ef372, 0xa54ff53a, 0x510e527f, 0x9b05688c, 0x1f83d9ab, 0x5be0cd19};
-  size_t i = 0;
-  for (; i + 64 <= size; i += 64) compress(h, data + i);
+  auto blocks = compress_blocks;
+#ifdef AHD_SHA_NI
+  if (path == Sha256Path::Best && sha256_hardware()) blocks = compress_blocks_ni;
+#else
+  (void)path;
+#endif
+  const size_t i = size / 64 * 64;
+  blocks(h, data, size / 64);
   // Padding: 0x80, zeros, then the message length in bits (big-endian) in the last 8 bytes.
   uint8_t tail[128] = {};
   const size_t rest = size - i;
@@ -50,8 +121,7 @@ std::string sha256_hex(const uint8_t* data, size_t size) {
   const size_t tail_len = rest + 9 <= 64 ? 64 : 128;
   const uint64_t bits = uint64_t(size) * 8;
   for (int b = 0; b < 8; ++b) tail[tail_len - 1 - b] = uint8_t(bits >> (8 * b));
-  compress(h, tail);
-  if (tail_len == 128) compress(h, tail + 64);
+  blocks(h, tail, tail_len / 64);
   static const char* hex = "0123456789abcdef";
   std::string out(64, '0');
   for (int j = 0; j < 8; ++j)

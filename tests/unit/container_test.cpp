@@ -7,6 +7,7 @@
 #include "containers/container.h"
 #include "containers/dds.h"
 #include "containers/ktx2.h"
+#include "containers/sha256.h"
 #include "core/error.h"
 
 using namespace ahd;
@@ -216,4 +217,27 @@ TEST(Container, OpenImageIOReadsOurDds) {
     EXPECT_EQ(bc->spec().nchannels, format_info(f).channels);
   }
   fs::remove_all(dir);
+}
+
+// FIPS 180-4's examples, and the hardware path (SHA-NI, when this CPU has it) against the portable
+// one on every length around the block and padding boundaries and on a large buffer.
+TEST(ContainerTest, Sha256PathsAgree) {
+  auto hex = [](const std::string& s, Sha256Path p) {
+    return sha256_hex(reinterpret_cast<const uint8_t*>(s.data()), s.size(), p);
+  };
+  for (Sha256Path p : {Sha256Path::Best, Sha256Path::Portable}) {
+    EXPECT_EQ(hex("", p), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+    EXPECT_EQ(hex("abc", p), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+    EXPECT_EQ(hex("abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq", p),
+              "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
+    EXPECT_EQ(hex(std::string(1000000, 'a'), p), "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0");
+  }
+  std::mt19937 rng(7);
+  std::vector<uint8_t> data(3 << 20);
+  for (uint8_t& b : data) b = uint8_t(rng());
+  for (size_t n = 0; n <= 200; ++n)
+    ASSERT_EQ(sha256_hex(data.data(), n, Sha256Path::Best), sha256_hex(data.data(), n, Sha256Path::Portable)) << n;
+  EXPECT_EQ(sha256_hex(data.data(), data.size(), Sha256Path::Best),
+            sha256_hex(data.data(), data.size(), Sha256Path::Portable));
+  if (!sha256_hardware()) GTEST_SKIP() << "no SHA extensions on this CPU: only the portable path was compared";
 }
