@@ -93,17 +93,37 @@ int half_signed_int(float v) {
   return (b & 0x8000) ? -int(b & 0x7FFF) : int(b);
 }
 
-// Quantises a c-domain value to `bits`: the component whose unquantised value is closest to c.
+// Quantises a c-domain value to `bits`: the component whose unquantised value is closest to c
+// (of floor(c·2^bits/2^16 + 0.5) and its two neighbours; on a tie the smaller).
 int quantize(double c, int bits, bool is_signed) {
+  if (!is_signed && bits < 15) {  // UF16 below 15 bits: the same choice with unquantize inlined, no loop
+    const int maxv = (1 << bits) - 1;
+    const double x = c / double(1 << (16 - bits)) + 0.5;
+    int f = int(x);
+    if (f > x) --f;
+    f = std::clamp(f, 0, maxv);
+    const int lo = std::max(0, f - 1), hi = std::min(maxv, f + 1);
+    const auto dist = [&](int k) {
+      const int u = k == 0 ? 0 : k == maxv ? 0xFFFF : ((k << 16) + 0x8000) >> bits;
+      return std::fabs(u - c);
+    };
+    int best = lo;
+    double bd = dist(lo);
+    const double d1 = dist(lo + 1);  // lo + 1 <= hi: bits >= 1 gives maxv >= 1
+    if (d1 < bd) bd = d1, best = lo + 1;
+    if (lo + 2 <= hi && dist(lo + 2) < bd) best = lo + 2;
+    return best;
+  }
   const int minv = is_signed ? -((1 << (bits - 1)) - 1) : 0;
   const int maxv = is_signed ? (1 << (bits - 1)) - 1 : (1 << bits) - 1;
   const double x = c / double(1 << (16 - bits)) + 0.5;
   int f = int(x);  // floor(x) without a library call (int() truncates towards zero)
   if (f > x) --f;
   f = std::clamp(f, minv, maxv);
-  int best = f;
-  double bd = 1e30;
-  for (int k = std::max(minv, f - 1); k <= std::min(maxv, f + 1); ++k) {
+  const int lo = std::max(minv, f - 1), hi = std::min(maxv, f + 1);
+  int best = lo;
+  double bd = std::fabs(unquantize(lo, bits, is_signed) - c);
+  for (int k = lo + 1; k <= hi; ++k) {
     const double d = std::fabs(unquantize(k, bits, is_signed) - c);
     if (d < bd) bd = d, best = k;
   }
@@ -495,22 +515,27 @@ double pair_residual_sse2(const Moments& a, const Moments& b) {
 #endif
 
 // Least squares for one region's unquantised endpoints given the indices; writes c-domain targets.
+// The three channels in one pass over the region's texels (each channel's sums in texel order, as
+// one pass per channel would add them: the same doubles).
 bool refit_region(const Block& b, const Candidate& cand, int r, double lo[3], double hi[3]) {
   const ModeInfo& mi = mode(cand.mode);
-  const uint16_t mask = mi.regions == 2 ? kPartitions[cand.partition] : 0;
+  const unsigned mask = mi.regions == 2 ? kPartitions[cand.partition] : 0;
   const uint8_t* weights = mi.index_bits == 3 ? kWeights3 : kWeights4;
-  for (int c = 0; c < 3; ++c) {
-    double s00 = 0, s01 = 0, s11 = 0, t0 = 0, t1 = 0;
-    for (int t = 0; t < 16; ++t) {
-      if (int((mask >> t) & 1) != r) continue;
-      const double f = weights[cand.idx[t]] / 64.0, w = b.w[t][c] + 1e-12;
-      s00 += w * (1 - f) * (1 - f), s01 += w * (1 - f) * f, s11 += w * f * f;
-      t0 += w * (1 - f) * b.q[t][c], t1 += w * f * b.q[t][c];
+  double s00[3] = {}, s01[3] = {}, s11[3] = {}, t0[3] = {}, t1[3] = {};
+  for (int t = 0; t < 16; ++t) {
+    if (int((mask >> t) & 1) != r) continue;
+    const double f = weights[cand.idx[t]] / 64.0, g = 1 - f;
+    for (int c = 0; c < 3; ++c) {
+      const double w = b.w[t][c] + 1e-12, wg = w * g, wf = w * f;
+      s00[c] += wg * g, s01[c] += wg * f, s11[c] += wf * f;
+      t0[c] += wg * b.q[t][c], t1[c] += wf * b.q[t][c];
     }
-    const double det = s00 * s11 - s01 * s01;
-    if (std::fabs(det) < 1e-12 * (s00 * s11 + 1e-30)) return false;
-    lo[c] = (t0 * s11 - s01 * t1) / det;
-    hi[c] = (s00 * t1 - s01 * t0) / det;
+  }
+  for (int c = 0; c < 3; ++c) {
+    const double det = s00[c] * s11[c] - s01[c] * s01[c];
+    if (std::fabs(det) < 1e-12 * (s00[c] * s11[c] + 1e-30)) return false;
+    lo[c] = (t0[c] * s11[c] - s01[c] * t1[c]) / det;
+    hi[c] = (s00[c] * t1[c] - s01[c] * t0[c]) / det;
   }
   return true;
 }
