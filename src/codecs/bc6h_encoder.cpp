@@ -221,33 +221,45 @@ double pick_indices_sse2(const Block& b, const float pal[2][3][16], uint16_t mas
 // lanes, where every intermediate is an exact integer (below 2^23), so the palette is the scalar
 // loop's (SF16 and the forced scalar path take that loop).
 void palettes_uf16_sse2(const Block& b, const Candidate& cand, float pal[2][3][16]) {
+  // The weights w and 64 − w as floats (exact), so no lane is converted per call.
+  alignas(16) static const struct WeightLanes {
+    float w[2][16], wc[2][16];  // [3-bit, 4-bit][entry]
+    WeightLanes() : w(), wc() {
+      for (int k = 0; k < 16; ++k) {
+        if (k < 8) w[0][k] = float(kWeights3[k]), wc[0][k] = float(64 - kWeights3[k]);
+        w[1][k] = float(kWeights4[k]), wc[1][k] = float(64 - kWeights4[k]);
+      }
+    }
+  } lanes;
   const ModeInfo& mi = mode(cand.mode);
-  const int n = 1 << mi.index_bits;
-  const uint8_t* weights = mi.index_bits == 3 ? kWeights3 : kWeights4;
+  const int n = 1 << mi.index_bits, nv = n / 4;
+  const float* wl = lanes.w[mi.index_bits - 3];
+  const float* wcl = lanes.wc[mi.index_bits - 3];
   const float* L = log_table();
-  const __m128 inv64 = _mm_set1_ps(1.0f / 64.0f), k31 = _mm_set1_ps(31.0f), k32 = _mm_set1_ps(32.0f),
-               k64 = _mm_set1_ps(64.0f);
-  alignas(16) int hv[3][16], out[16];
+  const __m128 inv64 = _mm_set1_ps(1.0f / 64.0f), k31 = _mm_set1_ps(31.0f), k32 = _mm_set1_ps(32.0f);
+  alignas(16) int hv[3][16];
   for (int r = 0; r < mi.regions; ++r) {
     __m128i outside[4] = {_mm_setzero_si128(), _mm_setzero_si128(), _mm_setzero_si128(), _mm_setzero_si128()};
     for (int c = 0; c < 3; ++c) {
       const __m128 a = _mm_set1_ps(float(unquantize(cand.e[r * 2][c], mi.epb, false)));
       const __m128 bb = _mm_set1_ps(float(unquantize(cand.e[r * 2 + 1][c], mi.epb, false)));
       const __m128i cap = _mm_set1_epi32(b.cap[c]);
-      for (int v = 0; v < n / 4; ++v) {
-        const __m128 w = _mm_setr_ps(float(weights[4 * v]), float(weights[4 * v + 1]), float(weights[4 * v + 2]),
-                                     float(weights[4 * v + 3]));
-        const __m128 sum = _mm_add_ps(_mm_add_ps(_mm_mul_ps(a, _mm_sub_ps(k64, w)), _mm_mul_ps(bb, w)), k32);
+      for (int v = 0; v < nv; ++v) {
+        const __m128 w = _mm_load_ps(&wl[4 * v]), wc = _mm_load_ps(&wcl[4 * v]);
+        const __m128 sum = _mm_add_ps(_mm_add_ps(_mm_mul_ps(a, wc), _mm_mul_ps(bb, w)), k32);
         const __m128 ci = _mm_cvtepi32_ps(_mm_cvttps_epi32(_mm_mul_ps(sum, inv64)));  // >> 6 (non-negative)
         const __m128i h = _mm_cvttps_epi32(_mm_mul_ps(_mm_mul_ps(ci, k31), inv64));    // (c·31) >> 6
         _mm_store_si128(reinterpret_cast<__m128i*>(&hv[c][4 * v]), h);
         outside[v] = _mm_or_si128(outside[v], _mm_cmpgt_epi32(h, cap));
       }
     }
-    for (int v = 0; v < n / 4; ++v) _mm_store_si128(reinterpret_cast<__m128i*>(&out[4 * v]), outside[v]);
-    for (int k = 0; k < n; ++k) {
+    for (int k = 0; k < n; ++k)
       for (int c = 0; c < 3; ++c) pal[r][c][k] = L[hv[c][k]];
-      if (out[k]) pal[r][0][k] = kOff;
+    // Entries outside the range cost kOff in channel 0 (a select, no branch per entry).
+    const __m128 off = _mm_set1_ps(kOff);
+    for (int v = 0; v < nv; ++v) {
+      const __m128 m = _mm_castsi128_ps(outside[v]);
+      _mm_store_ps(&pal[r][0][4 * v], _mm_or_ps(_mm_and_ps(m, off), _mm_andnot_ps(m, _mm_load_ps(&pal[r][0][4 * v]))));
     }
   }
 }
