@@ -36,6 +36,7 @@
 
 #include "codecs/bc6h_codec.h"
 #include "codecs/bc6h_fast.h"
+#include "codecs/bc6h_search_avx2.h"
 #include "codecs/bc6h_tables.h"
 #include "core/parallel.h"
 
@@ -159,6 +160,7 @@ struct Candidate {
   int e[4][3] = {};
   uint8_t idx[16] = {};
   double err = 1e300;
+  bool forced = false;  // fix_anchors forced an anchor index: err is not the free choice's
 };
 
 // Makes the endpoints representable: in transformed modes the others must lie within the signed
@@ -272,11 +274,19 @@ double evaluate(const Block& b, Candidate& cand) {
   const uint8_t* weights = mi.index_bits == 3 ? kWeights3 : kWeights4;
   const float* L = log_table();
   // Palettes as channel planes (pal[r][c][k]) so the distance loop below vectorises.
-  alignas(16) float pal[2][3][16];
+  alignas(32) float pal[2][3][16];
 #ifdef __SSE2__
+  // The index step: AVX2 when the CPU has it (eight entries per vector), else SSE2; the same picks.
+  const auto pick = [&] {
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+    static const bool avx2 = cpu_has_avx2();
+    if (avx2 && !search_sse2_forced()) return pick_indices_avx2(b.L, b.valid, pal, mask, n, kOff, cand.idx);
+#endif
+    return pick_indices_sse2(b, pal, mask, n, cand.idx);
+  };
   if (!b.is_signed && !scalar_forced()) {  // UF16: the palettes in SSE2 lanes, the same values
     palettes_uf16_sse2(b, cand, pal);
-    return cand.err = pick_indices_sse2(b, pal, mask, n, cand.idx);
+    return cand.err = pick();
   }
 #endif
   for (int r = 0; r < mi.regions; ++r) {
@@ -297,7 +307,7 @@ double evaluate(const Block& b, Candidate& cand) {
   }
   double total = 0;
 #ifdef __SSE2__
-  if (!scalar_forced()) return cand.err = pick_indices_sse2(b, pal, mask, n, cand.idx);
+  if (!scalar_forced()) return cand.err = pick();
 #endif
   for (int t = 0; t < 16; ++t) {
     const int r = (mask >> t) & 1;
@@ -347,6 +357,7 @@ void fix_anchors(const Block& b, Candidate& cand) {
     evaluate(b, cand);
     for (int r = 0; r < mi.regions; ++r)
       if (cand.idx[anchors[r]] >= n / 2) cand.idx[anchors[r]] = uint8_t(n / 2 - 1);
+    cand.forced = true;
     // Recompute the error for the indices we will actually write.
     const uint8_t* weights = mi.index_bits == 3 ? kWeights3 : kWeights4;
     const float* L = log_table();
@@ -491,15 +502,15 @@ double line_residual_quick(const Moments& m) {
 
 #ifdef __SSE2__
 // line_residual_quick(a) + line_residual_quick(b), the two regions in the two lanes of SSE2
-// doubles: the same operations in the same order, the early returns as final selects.
-double pair_residual_sse2(const Moments& a, const Moments& b) {
-  auto pd = [](double x, double y) { return _mm_setr_pd(x, y); };
+// doubles: the same operations in the same order, the early returns as final selects. `m` holds
+// the moments in lanes (region a, region b): w, s[0..2], ss[0..5].
+double pair_residual_sse2(const __m128d m[10]) {
   auto sel = [](__m128d mask, __m128d yes, __m128d no) { return _mm_or_pd(_mm_and_pd(mask, yes), _mm_andnot_pd(mask, no)); };
   const __m128d zero = _mm_setzero_pd();
-  const __m128d w = pd(a.w, b.w), inv = _mm_div_pd(_mm_set1_pd(1.0), w);
-  const __m128d s0 = pd(a.s[0], b.s[0]), s1 = pd(a.s[1], b.s[1]), s2 = pd(a.s[2], b.s[2]);
+  const __m128d w = m[0], inv = _mm_div_pd(_mm_set1_pd(1.0), w);
+  const __m128d s0 = m[1], s1 = m[2], s2 = m[3];
   auto cov = [&](int i, __m128d x, __m128d y) {
-    return _mm_sub_pd(pd(a.ss[i], b.ss[i]), _mm_mul_pd(_mm_mul_pd(x, y), inv));
+    return _mm_sub_pd(m[4 + i], _mm_mul_pd(_mm_mul_pd(x, y), inv));
   };
   const __m128d xx = cov(0, s0, s0), yy = cov(1, s1, s1), zz = cov(2, s2, s2), xy = cov(3, s0, s1),
                 xz = cov(4, s0, s2), yz = cov(5, s1, s2);
@@ -554,8 +565,10 @@ bool refit_region(const Block& b, const Candidate& cand, int r, double lo[3], do
 
 // Builds, quantises and evaluates a candidate from c-domain endpoint targets per region. With
 // `only_if_exact`, a mode whose deltas would need clamping is not evaluated (returns false).
+// `same` (refinement): when the quantised endpoints are `same`'s, `same` itself is the result
+// (its error is what evaluating them again gives) unless its anchors were forced.
 bool make_candidate(const Block& b, int m, int partition, const double targets[2][2][3], Candidate& out,
-                    bool only_if_exact = false) {
+                    bool only_if_exact = false, const Candidate* same = nullptr) {
   const ModeInfo& mi = mode(m);
   out.mode = m;
   out.partition = partition;
@@ -581,6 +594,10 @@ bool make_candidate(const Block& b, int m, int partition, const double targets[2
     out.err = 1e300;
     return false;
   }
+  if (same && !same->forced && std::memcmp(out.e, same->e, sizeof out.e) == 0) {
+    out = *same;
+    return true;
+  }
   evaluate(b, out);
   fix_anchors(b, out);
   return true;
@@ -595,7 +612,7 @@ void refine(const Block& b, Candidate& best, int passes, bool perturb) {
     for (int r = 0; r < mi.regions && ok; ++r) ok = refit_region(b, best, r, t[r][0], t[r][1]);
     if (!ok) break;
     Candidate c;
-    make_candidate(b, best.mode, best.partition, t, c);
+    make_candidate(b, best.mode, best.partition, t, c, false, &best);  // unchanged endpoints: no gain
     if (c.err < best.err) best = c;
     else break;
   }
@@ -892,6 +909,29 @@ void try_two_regions(const Block& b, int n_parts, int max_exact, int refine_top,
         rows[g][m].add(per_texel[4 * g + __builtin_ctz(unsigned(m))], 1.0);
       }
     }
+#ifdef __SSE2__
+    if (!scalar_forced()) {
+      // The same sums as below (region 1 from the four rows in row order, region 0 as all minus
+      // region 1), each component put straight into its lanes (region 0, region 1).
+      const double* all_c[10] = {&all.w, &all.s[0], &all.s[1], &all.s[2], &all.ss[0], &all.ss[1], &all.ss[2], &all.ss[3], &all.ss[4], &all.ss[5]};
+      double allv[10];
+      for (int k = 0; k < 10; ++k) allv[k] = *all_c[k];
+      for (int p = 0; p < 32; ++p) {
+        const unsigned mask = kPartitions[p];
+        const Moments &m0 = rows[0][mask & 15], &m1 = rows[1][(mask >> 4) & 15], &m2 = rows[2][(mask >> 8) & 15],
+                      &m3 = rows[3][mask >> 12];
+        __m128d lanes[10];
+        auto put = [&](int k, double x0, double x1, double x2, double x3) {
+          const double r1 = ((x0 + x1) + x2) + x3;
+          lanes[k] = _mm_setr_pd(allv[k] - r1, r1);
+        };
+        put(0, m0.w, m1.w, m2.w, m3.w);
+        for (int i = 0; i < 3; ++i) put(1 + i, m0.s[i], m1.s[i], m2.s[i], m3.s[i]);
+        for (int i = 0; i < 6; ++i) put(4 + i, m0.ss[i], m1.ss[i], m2.ss[i], m3.ss[i]);
+        ranked[p] = {pair_residual_sse2(lanes), p};
+      }
+    } else
+#endif
     for (int p = 0; p < 32; ++p) {
       const unsigned mask = kPartitions[p];
       Moments r1 = rows[0][mask & 15];
@@ -900,12 +940,6 @@ void try_two_regions(const Block& b, int n_parts, int max_exact, int refine_top,
       r1.add(rows[3][mask >> 12], 1.0);
       Moments r0 = all;
       r0.add(r1, -1.0);
-#ifdef __SSE2__
-      if (!scalar_forced()) {
-        ranked[p] = {pair_residual_sse2(r0, r1), p};
-        continue;
-      }
-#endif
       ranked[p] = {line_residual_quick(r0) + line_residual_quick(r1), p};
     }
   } else {

@@ -1,0 +1,21 @@
+// The searched encoder's index step (bc6h_encoder.cpp's evaluate) with AVX2: eight palette
+// entries per vector. Internal to the codec.
+#pragma once
+#include <cstdint>
+
+namespace ahd::bc6h {
+
+// For each texel t, the palette entry of its region ((mask >> t) & 1) nearest to target[t]
+// (squared distance over the three channels, the first such entry on ties) into idx[t]; returns
+// the sum over texels, in texel order, of valid[t] · that distance (float products added in
+// double), or 1e300 when some texel's nearest entry is at or above `off` (no entry inside the
+// block's range). pal[r][c][k]: entry k of region r, channel c, for k < n (n = 8 or 16). The same
+// results as the SSE2 and scalar loops of evaluate. Call only when cpu_has_avx2().
+double pick_indices_avx2(const float target[16][3], const float valid[16], const float pal[2][3][16], uint16_t mask,
+                         int n, float off, uint8_t idx[16]);
+
+// Tests: true = evaluate takes its SSE2 index step even on an AVX2 CPU (both write the same bytes).
+void force_search_sse2(bool sse2);
+bool search_sse2_forced();
+
+}  // namespace ahd::bc6h
