@@ -14,6 +14,13 @@ namespace ahd::bc6h {
 double pick_indices_avx2(const float target[16][3], const float valid[16], const float pal[2][3][16], uint16_t mask,
                          int n, float off, uint8_t idx[16]);
 
+// The partition ranking's residual (bc6h_encoder.cpp's pair_residual_sse2) for two partitions at
+// once: m[k] = {region 0 of the first, region 1 of the first, region 0 of the second, region 1
+// of the second}, k over w, s[0..2], ss[0..5]; out[i] = the two residuals of partition i added.
+// The same operations in the same order per lane, so the same doubles. Call only when
+// cpu_has_avx2().
+void pair_residuals_avx2(const double m[10][4], double out[2]);
+
 // Tests: true = evaluate takes its SSE2 index step even on an AVX2 CPU (both write the same bytes).
 void force_search_sse2(bool sse2);
 bool search_sse2_forced();
