@@ -53,6 +53,7 @@ namespace {
 struct Block {
   int h[16][3];         // target half bits (signed: sign-magnitude as a signed int)
   float L[16][3];       // target in the error metric: sign(x)·log2(1 + |x|)
+  alignas(32) float Lp[3][16];  // the same as channel planes (the AVX2 index step's texel lanes)
   double q[16][3];      // target in the c domain
   double w[16][3];      // geometry weights for the axis and least squares
   double tw[16];        // per-texel weight (for the principal axis)
@@ -280,7 +281,7 @@ double evaluate(const Block& b, Candidate& cand) {
   const auto pick = [&] {
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
     static const bool avx2 = cpu_has_avx2();
-    if (avx2 && !search_sse2_forced()) return pick_indices_avx2(b.L, b.valid, pal, mask, n, kOff, cand.idx);
+    if (avx2 && !search_sse2_forced()) return pick_indices_avx2(b.Lp, b.valid, pal, mask, n, kOff, cand.idx);
 #endif
     return pick_indices_sse2(b, pal, mask, n, cand.idx);
   };
@@ -1215,7 +1216,7 @@ void fill_targets(const float rgb[48], const uint8_t valid[16], bool is_signed, 
     b.valid[t] = valid[t] ? 1.0f : 0.0f;
     for (int c = 0; c < 3; ++c) {
       b.h[t][c] = half ? int(half[t * 3 + c]) : half_signed_int(rgb[t * 3 + c]);
-      b.L[t][c] = L[half_bits_of(b.h[t][c])];
+      b.L[t][c] = b.Lp[c][t] = L[half_bits_of(b.h[t][c])];
     }
   }
 

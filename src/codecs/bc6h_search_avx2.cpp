@@ -23,32 +23,40 @@ bool search_sse2_forced() { return g_force_sse2.load(std::memory_order_relaxed);
 
 namespace ahd::bc6h {
 
-__attribute__((target("avx2"))) double pick_indices_avx2(const float target[16][3], const float valid[16],
+// Eight texels per vector (texel lanes): each palette entry in turn is compared with eight
+// texels' targets, the entry of each lane's region chosen by a blend; a lane keeps an entry only
+// when it is strictly nearer (so the first of equal entries stays, as in the loops over entries).
+__attribute__((target("avx2"))) double pick_indices_avx2(const float target[3][16], const float valid[16],
                                                           const float pal[2][3][16], uint16_t mask, int n, float off,
                                                           uint8_t idx[16]) {
-  double total = 0;
-  const int nv = n / 8;  // 1 (3-bit indices) or 2 (4-bit)
-  for (int t = 0; t < 16; ++t) {
-    const int r = (mask >> t) & 1;
-    const __m256 l0 = _mm256_broadcast_ss(&target[t][0]), l1 = _mm256_broadcast_ss(&target[t][1]),
-                 l2 = _mm256_broadcast_ss(&target[t][2]);
-    __m256 ev[2];
-    for (int v = 0; v < nv; ++v) {
-      const __m256 d0 = _mm256_sub_ps(_mm256_load_ps(&pal[r][0][8 * v]), l0);
-      const __m256 d1 = _mm256_sub_ps(_mm256_load_ps(&pal[r][1][8 * v]), l1);
-      const __m256 d2 = _mm256_sub_ps(_mm256_load_ps(&pal[r][2][8 * v]), l2);
-      ev[v] = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(d0, d0), _mm256_mul_ps(d1, d1)), _mm256_mul_ps(d2, d2));
+  alignas(32) float best[16];
+  alignas(32) int best_k[16];
+  const __m256i bits = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+  for (int v = 0; v < 2; ++v) {
+    const __m256 rm = _mm256_castsi256_ps(
+        _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(mask >> (8 * v)), bits), bits));
+    const __m256 l0 = _mm256_load_ps(&target[0][8 * v]), l1 = _mm256_load_ps(&target[1][8 * v]),
+                 l2 = _mm256_load_ps(&target[2][8 * v]);
+    __m256 mn = _mm256_set1_ps(__builtin_inff());
+    __m256i mk = _mm256_setzero_si256();
+    for (int k = 0; k < n; ++k) {
+      const __m256 p0 = _mm256_blendv_ps(_mm256_broadcast_ss(&pal[0][0][k]), _mm256_broadcast_ss(&pal[1][0][k]), rm);
+      const __m256 p1 = _mm256_blendv_ps(_mm256_broadcast_ss(&pal[0][1][k]), _mm256_broadcast_ss(&pal[1][1][k]), rm);
+      const __m256 p2 = _mm256_blendv_ps(_mm256_broadcast_ss(&pal[0][2][k]), _mm256_broadcast_ss(&pal[1][2][k]), rm);
+      const __m256 d0 = _mm256_sub_ps(p0, l0), d1 = _mm256_sub_ps(p1, l1), d2 = _mm256_sub_ps(p2, l2);
+      const __m256 e = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(d0, d0), _mm256_mul_ps(d1, d1)), _mm256_mul_ps(d2, d2));
+      const __m256 nearer = _mm256_cmp_ps(e, mn, _CMP_LT_OQ);
+      mn = _mm256_blendv_ps(mn, e, nearer);
+      mk = _mm256_castps_si256(_mm256_blendv_ps(_mm256_castsi256_ps(mk), _mm256_castsi256_ps(_mm256_set1_epi32(k)), nearer));
     }
-    __m256 mn = nv == 2 ? _mm256_min_ps(ev[0], ev[1]) : ev[0];
-    mn = _mm256_min_ps(mn, _mm256_permute2f128_ps(mn, mn, 1));
-    mn = _mm256_min_ps(mn, _mm256_shuffle_ps(mn, mn, _MM_SHUFFLE(1, 0, 3, 2)));
-    mn = _mm256_min_ps(mn, _mm256_shuffle_ps(mn, mn, _MM_SHUFFLE(2, 3, 0, 1)));
-    unsigned eq = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(ev[0], mn, _CMP_EQ_OQ)));
-    if (nv == 2) eq |= unsigned(_mm256_movemask_ps(_mm256_cmp_ps(ev[1], mn, _CMP_EQ_OQ))) << 8;
-    const float e = _mm256_cvtss_f32(mn);
-    if (!(e < off)) return 1e300;
-    idx[t] = uint8_t(__builtin_ctz(eq));
-    total += valid[t] * e;
+    _mm256_store_ps(&best[8 * v], mn);
+    _mm256_store_si256(reinterpret_cast<__m256i*>(&best_k[8 * v]), mk);
+  }
+  double total = 0;
+  for (int t = 0; t < 16; ++t) {
+    if (!(best[t] < off)) return 1e300;
+    idx[t] = uint8_t(best_k[t]);
+    total += valid[t] * best[t];
   }
   return total;
 }

@@ -5,13 +5,14 @@
 
 namespace ahd::bc6h {
 
-// For each texel t, the palette entry of its region ((mask >> t) & 1) nearest to target[t]
-// (squared distance over the three channels, the first such entry on ties) into idx[t]; returns
-// the sum over texels, in texel order, of valid[t] · that distance (float products added in
-// double), or 1e300 when some texel's nearest entry is at or above `off` (no entry inside the
-// block's range). pal[r][c][k]: entry k of region r, channel c, for k < n (n = 8 or 16). The same
-// results as the SSE2 and scalar loops of evaluate. Call only when cpu_has_avx2().
-double pick_indices_avx2(const float target[16][3], const float valid[16], const float pal[2][3][16], uint16_t mask,
+// For each texel t, the palette entry of its region ((mask >> t) & 1) nearest to its target
+// (target[c][t], channel planes; squared distance over the three channels, the first such entry
+// on ties) into idx[t]; returns the sum over texels, in texel order, of valid[t] · that distance
+// (float products added in double), or 1e300 when some texel's nearest entry is at or above
+// `off` (no entry inside the block's range; idx is then written up to that texel). pal[r][c][k]:
+// entry k of region r, channel c, for k < n (n = 8 or 16). The same results as the SSE2 and
+// scalar loops of evaluate. Call only when cpu_has_avx2().
+double pick_indices_avx2(const float target[3][16], const float valid[16], const float pal[2][3][16], uint16_t mask,
                          int n, float off, uint8_t idx[16]);
 
 // The partition ranking's residual (bc6h_encoder.cpp's pair_residual_sse2) for two partitions at
