@@ -99,6 +99,36 @@ __attribute__((target("avx2"))) void pair_residuals_avx2(const double m[10][4], 
   out[0] = lanes[0] + lanes[1], out[1] = lanes[2] + lanes[3];
 }
 
+__attribute__((target("avx2"))) float held_channel_error_avx2(const int u[4], int ng, const float fr[16],
+                                                                const float fwa[16], const float fwb[16],
+                                                                const float gn[16], const float gm[16], int cap,
+                                                                const float* L, bool* over) {
+  const __m256 a0 = _mm256_set1_ps(float(u[0])), b0 = _mm256_set1_ps(float(u[1]));
+  const __m256 da = _mm256_set1_ps(float(u[2] - u[0])), db = _mm256_set1_ps(float(u[3] - u[1]));
+  const __m256 inv64 = _mm256_set1_ps(1.0f / 64.0f), k31 = _mm256_set1_ps(31.0f), k32 = _mm256_set1_ps(32.0f);
+  const __m256i capv = _mm256_set1_epi32(cap);
+  __m256i out = _mm256_setzero_si256();
+  __m128 acc = _mm_setzero_ps();
+  for (int i = 0; i < ng; i += 8) {
+    const __m256 r = _mm256_load_ps(&fr[i]);
+    const __m256 a = _mm256_add_ps(a0, _mm256_mul_ps(r, da)), bb = _mm256_add_ps(b0, _mm256_mul_ps(r, db));
+    const __m256 sum =
+        _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(a, _mm256_load_ps(&fwa[i])), _mm256_mul_ps(bb, _mm256_load_ps(&fwb[i]))), k32);
+    const __m256 ci = _mm256_cvtepi32_ps(_mm256_cvttps_epi32(_mm256_mul_ps(sum, inv64)));
+    const __m256i h = _mm256_cvttps_epi32(_mm256_mul_ps(_mm256_mul_ps(ci, k31), inv64));
+    out = _mm256_or_si256(out, _mm256_cmpgt_epi32(h, capv));
+    const __m256 d = _mm256_sub_ps(_mm256_i32gather_ps(L, h, 4), _mm256_load_ps(&gm[i]));
+    const __m256 x = _mm256_mul_ps(_mm256_mul_ps(_mm256_load_ps(&gn[i]), d), d);
+    // The SSE2 loop's accumulator: groups i..i+3, then i+4..i+7 (when it reaches them).
+    acc = _mm_add_ps(acc, _mm256_castps256_ps128(x));
+    if (i + 4 < ng) acc = _mm_add_ps(acc, _mm256_extractf128_ps(x, 1));
+  }
+  alignas(16) float part[4];
+  _mm_store_ps(part, acc);
+  *over = _mm256_movemask_epi8(out) != 0;
+  return (part[0] + part[1]) + (part[2] + part[3]);
+}
+
 }  // namespace ahd::bc6h
 
 #endif

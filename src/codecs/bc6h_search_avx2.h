@@ -22,6 +22,15 @@ double pick_indices_avx2(const float target[3][16], const float valid[16], const
 // cpu_has_avx2().
 void pair_residuals_avx2(const double m[10][4], double out[2]);
 
+// polish_steps' error of one channel (bc6h_encoder.cpp) with eight index groups per vector: for
+// groups i < ng (arrays filled up to a multiple of eight, padding with gn = 0), region fr[i],
+// weights fwa[i] / fwb[i] on the unquantised components u (u[0], u[1] region 0, u[2], u[3] region
+// 1), the decoded half bits h, and the sum of gn[i]·(L[h] − gm[i])² in the four-lane order of the
+// SSE2 loop (lane i mod 4, then the lanes added pairwise). *over = some group's h is above cap.
+// The same float operations, so the same value. Call only when cpu_has_avx2().
+float held_channel_error_avx2(const int u[4], int ng, const float fr[16], const float fwa[16], const float fwb[16],
+                              const float gn[16], const float gm[16], int cap, const float* L, bool* over);
+
 // Tests: true = evaluate takes its SSE2 index step even on an AVX2 CPU (both write the same bytes).
 void force_search_sse2(bool sse2);
 bool search_sse2_forced();
