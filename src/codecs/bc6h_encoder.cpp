@@ -100,7 +100,7 @@ int half_signed_int(float v) {
 int quantize(double c, int bits, bool is_signed) {
   if (!is_signed && bits < 15) {  // UF16 below 15 bits: the same choice with unquantize inlined, no loop
     const int maxv = (1 << bits) - 1;
-    const double x = c / double(1 << (16 - bits)) + 0.5;
+    const double x = c * (1.0 / double(1 << (16 - bits))) + 0.5;  // exact: a power of two
     int f = int(x);
     if (f > x) --f;
     f = std::clamp(f, 0, maxv);
@@ -118,7 +118,7 @@ int quantize(double c, int bits, bool is_signed) {
   }
   const int minv = is_signed ? -((1 << (bits - 1)) - 1) : 0;
   const int maxv = is_signed ? (1 << (bits - 1)) - 1 : (1 << bits) - 1;
-  const double x = c / double(1 << (16 - bits)) + 0.5;
+  const double x = c * (1.0 / double(1 << (16 - bits))) + 0.5;  // exact: a power of two
   int f = int(x);  // floor(x) without a library call (int() truncates towards zero)
   if (f > x) --f;
   f = std::clamp(f, minv, maxv);
