@@ -930,47 +930,50 @@ void try_two_regions(const Block& b, int n_parts, int max_exact, int refine_top,
       const double* all_c[10] = {&all.w, &all.s[0], &all.s[1], &all.s[2], &all.ss[0], &all.ss[1], &all.ss[2], &all.ss[3], &all.ss[4], &all.ss[5]};
       double allv[10];
       for (int k = 0; k < 10; ++k) allv[k] = *all_c[k];
-      // Lanes {region 0, region 1} of partition p at m[k][2·(p & 1)]: two partitions per AVX2
-      // call, one per SSE2 call.
+      // Lanes {region 0, region 1} of partition p at m[p / 2][k][2·(p & 1)]: all the moments
+      // first, then the residuals in one loop (two partitions per AVX2 step, one per SSE2 call),
+      // whose steps are independent, so their divisions overlap.
       static const bool avx2 = cpu_has_avx2();
       const bool wide = avx2 && !search_sse2_forced();
-      alignas(32) double m[10][4];
+      alignas(32) double m[16][10][4];
       for (int p = 0; p < 32; ++p) {
         const unsigned mask = kPartitions[p];
         const Moments &m0 = rows[0][mask & 15], &m1 = rows[1][(mask >> 4) & 15], &m2 = rows[2][(mask >> 8) & 15],
                       &m3 = rows[3][mask >> 12];
+        double (*mp)[4] = m[p / 2];
         const int lane = 2 * (p & 1);
         auto put = [&](int k, double x0, double x1, double x2, double x3) {
           const double r1 = ((x0 + x1) + x2) + x3;
-          m[k][lane] = allv[k] - r1, m[k][lane + 1] = r1;
+          mp[k][lane] = allv[k] - r1, mp[k][lane + 1] = r1;
         };
         put(0, m0.w, m1.w, m2.w, m3.w);
         for (int i = 0; i < 3; ++i) put(1 + i, m0.s[i], m1.s[i], m2.s[i], m3.s[i]);
         for (int i = 0; i < 6; ++i) put(4 + i, m0.ss[i], m1.ss[i], m2.ss[i], m3.ss[i]);
-        if (!(p & 1)) continue;
-        if (wide) {
-          double out[2];
-          pair_residuals_avx2(m, out);
-          ranked[p - 1] = {out[0], p - 1}, ranked[p] = {out[1], p};
-          continue;
-        }
-        for (int q = 0; q < 2; ++q) {
+      }
+      double res[32];
+      if (wide) {
+        pair_residuals_avx2(m, 16, res);
+      } else {
+        for (int p = 0; p < 32; ++p) {
           __m128d lanes[10];
-          for (int k = 0; k < 10; ++k) lanes[k] = _mm_load_pd(&m[k][2 * q]);
-          ranked[p - 1 + q] = {pair_residual_sse2(lanes), p - 1 + q};
+          for (int k = 0; k < 10; ++k) lanes[k] = _mm_load_pd(&m[p / 2][k][2 * (p & 1)]);
+          res[p] = pair_residual_sse2(lanes);
         }
       }
+      for (int p = 0; p < 32; ++p) ranked[p] = {res[p], p};
     } else
 #endif
-    for (int p = 0; p < 32; ++p) {
-      const unsigned mask = kPartitions[p];
-      Moments r1 = rows[0][mask & 15];
-      r1.add(rows[1][(mask >> 4) & 15], 1.0);
-      r1.add(rows[2][(mask >> 8) & 15], 1.0);
-      r1.add(rows[3][mask >> 12], 1.0);
-      Moments r0 = all;
-      r0.add(r1, -1.0);
-      ranked[p] = {line_residual_quick(r0) + line_residual_quick(r1), p};
+    {
+      for (int p = 0; p < 32; ++p) {
+        const unsigned mask = kPartitions[p];
+        Moments r1 = rows[0][mask & 15];
+        r1.add(rows[1][(mask >> 4) & 15], 1.0);
+        r1.add(rows[2][(mask >> 8) & 15], 1.0);
+        r1.add(rows[3][mask >> 12], 1.0);
+        Moments r0 = all;
+        r0.add(r1, -1.0);
+        ranked[p] = {line_residual_quick(r0) + line_residual_quick(r1), p};
+      }
     }
   } else {
     for (int p = 0; p < 32; ++p) {

@@ -74,29 +74,32 @@ AVX2_INLINE D cov(const double* ss, D x, D y, D inv) { return _mm256_sub_pd(_mm2
 
 }  // namespace
 
-__attribute__((target("avx2"))) void pair_residuals_avx2(const double m[10][4], double out[2]) {
-  const D zero = _mm256_setzero_pd();
-  const D w = _mm256_loadu_pd(m[0]), inv = _mm256_div_pd(_mm256_set1_pd(1.0), w);
-  const D s0 = _mm256_loadu_pd(m[1]), s1 = _mm256_loadu_pd(m[2]), s2 = _mm256_loadu_pd(m[3]);
-  const D xx = cov(m[4], s0, s0, inv), yy = cov(m[5], s1, s1, inv), zz = cov(m[6], s2, s2, inv),
-          xy = cov(m[7], s0, s1, inv), xz = cov(m[8], s0, s2, inv), yz = cov(m[9], s1, s2, inv);
-  const D trace = _mm256_add_pd(_mm256_add_pd(xx, yy), zz);
-  const D c1 = _mm256_and_pd(gt(yy, xx), _mm256_cmp_pd(yy, zz, _CMP_GE_OQ));
-  const D c2 = _mm256_andnot_pd(c1, _mm256_and_pd(gt(zz, xx), gt(zz, yy)));
-  D v0 = sel(c1, xy, sel(c2, xz, xx)), v1 = sel(c1, yy, sel(c2, yz, xy)), v2 = sel(c1, yz, sel(c2, zz, xz));
-  for (int it = 0; it < 2; ++it) {
-    const D u0 = row(xx, xy, xz, v0, v1, v2), u1 = row(xy, yy, yz, v0, v1, v2), u2 = row(xz, yz, zz, v0, v1, v2);
-    v0 = u0, v1 = u1, v2 = u2;
+__attribute__((target("avx2"))) void pair_residuals_avx2(const double mm[][10][4], int pairs, double* out) {
+  for (int j = 0; j < pairs; ++j) {
+    const double (*m)[4] = mm[j];
+    const D zero = _mm256_setzero_pd();
+    const D w = _mm256_loadu_pd(m[0]), inv = _mm256_div_pd(_mm256_set1_pd(1.0), w);
+    const D s0 = _mm256_loadu_pd(m[1]), s1 = _mm256_loadu_pd(m[2]), s2 = _mm256_loadu_pd(m[3]);
+    const D xx = cov(m[4], s0, s0, inv), yy = cov(m[5], s1, s1, inv), zz = cov(m[6], s2, s2, inv),
+            xy = cov(m[7], s0, s1, inv), xz = cov(m[8], s0, s2, inv), yz = cov(m[9], s1, s2, inv);
+    const D trace = _mm256_add_pd(_mm256_add_pd(xx, yy), zz);
+    const D c1 = _mm256_and_pd(gt(yy, xx), _mm256_cmp_pd(yy, zz, _CMP_GE_OQ));
+    const D c2 = _mm256_andnot_pd(c1, _mm256_and_pd(gt(zz, xx), gt(zz, yy)));
+    D v0 = sel(c1, xy, sel(c2, xz, xx)), v1 = sel(c1, yy, sel(c2, yz, xy)), v2 = sel(c1, yz, sel(c2, zz, xz));
+    for (int it = 0; it < 2; ++it) {
+      const D u0 = row(xx, xy, xz, v0, v1, v2), u1 = row(xy, yy, yz, v0, v1, v2), u2 = row(xz, yz, zz, v0, v1, v2);
+      v0 = u0, v1 = u1, v2 = u2;
+    }
+    const D vv = row(v0, v1, v2, v0, v1, v2);
+    const D cv0 = row(xx, xy, xz, v0, v1, v2), cv1 = row(xy, yy, yz, v0, v1, v2), cv2 = row(xz, yz, zz, v0, v1, v2);
+    D r = _mm256_max_pd(_mm256_sub_pd(trace, _mm256_div_pd(row(v0, v1, v2, cv0, cv1, cv2), vv)), zero);
+    r = sel(gt(vv, zero), r, trace);    // !(vv > 0): trace
+    r = sel(gt(trace, zero), r, zero);  // !(trace > 0): 0
+    r = sel(gt(w, zero), r, zero);      // w <= 0: 0
+    alignas(32) double lanes[4];
+    _mm256_store_pd(lanes, r);
+    out[2 * j] = lanes[0] + lanes[1], out[2 * j + 1] = lanes[2] + lanes[3];
   }
-  const D vv = row(v0, v1, v2, v0, v1, v2);
-  const D cv0 = row(xx, xy, xz, v0, v1, v2), cv1 = row(xy, yy, yz, v0, v1, v2), cv2 = row(xz, yz, zz, v0, v1, v2);
-  D r = _mm256_max_pd(_mm256_sub_pd(trace, _mm256_div_pd(row(v0, v1, v2, cv0, cv1, cv2), vv)), zero);
-  r = sel(gt(vv, zero), r, trace);    // !(vv > 0): trace
-  r = sel(gt(trace, zero), r, zero);  // !(trace > 0): 0
-  r = sel(gt(w, zero), r, zero);      // w <= 0: 0
-  alignas(32) double lanes[4];
-  _mm256_store_pd(lanes, r);
-  out[0] = lanes[0] + lanes[1], out[1] = lanes[2] + lanes[3];
 }
 
 __attribute__((target("avx2"))) float held_channel_error_avx2(const int u[4], int ng, const float fr[16],

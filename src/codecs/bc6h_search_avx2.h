@@ -15,12 +15,12 @@ namespace ahd::bc6h {
 double pick_indices_avx2(const float target[3][16], const float valid[16], const float pal[2][3][16], uint16_t mask,
                          int n, float off, uint8_t idx[16]);
 
-// The partition ranking's residual (bc6h_encoder.cpp's pair_residual_sse2) for two partitions at
-// once: m[k] = {region 0 of the first, region 1 of the first, region 0 of the second, region 1
-// of the second}, k over w, s[0..2], ss[0..5]; out[i] = the two residuals of partition i added.
-// The same operations in the same order per lane, so the same doubles. Call only when
-// cpu_has_avx2().
-void pair_residuals_avx2(const double m[10][4], double out[2]);
+// The partition ranking's residual (bc6h_encoder.cpp's pair_residual_sse2) for `pairs` pairs of
+// partitions, two per step: m[j][k] = {region 0 of partition 2j, region 1 of 2j, region 0 of
+// 2j + 1, region 1 of 2j + 1}, k over w, s[0..2], ss[0..5]; out[p] = the two residuals of
+// partition p added. The same operations in the same order per lane, so the same doubles. Call
+// only when cpu_has_avx2().
+void pair_residuals_avx2(const double m[][10][4], int pairs, double* out);
 
 // polish_steps' error of one channel (bc6h_encoder.cpp) with eight index groups per vector: for
 // groups i < ng (arrays filled up to a multiple of eight, padding with gn = 0), region fr[i],
