@@ -419,6 +419,61 @@ void axis_endpoints(const Block& b, uint16_t mask, int r, double lo[3], double h
   for (int c = 0; c < 3; ++c) lo[c] = mean[c] + tmin * axis[c], hi[c] = mean[c] + tmax * axis[c];
 }
 
+// axis_endpoints for both regions of a partition: t[r][0], t[r][1] = region r's lo and hi. The
+// same operations per region in the same order (each texel's sums go to its region's
+// accumulators, no branch), the two regions' power steps side by side so that their square roots
+// and divisions overlap.
+void axis_endpoints_pair(const Block& b, uint16_t mask, double t[2][2][3]) {
+  double sw[2] = {0, 0}, mean[2][3] = {};
+  for (int k = 0; k < 16; ++k) {
+    const int r = (mask >> k) & 1;
+    sw[r] += b.tw[k];
+    for (int c = 0; c < 3; ++c) mean[r][c] += b.tw[k] * b.q[k][c];
+  }
+  for (int r = 0; r < 2; ++r) {
+    if (sw[r] <= 0) sw[r] = 1;
+    for (double& m : mean[r]) m /= sw[r];
+  }
+  double cov[2][3][3] = {};
+  for (int k = 0; k < 16; ++k) {
+    const int r = (mask >> k) & 1;
+    double d[3];
+    for (int c = 0; c < 3; ++c) d[c] = b.q[k][c] - mean[r][c];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) cov[r][i][j] += b.tw[k] * d[i] * d[j];
+  }
+  double axis[2][3] = {{1, 1, 1}, {1, 1, 1}};
+  bool done[2] = {false, false};
+  for (int it = 0; it < 6; ++it)
+    for (int r = 0; r < 2; ++r) {
+      if (done[r]) continue;
+      double v[3];
+      for (int i = 0; i < 3; ++i) v[i] = cov[r][i][0] * axis[r][0] + cov[r][i][1] * axis[r][1] + cov[r][i][2] * axis[r][2];
+      const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+      if (len < 1e-12) {
+        done[r] = true;
+        continue;
+      }
+      for (int i = 0; i < 3; ++i) axis[r][i] = v[i] / len;
+    }
+  double tmin[2] = {1e30, 1e30}, tmax[2] = {-1e30, -1e30};
+  for (int r = 0; r < 2; ++r) {
+    const double len = std::sqrt(axis[r][0] * axis[r][0] + axis[r][1] * axis[r][1] + axis[r][2] * axis[r][2]);
+    for (double& a : axis[r]) a /= len;
+  }
+  for (int k = 0; k < 16; ++k) {
+    const int r = (mask >> k) & 1;
+    double p = 0;
+    for (int c = 0; c < 3; ++c) p += (b.q[k][c] - mean[r][c]) * axis[r][c];
+    tmin[r] = std::min(tmin[r], p), tmax[r] = std::max(tmax[r], p);
+  }
+  for (int r = 0; r < 2; ++r) {
+    if (tmin[r] > tmax[r]) tmin[r] = tmax[r] = 0;
+    for (int c = 0; c < 3; ++c)
+      t[r][0][c] = mean[r][c] + tmin[r] * axis[r][c], t[r][1][c] = mean[r][c] + tmax[r] * axis[r][c];
+  }
+}
+
 // Weighted first and second moments of texels, summed per region by partition masks.
 struct Moments {
   double w, s[3], ss[6];  // ss: xx yy zz xy xz yz
@@ -992,8 +1047,7 @@ void try_two_regions(const Block& b, int n_parts, int max_exact, int refine_top,
   for (int i = 0; i < n_parts; ++i) {
     const int p = ranked[i].second;
     double t[2][2][3];
-    axis_endpoints(b, kPartitions[p], 0, t[0][0], t[0][1]);
-    axis_endpoints(b, kPartitions[p], 1, t[1][0], t[1][1]);
+    axis_endpoints_pair(b, kPartitions[p], t);
     Candidate top[2];
     try_modes(b, kTwoRegionOrder, 10, p, t, max_exact, top);
     for (int k = 0; k < 2; ++k) {
@@ -1162,8 +1216,7 @@ Candidate search_max(const Block& b) {
   if (best.err <= 0) return best;  // exact in one region (many smooth blocks, in mode 14)
   for (int p = 0; p < 32; ++p) {
     double t[2][2][3];
-    axis_endpoints(b, kPartitions[p], 0, t[0][0], t[0][1]);
-    axis_endpoints(b, kPartitions[p], 1, t[1][0], t[1][1]);
+    axis_endpoints_pair(b, kPartitions[p], t);
     Candidate top[2];
     try_modes(b, kTwoRegionOrder, 10, p, t, /*max_exact=*/0, top);
     add(top);
