@@ -98,23 +98,24 @@ int half_signed_int(float v) {
 // Quantises a c-domain value to `bits`: the component whose unquantised value is closest to c
 // (of floor(c·2^bits/2^16 + 0.5) and its two neighbours; on a tie the smaller).
 int quantize(double c, int bits, bool is_signed) {
-  if (!is_signed && bits < 15) {  // UF16 below 15 bits: the same choice with unquantize inlined, no loop
+  if (!is_signed && bits < 15) {  // UF16 below 15 bits: the same choice, unquantize written out, selects
     const int maxv = (1 << bits) - 1;
     const double x = c * (1.0 / double(1 << (16 - bits))) + 0.5;  // exact: a power of two
     int f = int(x);
-    if (f > x) --f;
+    f -= f > x;
     f = std::clamp(f, 0, maxv);
-    const int lo = std::max(0, f - 1), hi = std::min(maxv, f + 1);
+    // The candidates lo, lo + 1 and (when it exists) lo + 2; otherwise lo + 1 twice, which the
+    // strict comparison below never picks a second time.
+    const int lo = std::max(0, f - 1), hi = std::min(maxv, f + 1), k1 = lo + 1, k2 = std::min(lo + 2, hi);
     const auto dist = [&](int k) {
-      const int u = k == 0 ? 0 : k == maxv ? 0xFFFF : ((k << 16) + 0x8000) >> bits;
-      return std::fabs(u - c);
+      const int u = ((k << 16) + 0x8000) >> bits;
+      return std::fabs((k == 0 ? 0 : k == maxv ? 0xFFFF : u) - c);
     };
-    int best = lo;
-    double bd = dist(lo);
-    const double d1 = dist(lo + 1);  // lo + 1 <= hi: bits >= 1 gives maxv >= 1
-    if (d1 < bd) bd = d1, best = lo + 1;
-    if (lo + 2 <= hi && dist(lo + 2) < bd) best = lo + 2;
-    return best;
+    const double d0 = dist(lo), d1 = dist(k1), d2 = dist(k2);
+    const bool one = d1 < d0;
+    const double bd = one ? d1 : d0;
+    const int best = one ? k1 : lo;
+    return d2 < bd ? k2 : best;
   }
   const int minv = is_signed ? -((1 << (bits - 1)) - 1) : 0;
   const int maxv = is_signed ? (1 << (bits - 1)) - 1 : (1 << bits) - 1;
