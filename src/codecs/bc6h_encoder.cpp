@@ -36,6 +36,7 @@
 
 #include "codecs/bc6h_codec.h"
 #include "codecs/bc6h_fast.h"
+#include "codecs/bc6h_search_avx2.h"
 #include "codecs/bc6h_tables.h"
 #include "core/parallel.h"
 
@@ -52,6 +53,7 @@ namespace {
 struct Block {
   int h[16][3];         // target half bits (signed: sign-magnitude as a signed int)
   float L[16][3];       // target in the error metric: sign(x)·log2(1 + |x|)
+  alignas(32) float Lp[3][16];  // the same as channel planes (the AVX2 index step's texel lanes)
   double q[16][3];      // target in the c domain
   double w[16][3];      // geometry weights for the axis and least squares
   double tw[16];        // per-texel weight (for the principal axis)
@@ -93,17 +95,38 @@ int half_signed_int(float v) {
   return (b & 0x8000) ? -int(b & 0x7FFF) : int(b);
 }
 
-// Quantises a c-domain value to `bits`: the component whose unquantised value is closest to c.
+// Quantises a c-domain value to `bits`: the component whose unquantised value is closest to c
+// (of floor(c·2^bits/2^16 + 0.5) and its two neighbours; on a tie the smaller).
 int quantize(double c, int bits, bool is_signed) {
+  if (!is_signed && bits < 15) {  // UF16 below 15 bits: the same choice, unquantize written out, selects
+    const int maxv = (1 << bits) - 1;
+    const double x = c * (1.0 / double(1 << (16 - bits))) + 0.5;  // exact: a power of two
+    int f = int(x);
+    f -= f > x;
+    f = std::clamp(f, 0, maxv);
+    // The candidates lo, lo + 1 and (when it exists) lo + 2; otherwise lo + 1 twice, which the
+    // strict comparison below never picks a second time.
+    const int lo = std::max(0, f - 1), hi = std::min(maxv, f + 1), k1 = lo + 1, k2 = std::min(lo + 2, hi);
+    const auto dist = [&](int k) {
+      const int u = ((k << 16) + 0x8000) >> bits;
+      return std::fabs((k == 0 ? 0 : k == maxv ? 0xFFFF : u) - c);
+    };
+    const double d0 = dist(lo), d1 = dist(k1), d2 = dist(k2);
+    const bool one = d1 < d0;
+    const double bd = one ? d1 : d0;
+    const int best = one ? k1 : lo;
+    return d2 < bd ? k2 : best;
+  }
   const int minv = is_signed ? -((1 << (bits - 1)) - 1) : 0;
   const int maxv = is_signed ? (1 << (bits - 1)) - 1 : (1 << bits) - 1;
-  const double x = c / double(1 << (16 - bits)) + 0.5;
+  const double x = c * (1.0 / double(1 << (16 - bits))) + 0.5;  // exact: a power of two
   int f = int(x);  // floor(x) without a library call (int() truncates towards zero)
   if (f > x) --f;
   f = std::clamp(f, minv, maxv);
-  int best = f;
-  double bd = 1e30;
-  for (int k = std::max(minv, f - 1); k <= std::min(maxv, f + 1); ++k) {
+  const int lo = std::max(minv, f - 1), hi = std::min(maxv, f + 1);
+  int best = lo;
+  double bd = std::fabs(unquantize(lo, bits, is_signed) - c);
+  for (int k = lo + 1; k <= hi; ++k) {
     const double d = std::fabs(unquantize(k, bits, is_signed) - c);
     if (d < bd) bd = d, best = k;
   }
@@ -139,6 +162,7 @@ struct Candidate {
   int e[4][3] = {};
   uint8_t idx[16] = {};
   double err = 1e300;
+  bool forced = false;  // fix_anchors forced an anchor index: err is not the free choice's
 };
 
 // Makes the endpoints representable: in transformed modes the others must lie within the signed
@@ -201,33 +225,45 @@ double pick_indices_sse2(const Block& b, const float pal[2][3][16], uint16_t mas
 // lanes, where every intermediate is an exact integer (below 2^23), so the palette is the scalar
 // loop's (SF16 and the forced scalar path take that loop).
 void palettes_uf16_sse2(const Block& b, const Candidate& cand, float pal[2][3][16]) {
+  // The weights w and 64 − w as floats (exact), so no lane is converted per call.
+  alignas(16) static const struct WeightLanes {
+    float w[2][16], wc[2][16];  // [3-bit, 4-bit][entry]
+    WeightLanes() : w(), wc() {
+      for (int k = 0; k < 16; ++k) {
+        if (k < 8) w[0][k] = float(kWeights3[k]), wc[0][k] = float(64 - kWeights3[k]);
+        w[1][k] = float(kWeights4[k]), wc[1][k] = float(64 - kWeights4[k]);
+      }
+    }
+  } lanes;
   const ModeInfo& mi = mode(cand.mode);
-  const int n = 1 << mi.index_bits;
-  const uint8_t* weights = mi.index_bits == 3 ? kWeights3 : kWeights4;
+  const int n = 1 << mi.index_bits, nv = n / 4;
+  const float* wl = lanes.w[mi.index_bits - 3];
+  const float* wcl = lanes.wc[mi.index_bits - 3];
   const float* L = log_table();
-  const __m128 inv64 = _mm_set1_ps(1.0f / 64.0f), k31 = _mm_set1_ps(31.0f), k32 = _mm_set1_ps(32.0f),
-               k64 = _mm_set1_ps(64.0f);
-  alignas(16) int hv[3][16], out[16];
+  const __m128 inv64 = _mm_set1_ps(1.0f / 64.0f), k31 = _mm_set1_ps(31.0f), k32 = _mm_set1_ps(32.0f);
+  alignas(16) int hv[3][16];
   for (int r = 0; r < mi.regions; ++r) {
     __m128i outside[4] = {_mm_setzero_si128(), _mm_setzero_si128(), _mm_setzero_si128(), _mm_setzero_si128()};
     for (int c = 0; c < 3; ++c) {
       const __m128 a = _mm_set1_ps(float(unquantize(cand.e[r * 2][c], mi.epb, false)));
       const __m128 bb = _mm_set1_ps(float(unquantize(cand.e[r * 2 + 1][c], mi.epb, false)));
       const __m128i cap = _mm_set1_epi32(b.cap[c]);
-      for (int v = 0; v < n / 4; ++v) {
-        const __m128 w = _mm_setr_ps(float(weights[4 * v]), float(weights[4 * v + 1]), float(weights[4 * v + 2]),
-                                     float(weights[4 * v + 3]));
-        const __m128 sum = _mm_add_ps(_mm_add_ps(_mm_mul_ps(a, _mm_sub_ps(k64, w)), _mm_mul_ps(bb, w)), k32);
+      for (int v = 0; v < nv; ++v) {
+        const __m128 w = _mm_load_ps(&wl[4 * v]), wc = _mm_load_ps(&wcl[4 * v]);
+        const __m128 sum = _mm_add_ps(_mm_add_ps(_mm_mul_ps(a, wc), _mm_mul_ps(bb, w)), k32);
         const __m128 ci = _mm_cvtepi32_ps(_mm_cvttps_epi32(_mm_mul_ps(sum, inv64)));  // >> 6 (non-negative)
         const __m128i h = _mm_cvttps_epi32(_mm_mul_ps(_mm_mul_ps(ci, k31), inv64));    // (c·31) >> 6
         _mm_store_si128(reinterpret_cast<__m128i*>(&hv[c][4 * v]), h);
         outside[v] = _mm_or_si128(outside[v], _mm_cmpgt_epi32(h, cap));
       }
     }
-    for (int v = 0; v < n / 4; ++v) _mm_store_si128(reinterpret_cast<__m128i*>(&out[4 * v]), outside[v]);
-    for (int k = 0; k < n; ++k) {
+    for (int k = 0; k < n; ++k)
       for (int c = 0; c < 3; ++c) pal[r][c][k] = L[hv[c][k]];
-      if (out[k]) pal[r][0][k] = kOff;
+    // Entries outside the range cost kOff in channel 0 (a select, no branch per entry).
+    const __m128 off = _mm_set1_ps(kOff);
+    for (int v = 0; v < nv; ++v) {
+      const __m128 m = _mm_castsi128_ps(outside[v]);
+      _mm_store_ps(&pal[r][0][4 * v], _mm_or_ps(_mm_and_ps(m, off), _mm_andnot_ps(m, _mm_load_ps(&pal[r][0][4 * v]))));
     }
   }
 }
@@ -240,11 +276,19 @@ double evaluate(const Block& b, Candidate& cand) {
   const uint8_t* weights = mi.index_bits == 3 ? kWeights3 : kWeights4;
   const float* L = log_table();
   // Palettes as channel planes (pal[r][c][k]) so the distance loop below vectorises.
-  alignas(16) float pal[2][3][16];
+  alignas(32) float pal[2][3][16];
 #ifdef __SSE2__
+  // The index step: AVX2 when the CPU has it (eight entries per vector), else SSE2; the same picks.
+  const auto pick = [&] {
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+    static const bool avx2 = cpu_has_avx2();
+    if (avx2 && !search_sse2_forced()) return pick_indices_avx2(b.Lp, b.valid, pal, mask, n, kOff, cand.idx);
+#endif
+    return pick_indices_sse2(b, pal, mask, n, cand.idx);
+  };
   if (!b.is_signed && !scalar_forced()) {  // UF16: the palettes in SSE2 lanes, the same values
     palettes_uf16_sse2(b, cand, pal);
-    return cand.err = pick_indices_sse2(b, pal, mask, n, cand.idx);
+    return cand.err = pick();
   }
 #endif
   for (int r = 0; r < mi.regions; ++r) {
@@ -265,7 +309,7 @@ double evaluate(const Block& b, Candidate& cand) {
   }
   double total = 0;
 #ifdef __SSE2__
-  if (!scalar_forced()) return cand.err = pick_indices_sse2(b, pal, mask, n, cand.idx);
+  if (!scalar_forced()) return cand.err = pick();
 #endif
   for (int t = 0; t < 16; ++t) {
     const int r = (mask >> t) & 1;
@@ -315,6 +359,7 @@ void fix_anchors(const Block& b, Candidate& cand) {
     evaluate(b, cand);
     for (int r = 0; r < mi.regions; ++r)
       if (cand.idx[anchors[r]] >= n / 2) cand.idx[anchors[r]] = uint8_t(n / 2 - 1);
+    cand.forced = true;
     // Recompute the error for the indices we will actually write.
     const uint8_t* weights = mi.index_bits == 3 ? kWeights3 : kWeights4;
     const float* L = log_table();
@@ -373,6 +418,61 @@ void axis_endpoints(const Block& b, uint16_t mask, int r, double lo[3], double h
   }
   if (tmin > tmax) tmin = tmax = 0;
   for (int c = 0; c < 3; ++c) lo[c] = mean[c] + tmin * axis[c], hi[c] = mean[c] + tmax * axis[c];
+}
+
+// axis_endpoints for both regions of a partition: t[r][0], t[r][1] = region r's lo and hi. The
+// same operations per region in the same order (each texel's sums go to its region's
+// accumulators, no branch), the two regions' power steps side by side so that their square roots
+// and divisions overlap.
+void axis_endpoints_pair(const Block& b, uint16_t mask, double t[2][2][3]) {
+  double sw[2] = {0, 0}, mean[2][3] = {};
+  for (int k = 0; k < 16; ++k) {
+    const int r = (mask >> k) & 1;
+    sw[r] += b.tw[k];
+    for (int c = 0; c < 3; ++c) mean[r][c] += b.tw[k] * b.q[k][c];
+  }
+  for (int r = 0; r < 2; ++r) {
+    if (sw[r] <= 0) sw[r] = 1;
+    for (double& m : mean[r]) m /= sw[r];
+  }
+  double cov[2][3][3] = {};
+  for (int k = 0; k < 16; ++k) {
+    const int r = (mask >> k) & 1;
+    double d[3];
+    for (int c = 0; c < 3; ++c) d[c] = b.q[k][c] - mean[r][c];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) cov[r][i][j] += b.tw[k] * d[i] * d[j];
+  }
+  double axis[2][3] = {{1, 1, 1}, {1, 1, 1}};
+  bool done[2] = {false, false};
+  for (int it = 0; it < 6; ++it)
+    for (int r = 0; r < 2; ++r) {
+      if (done[r]) continue;
+      double v[3];
+      for (int i = 0; i < 3; ++i) v[i] = cov[r][i][0] * axis[r][0] + cov[r][i][1] * axis[r][1] + cov[r][i][2] * axis[r][2];
+      const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+      if (len < 1e-12) {
+        done[r] = true;
+        continue;
+      }
+      for (int i = 0; i < 3; ++i) axis[r][i] = v[i] / len;
+    }
+  double tmin[2] = {1e30, 1e30}, tmax[2] = {-1e30, -1e30};
+  for (int r = 0; r < 2; ++r) {
+    const double len = std::sqrt(axis[r][0] * axis[r][0] + axis[r][1] * axis[r][1] + axis[r][2] * axis[r][2]);
+    for (double& a : axis[r]) a /= len;
+  }
+  for (int k = 0; k < 16; ++k) {
+    const int r = (mask >> k) & 1;
+    double p = 0;
+    for (int c = 0; c < 3; ++c) p += (b.q[k][c] - mean[r][c]) * axis[r][c];
+    tmin[r] = std::min(tmin[r], p), tmax[r] = std::max(tmax[r], p);
+  }
+  for (int r = 0; r < 2; ++r) {
+    if (tmin[r] > tmax[r]) tmin[r] = tmax[r] = 0;
+    for (int c = 0; c < 3; ++c)
+      t[r][0][c] = mean[r][c] + tmin[r] * axis[r][c], t[r][1][c] = mean[r][c] + tmax[r] * axis[r][c];
+  }
 }
 
 // Weighted first and second moments of texels, summed per region by partition masks.
@@ -459,15 +559,15 @@ double line_residual_quick(const Moments& m) {
 
 #ifdef __SSE2__
 // line_residual_quick(a) + line_residual_quick(b), the two regions in the two lanes of SSE2
-// doubles: the same operations in the same order, the early returns as final selects.
-double pair_residual_sse2(const Moments& a, const Moments& b) {
-  auto pd = [](double x, double y) { return _mm_setr_pd(x, y); };
+// doubles: the same operations in the same order, the early returns as final selects. `m` holds
+// the moments in lanes (region a, region b): w, s[0..2], ss[0..5].
+double pair_residual_sse2(const __m128d m[10]) {
   auto sel = [](__m128d mask, __m128d yes, __m128d no) { return _mm_or_pd(_mm_and_pd(mask, yes), _mm_andnot_pd(mask, no)); };
   const __m128d zero = _mm_setzero_pd();
-  const __m128d w = pd(a.w, b.w), inv = _mm_div_pd(_mm_set1_pd(1.0), w);
-  const __m128d s0 = pd(a.s[0], b.s[0]), s1 = pd(a.s[1], b.s[1]), s2 = pd(a.s[2], b.s[2]);
+  const __m128d w = m[0], inv = _mm_div_pd(_mm_set1_pd(1.0), w);
+  const __m128d s0 = m[1], s1 = m[2], s2 = m[3];
   auto cov = [&](int i, __m128d x, __m128d y) {
-    return _mm_sub_pd(pd(a.ss[i], b.ss[i]), _mm_mul_pd(_mm_mul_pd(x, y), inv));
+    return _mm_sub_pd(m[4 + i], _mm_mul_pd(_mm_mul_pd(x, y), inv));
   };
   const __m128d xx = cov(0, s0, s0), yy = cov(1, s1, s1), zz = cov(2, s2, s2), xy = cov(3, s0, s1),
                 xz = cov(4, s0, s2), yz = cov(5, s1, s2);
@@ -495,30 +595,37 @@ double pair_residual_sse2(const Moments& a, const Moments& b) {
 #endif
 
 // Least squares for one region's unquantised endpoints given the indices; writes c-domain targets.
+// The three channels in one pass over the region's texels (each channel's sums in texel order, as
+// one pass per channel would add them: the same doubles).
 bool refit_region(const Block& b, const Candidate& cand, int r, double lo[3], double hi[3]) {
   const ModeInfo& mi = mode(cand.mode);
-  const uint16_t mask = mi.regions == 2 ? kPartitions[cand.partition] : 0;
+  const unsigned mask = mi.regions == 2 ? kPartitions[cand.partition] : 0;
   const uint8_t* weights = mi.index_bits == 3 ? kWeights3 : kWeights4;
-  for (int c = 0; c < 3; ++c) {
-    double s00 = 0, s01 = 0, s11 = 0, t0 = 0, t1 = 0;
-    for (int t = 0; t < 16; ++t) {
-      if (int((mask >> t) & 1) != r) continue;
-      const double f = weights[cand.idx[t]] / 64.0, w = b.w[t][c] + 1e-12;
-      s00 += w * (1 - f) * (1 - f), s01 += w * (1 - f) * f, s11 += w * f * f;
-      t0 += w * (1 - f) * b.q[t][c], t1 += w * f * b.q[t][c];
+  double s00[3] = {}, s01[3] = {}, s11[3] = {}, t0[3] = {}, t1[3] = {};
+  for (int t = 0; t < 16; ++t) {
+    if (int((mask >> t) & 1) != r) continue;
+    const double f = weights[cand.idx[t]] / 64.0, g = 1 - f;
+    for (int c = 0; c < 3; ++c) {
+      const double w = b.w[t][c] + 1e-12, wg = w * g, wf = w * f;
+      s00[c] += wg * g, s01[c] += wg * f, s11[c] += wf * f;
+      t0[c] += wg * b.q[t][c], t1[c] += wf * b.q[t][c];
     }
-    const double det = s00 * s11 - s01 * s01;
-    if (std::fabs(det) < 1e-12 * (s00 * s11 + 1e-30)) return false;
-    lo[c] = (t0 * s11 - s01 * t1) / det;
-    hi[c] = (s00 * t1 - s01 * t0) / det;
+  }
+  for (int c = 0; c < 3; ++c) {
+    const double det = s00[c] * s11[c] - s01[c] * s01[c];
+    if (std::fabs(det) < 1e-12 * (s00[c] * s11[c] + 1e-30)) return false;
+    lo[c] = (t0[c] * s11[c] - s01[c] * t1[c]) / det;
+    hi[c] = (s00[c] * t1[c] - s01[c] * t0[c]) / det;
   }
   return true;
 }
 
 // Builds, quantises and evaluates a candidate from c-domain endpoint targets per region. With
 // `only_if_exact`, a mode whose deltas would need clamping is not evaluated (returns false).
+// `same` (refinement): when the quantised endpoints are `same`'s, `same` itself is the result
+// (its error is what evaluating them again gives) unless its anchors were forced.
 bool make_candidate(const Block& b, int m, int partition, const double targets[2][2][3], Candidate& out,
-                    bool only_if_exact = false) {
+                    bool only_if_exact = false, const Candidate* same = nullptr) {
   const ModeInfo& mi = mode(m);
   out.mode = m;
   out.partition = partition;
@@ -544,6 +651,10 @@ bool make_candidate(const Block& b, int m, int partition, const double targets[2
     out.err = 1e300;
     return false;
   }
+  if (same && !same->forced && std::memcmp(out.e, same->e, sizeof out.e) == 0) {
+    out = *same;
+    return true;
+  }
   evaluate(b, out);
   fix_anchors(b, out);
   return true;
@@ -558,7 +669,7 @@ void refine(const Block& b, Candidate& best, int passes, bool perturb) {
     for (int r = 0; r < mi.regions && ok; ++r) ok = refit_region(b, best, r, t[r][0], t[r][1]);
     if (!ok) break;
     Candidate c;
-    make_candidate(b, best.mode, best.partition, t, c);
+    make_candidate(b, best.mode, best.partition, t, c, false, &best);  // unchanged endpoints: no gain
     if (c.err < best.err) best = c;
     else break;
   }
@@ -598,7 +709,7 @@ bool polish_steps(const Block& b, Candidate& best, int rounds, double* gain = nu
   // n·(v − m)² plus a constant, with n their count and m the mean of their targets: one palette
   // lookup per group instead of one per texel, and no cancellation in float.
   int ng = 0, slot[32], greg[16], gwa[16], gwb[16];
-  alignas(16) float gn[16], gm[3][16];
+  alignas(32) float gn[16], gm[3][16];
   std::fill(slot, slot + 32, -1);
   for (int t = 0; t < 16; ++t) {  // padding texels too, with no weight: their entries stay in range
     const int r = (mask >> t) & 1, key = r * 16 + best.idx[t];
@@ -612,9 +723,10 @@ bool polish_steps(const Block& b, Candidate& best, int rounds, double* gain = nu
     gn[i] += b.valid[t];
     for (int c = 0; c < 3; ++c) gm[c][i] += b.valid[t] * b.L[t][c];
   }
-  // Group means; padding up to a multiple of four repeats group 0 with no weight (adds 0).
-  const int ng4 = (ng + 3) & ~3;
-  for (int i = 0; i < ng4; ++i) {
+  // Group means; padding up to a multiple of four (eight for AVX2) repeats group 0 with no weight
+  // (adds 0).
+  const int ng4 = (ng + 3) & ~3, ng8 = (ng + 7) & ~7;
+  for (int i = 0; i < ng8; ++i) {
     if (i >= ng) {
       greg[i] = greg[0], gwa[i] = gwa[0], gwb[i] = gwb[0], gn[i] = 0;
       for (auto& m : gm) m[i] = 0;
@@ -623,9 +735,15 @@ bool polish_steps(const Block& b, Candidate& best, int rounds, double* gain = nu
     for (auto& m : gm) m[i] = gn[i] > 0 ? m[i] / gn[i] : 0.0f;
   }
   // The groups' weights and regions as float lanes.
-  alignas(16) float fwa[16], fwb[16], fr[16];
-  for (int i = 0; i < ng4; ++i) fwa[i] = float(gwa[i]), fwb[i] = float(gwb[i]), fr[i] = float(greg[i] / 2);
+  alignas(32) float fwa[16], fwb[16], fr[16];
+  for (int i = 0; i < ng8; ++i) fwa[i] = float(gwa[i]), fwb[i] = float(gwb[i]), fr[i] = float(greg[i] / 2);
   [[maybe_unused]] const bool simd = !scalar_forced();
+#if defined(__SSE2__) && defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+  static const bool has_avx2 = cpu_has_avx2();
+  const bool wide = simd && has_avx2 && !search_sse2_forced();
+#else
+  const bool wide = false;
+#endif
   Candidate& c = best;
   bool moved = false;
   for (int ch = 0; ch < 3; ++ch) {
@@ -635,6 +753,12 @@ bool polish_steps(const Block& b, Candidate& best, int rounds, double* gain = nu
     auto channel_error = [&](const int u[4]) {
       alignas(16) float part[4] = {0, 0, 0, 0};
       bool over = false;
+#if defined(__SSE2__) && defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+      if (wide) {  // eight groups at a time, the same sums (held_channel_error_avx2)
+        const float e = held_channel_error_avx2(u, ng, fr, fwa, fwb, gn, gm[ch], cap, L, &over);
+        return over ? std::numeric_limits<float>::infinity() : e;
+      }
+#endif
 #ifdef __SSE2__
       if (simd) {  // four groups at a time; the decoded values in exact float lanes (as palettes_uf16_sse2)
         const __m128 a0 = _mm_set1_ps(float(u[0])), b0 = _mm_set1_ps(float(u[1]));
@@ -855,21 +979,57 @@ void try_two_regions(const Block& b, int n_parts, int max_exact, int refine_top,
         rows[g][m].add(per_texel[4 * g + __builtin_ctz(unsigned(m))], 1.0);
       }
     }
-    for (int p = 0; p < 32; ++p) {
-      const unsigned mask = kPartitions[p];
-      Moments r1 = rows[0][mask & 15];
-      r1.add(rows[1][(mask >> 4) & 15], 1.0);
-      r1.add(rows[2][(mask >> 8) & 15], 1.0);
-      r1.add(rows[3][mask >> 12], 1.0);
-      Moments r0 = all;
-      r0.add(r1, -1.0);
 #ifdef __SSE2__
-      if (!scalar_forced()) {
-        ranked[p] = {pair_residual_sse2(r0, r1), p};
-        continue;
+    if (!scalar_forced()) {
+      // The same sums as below (region 1 from the four rows in row order, region 0 as all minus
+      // region 1), each component put straight into its lanes (region 0, region 1).
+      const double* all_c[10] = {&all.w, &all.s[0], &all.s[1], &all.s[2], &all.ss[0], &all.ss[1], &all.ss[2], &all.ss[3], &all.ss[4], &all.ss[5]};
+      double allv[10];
+      for (int k = 0; k < 10; ++k) allv[k] = *all_c[k];
+      // Lanes {region 0, region 1} of partition p at m[p / 2][k][2·(p & 1)]: all the moments
+      // first, then the residuals in one loop (two partitions per AVX2 step, one per SSE2 call),
+      // whose steps are independent, so their divisions overlap.
+      static const bool avx2 = cpu_has_avx2();
+      const bool wide = avx2 && !search_sse2_forced();
+      alignas(32) double m[16][10][4];
+      for (int p = 0; p < 32; ++p) {
+        const unsigned mask = kPartitions[p];
+        const Moments &m0 = rows[0][mask & 15], &m1 = rows[1][(mask >> 4) & 15], &m2 = rows[2][(mask >> 8) & 15],
+                      &m3 = rows[3][mask >> 12];
+        double (*mp)[4] = m[p / 2];
+        const int lane = 2 * (p & 1);
+        auto put = [&](int k, double x0, double x1, double x2, double x3) {
+          const double r1 = ((x0 + x1) + x2) + x3;
+          mp[k][lane] = allv[k] - r1, mp[k][lane + 1] = r1;
+        };
+        put(0, m0.w, m1.w, m2.w, m3.w);
+        for (int i = 0; i < 3; ++i) put(1 + i, m0.s[i], m1.s[i], m2.s[i], m3.s[i]);
+        for (int i = 0; i < 6; ++i) put(4 + i, m0.ss[i], m1.ss[i], m2.ss[i], m3.ss[i]);
       }
+      double res[32];
+      if (wide) {
+        pair_residuals_avx2(m, 16, res);
+      } else {
+        for (int p = 0; p < 32; ++p) {
+          __m128d lanes[10];
+          for (int k = 0; k < 10; ++k) lanes[k] = _mm_load_pd(&m[p / 2][k][2 * (p & 1)]);
+          res[p] = pair_residual_sse2(lanes);
+        }
+      }
+      for (int p = 0; p < 32; ++p) ranked[p] = {res[p], p};
+    } else
 #endif
-      ranked[p] = {line_residual_quick(r0) + line_residual_quick(r1), p};
+    {
+      for (int p = 0; p < 32; ++p) {
+        const unsigned mask = kPartitions[p];
+        Moments r1 = rows[0][mask & 15];
+        r1.add(rows[1][(mask >> 4) & 15], 1.0);
+        r1.add(rows[2][(mask >> 8) & 15], 1.0);
+        r1.add(rows[3][mask >> 12], 1.0);
+        Moments r0 = all;
+        r0.add(r1, -1.0);
+        ranked[p] = {line_residual_quick(r0) + line_residual_quick(r1), p};
+      }
     }
   } else {
     for (int p = 0; p < 32; ++p) {
@@ -888,8 +1048,7 @@ void try_two_regions(const Block& b, int n_parts, int max_exact, int refine_top,
   for (int i = 0; i < n_parts; ++i) {
     const int p = ranked[i].second;
     double t[2][2][3];
-    axis_endpoints(b, kPartitions[p], 0, t[0][0], t[0][1]);
-    axis_endpoints(b, kPartitions[p], 1, t[1][0], t[1][1]);
+    axis_endpoints_pair(b, kPartitions[p], t);
     Candidate top[2];
     try_modes(b, kTwoRegionOrder, 10, p, t, max_exact, top);
     for (int k = 0; k < 2; ++k) {
@@ -1058,8 +1217,7 @@ Candidate search_max(const Block& b) {
   if (best.err <= 0) return best;  // exact in one region (many smooth blocks, in mode 14)
   for (int p = 0; p < 32; ++p) {
     double t[2][2][3];
-    axis_endpoints(b, kPartitions[p], 0, t[0][0], t[0][1]);
-    axis_endpoints(b, kPartitions[p], 1, t[1][0], t[1][1]);
+    axis_endpoints_pair(b, kPartitions[p], t);
     Candidate top[2];
     try_modes(b, kTwoRegionOrder, 10, p, t, /*max_exact=*/0, top);
     add(top);
@@ -1128,7 +1286,7 @@ void fill_targets(const float rgb[48], const uint8_t valid[16], bool is_signed, 
     b.valid[t] = valid[t] ? 1.0f : 0.0f;
     for (int c = 0; c < 3; ++c) {
       b.h[t][c] = half ? int(half[t * 3 + c]) : half_signed_int(rgb[t * 3 + c]);
-      b.L[t][c] = L[half_bits_of(b.h[t][c])];
+      b.L[t][c] = b.Lp[c][t] = L[half_bits_of(b.h[t][c])];
     }
   }
 

@@ -13,6 +13,7 @@
 
 #include "codecs/bc6h_codec.h"
 #include "codecs/bc6h_fast.h"
+#include "codecs/bc6h_search_avx2.h"
 #include "codecs/bc6h_tables.h"
 #include "io/image_io.h"
 
@@ -295,6 +296,11 @@ TEST(Bc6h, SimdAndScalarLoopsWriteTheSameBytes) {
         bc6h::force_scalar(false);
         const std::vector<uint8_t> simd = bc6h_encode_image(crop, o);
         EXPECT_EQ(scalar, simd) << file << " " << bc6h_quality_name(q) << (is_signed ? " signed" : "");
+        // The search's SSE2 index step and ranking, which AVX2 CPUs otherwise skip.
+        bc6h::force_search_sse2(true);
+        const std::vector<uint8_t> sse2 = bc6h_encode_image(crop, o);
+        bc6h::force_search_sse2(false);
+        EXPECT_EQ(scalar, sse2) << file << " " << bc6h_quality_name(q) << (is_signed ? " signed" : "") << " (SSE2)";
       }
     // max (its polish evaluates candidates through the same index step) on a 32×32 corner.
     ImageF small(32, 32, 3);
@@ -309,6 +315,9 @@ TEST(Bc6h, SimdAndScalarLoopsWriteTheSameBytes) {
       const std::vector<uint8_t> scalar = bc6h_encode_image(small, o);
       bc6h::force_scalar(false);
       EXPECT_EQ(scalar, bc6h_encode_image(small, o)) << file << " max" << (is_signed ? " signed" : "");
+      bc6h::force_search_sse2(true);
+      EXPECT_EQ(scalar, bc6h_encode_image(small, o)) << file << " max (SSE2)" << (is_signed ? " signed" : "");
+      bc6h::force_search_sse2(false);
     }
   }
 }

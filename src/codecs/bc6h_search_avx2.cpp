@@ -1,0 +1,137 @@
+// The searched encoder's index step with AVX2 (see bc6h_search_avx2.h). Every float operation is
+// the SSE2 loop's (subtract, square, add the channels in the same order); only the minimum over
+// the entries is taken eight lanes at a time, and a minimum does not depend on its order, so the
+// indices and the error are the same. Built for plain x86-64: only this function is compiled for
+// AVX2 (target attribute), and evaluate calls it only when the CPU reports AVX2.
+#include "codecs/bc6h_search_avx2.h"
+
+#include <atomic>
+
+namespace ahd::bc6h {
+
+namespace {
+std::atomic<bool> g_force_sse2{false};
+}
+
+void force_search_sse2(bool sse2) { g_force_sse2.store(sse2, std::memory_order_relaxed); }
+bool search_sse2_forced() { return g_force_sse2.load(std::memory_order_relaxed); }
+
+}  // namespace ahd::bc6h
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+
+namespace ahd::bc6h {
+
+// Eight texels per vector (texel lanes): each palette entry in turn is compared with eight
+// texels' targets, the entry of each lane's region chosen by a blend; a lane keeps an entry only
+// when it is strictly nearer (so the first of equal entries stays, as in the loops over entries).
+__attribute__((target("avx2"))) double pick_indices_avx2(const float target[3][16], const float valid[16],
+                                                          const float pal[2][3][16], uint16_t mask, int n, float off,
+                                                          uint8_t idx[16]) {
+  alignas(32) float best[16];
+  alignas(32) int best_k[16];
+  const __m256i bits = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+  for (int v = 0; v < 2; ++v) {
+    const __m256 rm = _mm256_castsi256_ps(
+        _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(mask >> (8 * v)), bits), bits));
+    const __m256 l0 = _mm256_load_ps(&target[0][8 * v]), l1 = _mm256_load_ps(&target[1][8 * v]),
+                 l2 = _mm256_load_ps(&target[2][8 * v]);
+    __m256 mn = _mm256_set1_ps(__builtin_inff());
+    __m256i mk = _mm256_setzero_si256();
+    for (int k = 0; k < n; ++k) {
+      const __m256 p0 = _mm256_blendv_ps(_mm256_broadcast_ss(&pal[0][0][k]), _mm256_broadcast_ss(&pal[1][0][k]), rm);
+      const __m256 p1 = _mm256_blendv_ps(_mm256_broadcast_ss(&pal[0][1][k]), _mm256_broadcast_ss(&pal[1][1][k]), rm);
+      const __m256 p2 = _mm256_blendv_ps(_mm256_broadcast_ss(&pal[0][2][k]), _mm256_broadcast_ss(&pal[1][2][k]), rm);
+      const __m256 d0 = _mm256_sub_ps(p0, l0), d1 = _mm256_sub_ps(p1, l1), d2 = _mm256_sub_ps(p2, l2);
+      const __m256 e = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(d0, d0), _mm256_mul_ps(d1, d1)), _mm256_mul_ps(d2, d2));
+      const __m256 nearer = _mm256_cmp_ps(e, mn, _CMP_LT_OQ);
+      mn = _mm256_blendv_ps(mn, e, nearer);
+      mk = _mm256_castps_si256(_mm256_blendv_ps(_mm256_castsi256_ps(mk), _mm256_castsi256_ps(_mm256_set1_epi32(k)), nearer));
+    }
+    _mm256_store_ps(&best[8 * v], mn);
+    _mm256_store_si256(reinterpret_cast<__m256i*>(&best_k[8 * v]), mk);
+  }
+  double total = 0;
+  for (int t = 0; t < 16; ++t) {
+    if (!(best[t] < off)) return 1e300;
+    idx[t] = uint8_t(best_k[t]);
+    total += valid[t] * best[t];
+  }
+  return total;
+}
+
+namespace {
+
+#define AVX2_INLINE __attribute__((target("avx2"), always_inline)) inline
+using D = __m256d;
+AVX2_INLINE D sel(D mask, D yes, D no) { return _mm256_or_pd(_mm256_and_pd(mask, yes), _mm256_andnot_pd(mask, no)); }
+AVX2_INLINE D gt(D a, D b) { return _mm256_cmp_pd(a, b, _CMP_GT_OQ); }
+AVX2_INLINE D row(D p, D q, D r, D x, D y, D z) {
+  return _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(p, x), _mm256_mul_pd(q, y)), _mm256_mul_pd(r, z));
+}
+AVX2_INLINE D cov(const double* ss, D x, D y, D inv) { return _mm256_sub_pd(_mm256_loadu_pd(ss), _mm256_mul_pd(_mm256_mul_pd(x, y), inv)); }
+
+}  // namespace
+
+__attribute__((target("avx2"))) void pair_residuals_avx2(const double mm[][10][4], int pairs, double* out) {
+  for (int j = 0; j < pairs; ++j) {
+    const double (*m)[4] = mm[j];
+    const D zero = _mm256_setzero_pd();
+    const D w = _mm256_loadu_pd(m[0]), inv = _mm256_div_pd(_mm256_set1_pd(1.0), w);
+    const D s0 = _mm256_loadu_pd(m[1]), s1 = _mm256_loadu_pd(m[2]), s2 = _mm256_loadu_pd(m[3]);
+    const D xx = cov(m[4], s0, s0, inv), yy = cov(m[5], s1, s1, inv), zz = cov(m[6], s2, s2, inv),
+            xy = cov(m[7], s0, s1, inv), xz = cov(m[8], s0, s2, inv), yz = cov(m[9], s1, s2, inv);
+    const D trace = _mm256_add_pd(_mm256_add_pd(xx, yy), zz);
+    const D c1 = _mm256_and_pd(gt(yy, xx), _mm256_cmp_pd(yy, zz, _CMP_GE_OQ));
+    const D c2 = _mm256_andnot_pd(c1, _mm256_and_pd(gt(zz, xx), gt(zz, yy)));
+    D v0 = sel(c1, xy, sel(c2, xz, xx)), v1 = sel(c1, yy, sel(c2, yz, xy)), v2 = sel(c1, yz, sel(c2, zz, xz));
+    for (int it = 0; it < 2; ++it) {
+      const D u0 = row(xx, xy, xz, v0, v1, v2), u1 = row(xy, yy, yz, v0, v1, v2), u2 = row(xz, yz, zz, v0, v1, v2);
+      v0 = u0, v1 = u1, v2 = u2;
+    }
+    const D vv = row(v0, v1, v2, v0, v1, v2);
+    const D cv0 = row(xx, xy, xz, v0, v1, v2), cv1 = row(xy, yy, yz, v0, v1, v2), cv2 = row(xz, yz, zz, v0, v1, v2);
+    D r = _mm256_max_pd(_mm256_sub_pd(trace, _mm256_div_pd(row(v0, v1, v2, cv0, cv1, cv2), vv)), zero);
+    r = sel(gt(vv, zero), r, trace);    // !(vv > 0): trace
+    r = sel(gt(trace, zero), r, zero);  // !(trace > 0): 0
+    r = sel(gt(w, zero), r, zero);      // w <= 0: 0
+    alignas(32) double lanes[4];
+    _mm256_store_pd(lanes, r);
+    out[2 * j] = lanes[0] + lanes[1], out[2 * j + 1] = lanes[2] + lanes[3];
+  }
+}
+
+__attribute__((target("avx2"))) float held_channel_error_avx2(const int u[4], int ng, const float fr[16],
+                                                                const float fwa[16], const float fwb[16],
+                                                                const float gn[16], const float gm[16], int cap,
+                                                                const float* L, bool* over) {
+  const __m256 a0 = _mm256_set1_ps(float(u[0])), b0 = _mm256_set1_ps(float(u[1]));
+  const __m256 da = _mm256_set1_ps(float(u[2] - u[0])), db = _mm256_set1_ps(float(u[3] - u[1]));
+  const __m256 inv64 = _mm256_set1_ps(1.0f / 64.0f), k31 = _mm256_set1_ps(31.0f), k32 = _mm256_set1_ps(32.0f);
+  const __m256i capv = _mm256_set1_epi32(cap);
+  __m256i out = _mm256_setzero_si256();
+  __m128 acc = _mm_setzero_ps();
+  for (int i = 0; i < ng; i += 8) {
+    const __m256 r = _mm256_load_ps(&fr[i]);
+    const __m256 a = _mm256_add_ps(a0, _mm256_mul_ps(r, da)), bb = _mm256_add_ps(b0, _mm256_mul_ps(r, db));
+    const __m256 sum =
+        _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(a, _mm256_load_ps(&fwa[i])), _mm256_mul_ps(bb, _mm256_load_ps(&fwb[i]))), k32);
+    const __m256 ci = _mm256_cvtepi32_ps(_mm256_cvttps_epi32(_mm256_mul_ps(sum, inv64)));
+    const __m256i h = _mm256_cvttps_epi32(_mm256_mul_ps(_mm256_mul_ps(ci, k31), inv64));
+    out = _mm256_or_si256(out, _mm256_cmpgt_epi32(h, capv));
+    const __m256 d = _mm256_sub_ps(_mm256_i32gather_ps(L, h, 4), _mm256_load_ps(&gm[i]));
+    const __m256 x = _mm256_mul_ps(_mm256_mul_ps(_mm256_load_ps(&gn[i]), d), d);
+    // The SSE2 loop's accumulator: groups i..i+3, then i+4..i+7 (when it reaches them).
+    acc = _mm_add_ps(acc, _mm256_castps256_ps128(x));
+    if (i + 4 < ng) acc = _mm_add_ps(acc, _mm256_extractf128_ps(x, 1));
+  }
+  alignas(16) float part[4];
+  _mm_store_ps(part, acc);
+  *over = _mm256_movemask_epi8(out) != 0;
+  return (part[0] + part[1]) + (part[2] + part[3]);
+}
+
+}  // namespace ahd::bc6h
+
+#endif
