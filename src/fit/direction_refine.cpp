@@ -207,21 +207,18 @@ void refine_direction(const IrradiancePoly p[3], const double iz[3], const FitOp
       t = std::min(t, 0.5);
       double cn[3];
       offset_dir(centre, u, v, t, 0, opt.dz_min, cn);
-      const bool last = step + 1 == search.steps;
       double fc;
       LuneMoments mc;
-      if (last) {
-        const double* pc = cn;
-        f.values(&pc, 1, &fc, &mc);
-      } else {
-        fc = f.value_grad(cn, g, &mc);
-      }
+      const double* pc = cn;
+      f.values(&pc, 1, &fc, &mc);
       if (!(fc < fbest)) break;
       const double gain = fcentre - fc;
       fbest = fc, best[0] = cn[0], best[1] = cn[1], best[2] = cn[2], mbest = mc;
       fcentre = fc;
       for (int i = 0; i < 3; ++i) centre[i] = cn[i];
-      if (!(gain > search.next_step_gain * scale)) break;
+      // The next step's gradient only when there is one (most texels stop after the first).
+      if (step + 1 == search.steps || !(gain > search.next_step_gain * scale)) break;
+      f.gradient_at(centre, mbest, g);
     }
     for (int i = 0; i < 3; ++i) d[i] = best[i];
     if (moments) *moments = mbest;
