@@ -2,6 +2,7 @@
 
 #include "fit/ahd_decode.h"
 #include "fit/direction_refine.h"
+#include "fit/refine_objective.h"
 
 #include <algorithm>
 #include <cmath>
@@ -105,51 +106,63 @@ AhdFit fit_texel(const IrradiancePoly p[3], const FitOptions& opt) {
   irradiance_along_z(p, ez);
   usable_iz(ez, iz, &flags, &negative);
   // Refinement keeps d_z ≥ dz_min itself; kFitDirClamped still says whether the linear d needed it.
-  if (directional && opt.direction_fit == DirectionFit::Refined) refine_direction(p, iz, opt, d);
-  AhdFit colours = fit_colours(p, d, iz, opt);
+  AhdFit colours;
+  if (directional && opt.direction_fit == DirectionFit::Refined) {
+    LuneMoments m;
+    refine_direction(p, iz, opt, d, RefineSearch{}, nullptr, &m);
+    colours = fit_colours(p, d, iz, opt, &m);
+  } else {
+    colours = fit_colours(p, d, iz, opt);
+  }
   colours.flags |= flags | (negative ? kFitNegativeIz : 0);
   return colours;
 }
 
 AhdFit fit_colours(const IrradiancePoly p[3], const double d[3], const double iz[3], const FitOptions& opt) {
+  return fit_colours(p, d, iz, opt, nullptr);
+}
+
+AhdFit fit_colours(const IrradiancePoly p[3], const double d[3], const double iz[3], const FitOptions& opt,
+                   const LuneMoments* moments) {
   AhdFit out{};
   const double dz = d[2];
-  // The least-squares luminance ratio needs no per-channel fit.
-  const bool refined = opt.direction_fit == DirectionFit::Refined;
-  const bool ls_ratio = refined && opt.ratio_form == RatioForm::Luminance;
-  double ca[3] = {0, 0, 0}, cd[3] = {0, 0, 0};
-  // Refined: the moments of the three channels from one lune_moments (closed forms, the ones the
-  // refinement minimised); linear: per channel, as the paper's fit always did (same bytes).
-  LuneMoments lm{};
-  if (refined) lm = lune_moments(p, d);
-  for (int c = 0; c < 3 && !ls_ratio; ++c) {
-    if (!(iz[c] > 0.0)) {
-      ca[c] = cd[c] = 0.0;
-      continue;
-    }
-    const HemisphereMoments m = refined ? HemisphereMoments{2.0 * kPi, lm.g1, lm.g2, hemisphere_integral(p[c]), lm.f1[c], 0.0}
-                                        : hemisphere_moments(p[c], d, /*with_f2=*/false);
-    fit_channel(m, iz[c], dz, &ca[c], &cd[c]);
-  }
   for (int i = 0; i < 3; ++i) out.d[i] = float(d[i]);
   const double lum_iz = opt.luma[0] * iz[0] + opt.luma[1] * iz[1] + opt.luma[2] * iz[2];
-  const double lum_ca = opt.luma[0] * ca[0] + opt.luma[1] * ca[1] + opt.luma[2] * ca[2];
-  double r_lum = 1.0;
-  if (lum_iz > 0.0) {
-    if (ls_ratio) {
-      const double f0[3] = {hemisphere_integral(p[0]), hemisphere_integral(p[1]), hemisphere_integral(p[2])};
-      r_lum = least_squares_ratio(lm, f0, iz, dz);
+  if (!(lum_iz > 0.0)) out.flags |= kFitBlack;
+  double ratio[3] = {1.0, 1.0, 1.0};
+  if (opt.direction_fit == DirectionFit::Refined) {
+    // The colours the refinement's objective chose at d (refine_objective.h), from the moments of
+    // the three channels at once (closed forms): the arithmetic the refinement minimised. The
+    // luminance ratio is the least-squares one.
+    const RefineObjective f(p, iz, opt.ratio_form);
+    const LuneMoments lm = moments ? *moments : lune_moments(p, d);
+    if (opt.ratio_form == RatioForm::Luminance) {
+      const double r = lum_iz > 0.0 ? least_squares_ratio(lm, f.f0, iz, dz) : 1.0;
+      ratio[0] = ratio[1] = ratio[2] = r;
     } else {
-      r_lum = std::clamp(lum_ca / lum_iz, 0.0, 1.0);
+      double ca[3], cd[3];
+      f.colours(lm, dz, ca, cd);
+      for (int c = 0; c < 3; ++c) ratio[c] = iz[c] > 0.0 ? std::clamp(ca[c] / iz[c], 0.0, 1.0) : 1.0;
     }
   } else {
-    out.flags |= kFitBlack;
+    // The paper's fit: per channel, then L(C_a)/L(I_z) in the luminance form.
+    double ca[3] = {0, 0, 0}, cd[3] = {0, 0, 0};
+    for (int c = 0; c < 3; ++c) {
+      if (!(iz[c] > 0.0)) continue;
+      const HemisphereMoments m = hemisphere_moments(p[c], d, /*with_f2=*/false);
+      fit_channel(m, iz[c], dz, &ca[c], &cd[c]);
+    }
+    if (opt.ratio_form == RatioForm::Luminance) {
+      const double lum_ca = opt.luma[0] * ca[0] + opt.luma[1] * ca[1] + opt.luma[2] * ca[2];
+      const double r = lum_iz > 0.0 ? std::clamp(lum_ca / lum_iz, 0.0, 1.0) : 1.0;
+      ratio[0] = ratio[1] = ratio[2] = r;
+    } else {
+      for (int c = 0; c < 3; ++c) ratio[c] = iz[c] > 0.0 ? std::clamp(ca[c] / iz[c], 0.0, 1.0) : 1.0;
+    }
   }
   for (int c = 0; c < 3; ++c) {
-    double r = r_lum;
-    if (opt.ratio_form == RatioForm::Rgb) r = iz[c] > 0.0 ? std::clamp(ca[c] / iz[c], 0.0, 1.0) : 1.0;
     out.iz[c] = float(iz[c]);
-    out.ratio[c] = float(r);
+    out.ratio[c] = float(ratio[c]);
   }
   return out;
 }

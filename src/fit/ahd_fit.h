@@ -86,6 +86,11 @@ double hemisphere_mse(const HemisphereMoments& m, double ca, double cd);
 // along the normal iz[c] ≥ 0 (the closed-loop quantiser passes the decoded d and I_z here).
 // The luminance ratio follows opt.direction_fit (Refined: the least-squares ratio).
 AhdFit fit_colours(const IrradiancePoly p[3], const double d[3], const double iz[3], const FitOptions& opt);
+// The same with d's lune moments already at hand (refined only: lune_moments(p, d) of
+// direction_refine.h, which the refinement returns): the same bytes without recomputing them.
+struct LuneMoments;
+AhdFit fit_colours(const IrradiancePoly p[3], const double d[3], const double iz[3], const FitOptions& opt,
+                   const LuneMoments* moments);
 
 // Fits one texel from its three channel polynomials (local frame). Always finite output for
 // finite input; constraints always hold (C_a, C_d ≥ 0, ratio in [0,1], d_z ≥ dz_min).

@@ -69,7 +69,16 @@ bool principal_axis(const double A[3][3], double v[3]) {
   const double B00 = a * ip, B11 = b * ip, B22 = c * ip, B01 = A[0][1] * ip, B02 = A[0][2] * ip, B12 = A[1][2] * ip;
   const double det = B00 * (B11 * B22 - B12 * B12) - B01 * (B01 * B22 - B12 * B02) + B02 * (B01 * B12 - B11 * B02);
   const double r = std::clamp(det / 2.0, -1.0, 1.0);
-  const double lambda = q + 2.0 * p * std::cos(std::acos(r) / 3.0);
+  // cos(acos(r)/3) is the largest root x ∈ [½, 1] of 4x³ − 3x = r: Newton's method from
+  // ½ + ½√((1+r)/2) (exact at r = ±1, within 0.02 between), four steps, instead of libm's acos and
+  // cos (a sixth of the starts' cost).
+  double x = 0.5 + 0.5 * std::sqrt(0.5 * (1.0 + r));
+  for (int it = 0; it < 4; ++it) {
+    const double dh = 12.0 * x * x - 3.0;
+    if (!(dh > 1e-12)) break;
+    x -= (4.0 * x * x * x - 3.0 * x - r) / dh;
+  }
+  const double lambda = q + 2.0 * p * x;
   const double M[3][3] = {{A[0][0] - lambda, A[0][1], A[0][2]},
                           {A[0][1], A[1][1] - lambda, A[1][2]},
                           {A[0][2], A[1][2], A[2][2] - lambda}};
@@ -98,19 +107,25 @@ void refine_direction(const IrradiancePoly p[3], const double iz[3], const FitOp
 }
 
 void refine_direction(const IrradiancePoly p[3], const double iz[3], const FitOptions& opt, double d[3],
-                      const RefineSearch& search, int* winner) {
+                      const RefineSearch& search, int* winner, LuneMoments* moments) {
   const RefineObjective f(p, iz, opt.ratio_form);
   // Cheap global starts: the local search from the linear d misses the better basin on varied
   // lighting (the L1 band averages the lights' directions; the best lobe follows the strongest).
   // Candidates: each channel's own L1 direction and the axis of the luminance L2 band's quadratic
   // form, which points along the dominant light. The best of them and the linear d is polished
   // below. (Which pay: README "Choosing the direction".) All are evaluated in one batch
-  // (RefineObjective::values) and the first smallest kept, as trying them one by one would.
+  // (RefineObjective::values) and the first smallest kept, as trying them one by one would. A
+  // start within search.same_start_cos of one already listed is dropped (it would land in the same
+  // basin; on near-grey lighting the channels' L1 directions are the linear d).
   double cand[6][3];
   int ids[6], n = 0;
   auto add_start = [&](const double s[3], int id) {
     for (int i = 0; i < 3; ++i) cand[n][i] = s[i];
-    if (id) tilt_above_horizon(cand[n], opt.dz_min);
+    if (id) {
+      tilt_above_horizon(cand[n], opt.dz_min);
+      for (int j = 0; j < n; ++j)
+        if (dot3(cand[j], cand[n]) > search.same_start_cos) return;
+    }
     ids[n++] = id;
   };
   add_start(d, 0);
@@ -144,48 +159,69 @@ void refine_direction(const IrradiancePoly p[3], const double iz[3], const FitOp
   }
   const double* ptr[6];
   double fs[6];
+  LuneMoments ms[6];
   for (int i = 0; i < n; ++i) ptr[i] = cand[i];
-  f.values(ptr, n, fs);
+  f.values(ptr, n, fs, ms);
   double best[3] = {d[0], d[1], d[2]};
   double fbest = fs[0];
+  int ib = 0;
   if (winner) *winner = 0;
-  if (!std::isfinite(fbest)) return;
+  if (!std::isfinite(fbest)) {
+    if (moments) *moments = ms[0];
+    return;
+  }
   for (int i = 1; i < n; ++i)
     if (fs[i] < fbest) {
-      fbest = fs[i], best[0] = cand[i][0], best[1] = cand[i][1], best[2] = cand[i][2];
+      fbest = fs[i], best[0] = cand[i][0], best[1] = cand[i][1], best[2] = cand[i][2], ib = i;
       if (winner) *winner = ids[i];
     }
+  LuneMoments mbest = ms[ib];
   // Polish: Newton steps along the descent direction with the analytic gradient
   // (refine_objective.h): the curvature along −∇f from the value at a small step h there (a
   // parabola through f and its slope −|∇f| at the centre: one value, half the cost of a second
   // gradient), then the 1-D Newton step (a fixed 0.1 rad where the curvature is not positive), at
-  // most 0.5 rad. The best point seen is kept, so this never loses what the starts found.
+  // most 0.5 rad. The best point seen is kept, so this never loses what the starts found. The
+  // gradient at the best start comes from its moments of the batch. A further step is taken only
+  // when the last one lowered f by more than search.next_step_gain of the objective's scale
+  // Σ_c 2π I_c² (the error of a black lobe): most texels are converged after one.
   if (search.line) {
     const double h = 0.05;
+    const double scale = 2 * kPi * (iz[0] * iz[0] + iz[1] * iz[1] + iz[2] * iz[2]);
     double g[3];
     double centre[3] = {best[0], best[1], best[2]};
-    double fcentre = f.value_grad(centre, g);
+    double fcentre = fbest;
+    f.gradient_at(centre, mbest, g);
     for (int step = 0; step < search.steps; ++step) {
       const double gl = std::sqrt(dot3(g, g));
       if (!(gl > 0) || !std::isfinite(gl)) break;
       double u[3] = {-g[0] / gl, -g[1] / gl, -g[2] / gl}, v[3] = {0, 0, 0};
       double xh[3];
       offset_dir(centre, u, v, h, 0, opt.dz_min, xh);
-      const double fh = f.value(xh);
-      if (fh < fbest) fbest = fh, best[0] = xh[0], best[1] = xh[1], best[2] = xh[2];
+      const double* px = xh;
+      double fh;
+      LuneMoments mh;
+      f.values(&px, 1, &fh, &mh);
+      if (fh < fbest) fbest = fh, best[0] = xh[0], best[1] = xh[1], best[2] = xh[2], mbest = mh;
       const double kappa = 2.0 * (fh - fcentre + gl * h) / (h * h);
       double t = kappa > 0 ? gl / kappa : 0.1;
       t = std::min(t, 0.5);
-      double cand[3];
-      offset_dir(centre, u, v, t, 0, opt.dz_min, cand);
-      const bool last = step + 1 == search.steps;
-      const double fc = last ? f.value(cand) : f.value_grad(cand, g);
+      double cn[3];
+      offset_dir(centre, u, v, t, 0, opt.dz_min, cn);
+      double fc;
+      LuneMoments mc;
+      const double* pc = cn;
+      f.values(&pc, 1, &fc, &mc);
       if (!(fc < fbest)) break;
-      fbest = fc, best[0] = cand[0], best[1] = cand[1], best[2] = cand[2];
+      const double gain = fcentre - fc;
+      fbest = fc, best[0] = cn[0], best[1] = cn[1], best[2] = cn[2], mbest = mc;
       fcentre = fc;
-      for (int i = 0; i < 3; ++i) centre[i] = cand[i];
+      for (int i = 0; i < 3; ++i) centre[i] = cn[i];
+      // The next step's gradient only when there is one (most texels stop after the first).
+      if (step + 1 == search.steps || !(gain > search.next_step_gain * scale)) break;
+      f.gradient_at(centre, mbest, g);
     }
     for (int i = 0; i < 3; ++i) d[i] = best[i];
+    if (moments) *moments = mbest;
     return;
   }
   // Polish: Newton steps in the tangent plane with the analytic gradient (refine_objective.h); the
@@ -194,6 +230,7 @@ void refine_direction(const IrradiancePoly p[3], const double iz[3], const FitOp
   // point seen is kept, so this never loses what the starts found.
   if (search.steps <= 0) {
     for (int i = 0; i < 3; ++i) d[i] = best[i];
+    if (moments) *moments = lune_moments(p, d);
     return;
   }
   const double h = 0.02;
@@ -235,6 +272,7 @@ void refine_direction(const IrradiancePoly p[3], const double iz[3], const FitOp
     gu = dot3(g, u), gv = dot3(g, v);
   }
   for (int i = 0; i < 3; ++i) d[i] = best[i];
+  if (moments) *moments = lune_moments(p, d);
 }
 
 }  // namespace ahd

@@ -60,8 +60,16 @@ struct RefineSearch {
   unsigned starts = kStartChannelL1 | kStartL2Axis | kStartL2AxisBoth;
   int steps = 2;
   bool line = true;  // Newton along −∇f (2 gradients a step); false: the 2-D Newton step (3 gradients)
+  // A start within ≈ 8° of one already listed (cosine above this) is dropped: it would end in the
+  // same basin (README "Speed, second round").
+  double same_start_cos = 0.99;
+  // Line search only: a further step only after the last lowered f by more than this fraction of
+  // Σ_c 2π I_c² (most texels gain little from the second step).
+  double next_step_gain = 1e-2;
 };
+// With `moments`, also the lune moments of the returned d (for fit_colours: the line search hands
+// on those it computed; the 2-D search recomputes them).
 void refine_direction(const IrradiancePoly p[3], const double iz[3], const FitOptions& opt, double d[3],
-                      const RefineSearch& search, int* winner = nullptr);
+                      const RefineSearch& search, int* winner = nullptr, LuneMoments* moments = nullptr);
 
 }  // namespace ahd

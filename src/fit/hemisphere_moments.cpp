@@ -105,7 +105,7 @@ double hemisphere_square(const IrradiancePoly& p) {
 }
 
 // atan2(s, c) for s ≥ 0, c > 0 (θ ∈ [0, π/2)), within 1e-15 of libm's: the refinement evaluates
-// the lune moments about 12 times per texel and libm's atan2 was a sixth of its time. One division
+// the lune moments up to 10 times per texel and libm's atan2 was a sixth of its time. One division
 // reduces to |x| ≤ tan(π/8): θ = atan(s/c) below π/8, π/4 + atan((s−c)/(s+c)) up to 3π/8, π/2 −
 // atan(c/s) above; then atan(x) = x·P(x²), P the degree-10 Chebyshev interpolant of atan(x)/x in x²
 // (max error 7e-16 on that interval).
@@ -167,7 +167,7 @@ void lune_moments(const IrradiancePoly p[3], const double* const* d, int n, Lune
   // its closed form for a unit d = (s, 0, c) (B = π − θ the lune's width; s² + c² = 1):
   //   ∫g = π/2 (1+c), ∫g² = 2/3 (B + sc), ∫x g = 2/3 sB, ∫z g = 2/3 (cB + s), ∫y² g = π/8 (1+c),
   //   ∫x² g = 3π/8 (c/3 + c⁴/3 + s² − s⁴/3), ∫z² g = 3π/8 (2c/3 + c² − c⁴/3 + s⁴/3), ∫xz g = π/8 s(1+c)
-  // (this runs about 12 times per texel in the refinement; tests compare it with hemisphere_moments).
+  // (this runs up to 10 times per texel in the refinement; tests compare it with hemisphere_moments).
   // One stage at a time over the n directions: their square roots, divisions and polynomials are
   // independent, so they overlap in the pipeline instead of waiting on each other's latency.
   for (int i = 0; i < n; ++i) {

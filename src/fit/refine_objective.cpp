@@ -15,7 +15,7 @@ RefineObjective::RefineObjective(const IrradiancePoly p3[3], const double iz3[3]
 namespace {
 
 // The colours the fit chooses at d (d_z = dz) from the moments: a = C_a, b = C_d.
-void colours(const RefineObjective& o, const LuneMoments& m, double dz, double a[3], double b[3]) {
+void choose_colours(const RefineObjective& o, const LuneMoments& m, double dz, double a[3], double b[3]) {
   const double g0 = 2.0 * kPi;
   if (o.luminance) {
     const double r = least_squares_ratio(m, o.f0, o.iz, dz), inv_dz = 1.0 / dz;
@@ -62,25 +62,43 @@ double RefineObjective::value(const double d[3]) const {
   return f;
 }
 
-void RefineObjective::values(const double* const* d, int n, double* out) const {
+void RefineObjective::values(const double* const* d, int n, double* out, LuneMoments* moments) const {
   constexpr int kBatch = 8;
-  LuneMoments m[kBatch];
+  LuneMoments local[kBatch];
   for (int i0 = 0; i0 < n; i0 += kBatch) {
     const int k = std::min(kBatch, n - i0);
+    LuneMoments* m = moments ? moments + i0 : local;
     lune_moments(p, d + i0, k, m);
     for (int i = 0; i < k; ++i) {
       double a[3], b[3];
-      colours(*this, m[i], d[i0 + i][2], a, b);
+      colours(m[i], d[i0 + i][2], a, b);
       out[i0 + i] = error_sum(*this, m[i], a, b);
     }
   }
 }
 
-double RefineObjective::value_grad(const double d[3], double grad[3]) const {
+double RefineObjective::value_grad(const double d[3], double grad[3], LuneMoments* moments) const {
   const LuneMoments m = lune_moments(p, d);
+  if (moments) *moments = m;
   double a[3], b[3];
-  colours(*this, m, d[2], a, b);
+  colours(m, d[2], a, b);
   const double f = error_sum(*this, m, a, b);
+  gradient(d, m, a, b, grad);
+  return f;
+}
+
+void RefineObjective::gradient_at(const double d[3], const LuneMoments& m, double grad[3]) const {
+  double a[3], b[3];
+  colours(m, d[2], a, b);
+  gradient(d, m, a, b, grad);
+}
+
+void RefineObjective::colours(const LuneMoments& m, double dz, double a[3], double b[3]) const {
+  choose_colours(*this, m, dz, a, b);
+}
+
+void RefineObjective::gradient(const double d[3], const LuneMoments& m, const double a[3], const double b[3],
+                               double grad[3]) const {
   // The lune frame: rotate about z by −φ so that d = (s, 0, c), s ≥ 0 (as lune_moments does).
   const double s = m.s, c = m.c, B = m.B;
   const double inv_s = s > 0 ? 1.0 / s : 0.0;
@@ -126,7 +144,6 @@ double RefineObjective::value_grad(const double d[3], double grad[3]) const {
   double g[3] = {cp * gx - sp * gy, sp * gx + cp * gy, gz};
   const double dot = g[0] * d[0] + g[1] * d[1] + g[2] * d[2];
   for (int i = 0; i < 3; ++i) grad[i] = g[i] - dot * d[i];
-  return f;
 }
 
 }  // namespace ahd

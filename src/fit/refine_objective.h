@@ -9,6 +9,7 @@
 // because ω·d = 0 on the lune's edge): monomials of degree ≤ 3 over the same lune.
 #pragma once
 #include "fit/ahd_fit.h"
+#include "fit/direction_refine.h"
 
 namespace ahd {
 
@@ -23,9 +24,20 @@ struct RefineObjective {
   // f(d) for a unit d with d_z > 0.
   double value(const double d[3]) const;
   // value(d[i]) into out[i] for n directions at once (lune_moments' batch form): the same bytes.
-  void values(const double* const* d, int n, double* out) const;
+  // With `moments` (n entries) also each direction's lune moments, for gradient_at / fit_colours.
+  void values(const double* const* d, int n, double* out, LuneMoments* moments = nullptr) const;
   // f(d) and its gradient on the unit sphere (a tangent vector at d, world/local frame).
-  double value_grad(const double d[3], double grad[3]) const;
+  // With `moments`, also d's lune moments.
+  double value_grad(const double d[3], double grad[3], LuneMoments* moments = nullptr) const;
+  // The gradient alone at d from d's lune moments m (lune_moments(p, d)): the same bytes as
+  // value_grad's.
+  void gradient_at(const double d[3], const LuneMoments& m, double grad[3]) const;
+  // The colours the fit chooses at d (d_z = dz) from d's lune moments: a = C_a, b = C_d per channel
+  // (C_a ∈ [0, I_c], C_a + d_z C_d = I_c up to rounding).
+  void colours(const LuneMoments& m, double dz, double a[3], double b[3]) const;
+
+ private:
+  void gradient(const double d[3], const LuneMoments& m, const double a[3], const double b[3], double grad[3]) const;
 };
 
 }  // namespace ahd
