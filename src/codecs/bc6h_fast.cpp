@@ -566,8 +566,14 @@ void force_avx2(bool avx2) { g_force_avx2.store(avx2, std::memory_order_relaxed)
 void fit_blocks_fast(const uint16_t* h, const float* x, const uint8_t* valid, int n, OneRegionFit* fits) {
   int i = 0;
   if (!scalar_forced() && !g_force_avx2.load(std::memory_order_relaxed) && cpu_has_avx512()) {
-    // A last batch of at most eight blocks takes the AVX2 path (half the lanes' work; same fits).
-    for (; n - i > 8; i += 16) fit_batch<16>(h, x, valid, n, i, fits, fit_blocks_fast_x16);
+    // Up to kMaxBatches batches of sixteen at a time (their second passes gathered); a last
+    // batch of at most eight blocks takes the AVX2 path (half the lanes' work; same fits).
+    for (; n - i > 8; i += 16 * kMaxBatches) {
+      const int batches = std::min(kMaxBatches, (n - i + 15) / 16);
+      fit_batch<16 * kMaxBatches>(h, x, valid, n, i, fits, [batches](auto hp, auto xp, auto vp, auto op) {
+        fit_blocks_fast_x16n(batches, hp, xp, vp, op);
+      });
+    }
   }
   if (!scalar_forced() && cpu_has_avx2()) {
     for (; i < n; i += 8) fit_batch<8>(h, x, valid, n, i, fits, fit_blocks_fast_x8);
@@ -577,9 +583,9 @@ void fit_blocks_fast(const uint16_t* h, const float* x, const uint8_t* valid, in
 }
 
 void encode_blocks_fast(const uint16_t* h, const float* x, const uint8_t* valid, int n, uint8_t* out) {
-  for (int i = 0; i < n; i += 16) {  // sixteen fits (one AVX-512 batch) on the stack at a time
-    const int m = std::min(16, n - i);
-    OneRegionFit fits[16];
+  for (int i = 0; i < n; i += 16 * kMaxBatches) {  // kMaxBatches AVX-512 batches of fits on the stack at a time
+    const int m = std::min(16 * kMaxBatches, n - i);
+    OneRegionFit fits[16 * kMaxBatches];
     fit_blocks_fast(h + 48 * i, x + 48 * i, valid + 16 * i, m, fits);
     for (int j = 0; j < m; ++j) {
       const int b = i + j;

@@ -88,11 +88,14 @@ void fit_blocks_fast_x8(const uint16_t* const h[8], const float* const x[8], con
                         OneRegionFit* const out[8]);
 bool cpu_has_avx2();
 
-// The same for sixteen blocks at once, one per AVX-512 lane (bc6h_fast_avx512.cpp): the same fits
-// as fit_blocks_fast_x8 and fit_one_region_fast. Call only when cpu_has_avx512() (F, VL, BW, DQ
-// and the OS's ZMM state).
-void fit_blocks_fast_x16(const uint16_t* const h[16], const float* const x[16], const uint8_t* const valid[16],
-                         OneRegionFit* const out[16]);
+// fit_blocks_fast_x8 for `batches` (1..kMaxBatches) batches of sixteen blocks, one block per
+// AVX-512 lane (bc6h_fast_avx512.cpp; block i: h[i], x[i], valid[i] → *out[i], skipped when
+// null): the same fits as fit_one_region_fast. The second least-squares pass's index step runs
+// on the lanes that need it gathered from all the batches. Call only when cpu_has_avx512() (F,
+// VL, BW, DQ and the OS's ZMM state).
+constexpr int kMaxBatches = 8;
+void fit_blocks_fast_x16n(int batches, const uint16_t* const h[], const float* const x[], const uint8_t* const valid[],
+                          OneRegionFit* const out[]);
 bool cpu_has_avx512();
 
 // The two-region candidate of `fast` (bc6h_fast_two_region.cpp): when one_err (the one-region

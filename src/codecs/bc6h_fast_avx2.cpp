@@ -101,7 +101,8 @@ LANE_INLINE void transpose8(F r[8]) {
 
 AVX2_FN void fit_blocks_fast_x8(const uint16_t* const h[8], const float* const x[8], const uint8_t* const valid[8],
                                 OneRegionFit* const out[8]) {
-  Lanes L;
+  Batch B;
+  Lanes& L = B.L;
   bool all_valid = true;
   for (int l = 0; l < 8; ++l) {
     uint64_t v[2];
@@ -127,7 +128,7 @@ AVX2_FN void fit_blocks_fast_x8(const uint16_t* const h[8], const float* const x
   } else {
     load_partial(L, h, x, valid);
   }
-  fit_lanes(L, out);
+  fit_lanes(B, out);
 }
 
 bool cpu_has_avx2() {

@@ -96,43 +96,109 @@ LANE_INLINE void transpose8(__m256 r[8]) {
   r[6] = _mm256_permute2f128_ps(u2, u6, 0x31), r[7] = _mm256_permute2f128_ps(u3, u7, 0x31);
 }
 
-}  // namespace
+// dst with the lanes of `place` (in order) replaced by the lanes of src in `take` (in order).
+LANE_INLINE F move_lanes(F dst, M place, F src, M take) { return _mm512_mask_expand_ps(dst, place, _mm512_maskz_compress_ps(take, src)); }
+LANE_INLINE I move_lanes(I dst, M place, I src, M take) {
+  return _mm512_mask_expand_epi32(dst, place, _mm512_maskz_compress_epi32(take, src));
+}
 
-AVX512_FN void fit_blocks_fast_x16(const uint16_t* const h[16], const float* const x[16],
-                                   const uint8_t* const valid[16], OneRegionFit* const out[16]) {
-  Lanes L;
+// Moves the lanes `take` of a batch (its planes and new endpoints) to the lanes `place` of the
+// gathered batch (sl, sep).
+LANE_INLINE void gather_lanes(Lanes& sl, Ends& sep, M place, const Lanes& bl, const Ends& bep, M take) {
+  for (int c = 0; c < 3; ++c)
+    for (int t = 0; t < 16; ++t) {
+      sl.H[c][t] = move_lanes(sl.H[c][t], place, bl.H[c][t], take);
+      sl.W[c][t] = move_lanes(sl.W[c][t], place, bl.W[c][t], take);
+    }
+  sep.m = move_lanes(sep.m, place, bep.m, take);
+  for (int k = 0; k < 2; ++k)
+    for (int c = 0; c < 3; ++c) sep.e[k][c] = move_lanes(sep.e[k][c], place, bep.e[k][c], take);
+}
+
+// Loads sixteen blocks into a batch's planes.
+LANE_INLINE void load(Lanes& L, const uint16_t* const h[16], const float* const x[16], const uint8_t* const valid[16]) {
   bool all_valid = true;
   for (int l = 0; l < 16; ++l) {
     uint64_t v[2];
     std::memcpy(v, valid[l], 16);
     all_valid &= (v[0] & v[1]) == 0x0101010101010101ull;
   }
-  if (all_valid) {
-    // Every texel real (inner blocks): each half of the lanes transposed by 8×8 blocks of
-    // columns as in the AVX2 path, the two halves joined into one register.
+  if (!all_valid) return load_partial(L, h, x, valid);
+  // Every texel real (inner blocks): each half of the lanes transposed by 8×8 blocks of columns
+  // as in the AVX2 path, the two halves joined into one register.
 #pragma GCC unroll 6
-    for (int j = 0; j < 48; j += 8) {
-      __m256 hv[2][8], xv[2][8];
-      for (int half = 0; half < 2; ++half) {
-        for (int l = 0; l < 8; ++l) {
-          const int b = half * 8 + l;
-          hv[half][l] = _mm256_cvtepi32_ps(_mm256_cvtepu16_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(h[b] + j))));
-          xv[half][l] = _mm256_loadu_ps(x[b] + j);
-        }
-        transpose8(hv[half]);
-        transpose8(xv[half]);
+  for (int j = 0; j < 48; j += 8) {
+    __m256 hv[2][8], xv[2][8];
+    for (int half = 0; half < 2; ++half) {
+      for (int l = 0; l < 8; ++l) {
+        const int b = half * 8 + l;
+        hv[half][l] = _mm256_cvtepi32_ps(_mm256_cvtepu16_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(h[b] + j))));
+        xv[half][l] = _mm256_loadu_ps(x[b] + j);
       }
-#pragma GCC unroll 8
-      for (int i = 0; i < 8; ++i) {
-        L.H[(j + i) % 3][(j + i) / 3] = _mm512_insertf32x8(_mm512_castps256_ps512(hv[0][i]), hv[1][i], 1);
-        L.W[(j + i) % 3][(j + i) / 3] = _mm512_insertf32x8(_mm512_castps256_ps512(xv[0][i]), xv[1][i], 1);
-      }
+      transpose8(hv[half]);
+      transpose8(xv[half]);
     }
-    for (int t = 0; t < 16; ++t) L.vmask[t] = f32(1.0f);
-  } else {
-    load_partial(L, h, x, valid);
+#pragma GCC unroll 8
+    for (int i = 0; i < 8; ++i) {
+      L.H[(j + i) % 3][(j + i) / 3] = _mm512_insertf32x8(_mm512_castps256_ps512(hv[0][i]), hv[1][i], 1);
+      L.W[(j + i) % 3][(j + i) / 3] = _mm512_insertf32x8(_mm512_castps256_ps512(xv[0][i]), xv[1][i], 1);
+    }
   }
-  fit_lanes(L, out);
+  for (int t = 0; t < 16; ++t) L.vmask[t] = f32(1.0f);
+}
+
+}  // namespace
+
+AVX512_FN void fit_blocks_fast_x16n(int batches, const uint16_t* const h[], const float* const x[],
+                                    const uint8_t* const valid[], OneRegionFit* const out[]) {
+  // Every batch through its first least-squares pass and its second up to the index step, which
+  // then runs on the lanes that need it gathered from all the batches into as few as they fill
+  // (a lane's result depends only on its own values, so the fits are the same) instead of on
+  // every batch with most of its lanes idle. On the hard image 2 988 of 16 384 blocks need it,
+  // in 794 of 1 024 batches: 262 gathered index steps instead of 794 (347 with four batches per
+  // call; noisy 1 020 → 406, smooth 155 → 126). Hard's fit runs ≈ 6–9 % faster for it.
+  Batch B[kMaxBatches];
+  Ends ep[kMaxBatches];
+  bool need[kMaxBatches];
+  for (int g = 0; g < batches; ++g) {
+    load(B[g].L, h + 16 * g, x + 16 * g, valid + 16 * g);
+    start(B[g]);
+    refine(B[g].L, B[g].s);
+    need[g] = refine_head(B[g].L, B[g].s, ep[g]);
+  }
+  Lanes SL;
+  Ends SE;
+  std::memset(static_cast<void*>(&SL), 0, sizeof SL);  // idle lanes: zeros (their results unused)
+  std::memset(static_cast<void*>(&SE), 0, sizeof SE);
+  I trial[kMaxBatches][16];
+  F err[kMaxBatches];
+  M take[kMaxBatches], place[kMaxBatches];
+  int first = 0, filled = 0;  // batches first..g−1 have lanes in S, which holds `filled` lanes
+  for (int g = 0; g <= batches; ++g) {
+    unsigned real = 0;  // lanes of real blocks (a partial batch's padding needs no index step)
+    if (g < batches)
+      for (int l = 0; l < 16; ++l) real |= unsigned(out[16 * g + l] != nullptr) << l;
+    const M t = g < batches && need[g] ? M(B[g].s.active & real) : M(0);
+    const int n = __builtin_popcount(t);
+    if (filled > 0 && (g == batches || filled + n > 16)) {  // S is full: its index step, results back
+      I st[16];
+      const F se = assign(SL, SE, st);
+      for (int k = first; k < g; ++k) {
+        if (!take[k]) continue;
+        for (int i = 0; i < 16; ++i) trial[k][i] = move_lanes(izero(), take[k], st[i], place[k]);
+        err[k] = move_lanes(fzero(), take[k], se, place[k]);
+        B[k].s.active = take[k];
+        refine_tail(B[k].s, ep[k], trial[k], err[k]);
+      }
+      filled = 0;
+    }
+    if (g == batches) break;
+    if (filled == 0) first = g;
+    take[g] = t, place[g] = M(((1u << n) - 1) << filled);
+    if (n > 0) gather_lanes(SL, SE, place[g], B[g].L, ep[g], t);
+    filled += n;
+  }
+  for (int g = 0; g < batches; ++g) finish(B[g], out + 16 * g);
 }
 
 bool cpu_has_avx512() {
@@ -154,7 +220,7 @@ bool cpu_has_avx512() {
 #else
 
 namespace ahd::bc6h {
-void fit_blocks_fast_x16(const uint16_t* const*, const float* const*, const uint8_t* const*, OneRegionFit* const*) {}
+void fit_blocks_fast_x16n(int, const uint16_t* const*, const float* const*, const uint8_t* const*, OneRegionFit* const*) {}
 bool cpu_has_avx512() { return false; }
 }  // namespace ahd::bc6h
 
