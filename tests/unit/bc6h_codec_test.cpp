@@ -424,8 +424,9 @@ TEST(Bc6h, FastIgnoresPaddingTexels) {
 }
 
 TEST(Bc6h, FastBatchedBlocksAreTheBlocksEncodedAlone) {
-  // The AVX2 path encodes eight blocks per batch, one per lane. A block's bytes must not depend
-  // on the other blocks of its batch (PEERS.md: a batched peer encoder got this wrong): random
+  // The AVX2 path encodes eight blocks per batch, one per lane; the AVX-512 path sixteen, eight
+  // batches per call, the second pass's index step on lanes gathered from all eight. A block's
+  // bytes must not depend on the other blocks of its batch (PEERS.md: a batched peer encoder got this wrong): random
   // blocks of many kinds — solid, partial (padding texels), gradients, a wide range of values,
   // one bright texel — encoded alone, in mixed batches of every offset, and with the one-block
   // scalar path forced, must give the same bytes.
