@@ -44,7 +44,6 @@ LANE_INLINE F to_f(I v) { return _mm256_cvtepi32_ps(v); }
 LANE_INLINE I trunc_i(F v) { return _mm256_cvttps_epi32(v); }
 LANE_INLINE I addi(I a, I b) { return _mm256_add_epi32(a, b); }
 LANE_INLINE I subi(I a, I b) { return _mm256_sub_epi32(a, b); }
-LANE_INLINE I mulli(I a, I b) { return _mm256_mullo_epi32(a, b); }
 LANE_INLINE I mini(I a, I b) { return _mm256_min_epi32(a, b); }
 LANE_INLINE I maxi(I a, I b) { return _mm256_max_epi32(a, b); }
 template <int k>
@@ -74,6 +73,11 @@ LANE_INLINE I dec_where(M m, I v) { return _mm256_add_epi32(v, m); }
 LANE_INLINE I table16(const int* tbl, I k) {
   const I lo = _mm256_loadu_si256(reinterpret_cast<const I*>(tbl)), hi = _mm256_loadu_si256(reinterpret_cast<const I*>(tbl + 8));
   return sel(gti(k, i32(7)), _mm256_permutevar8x32_epi32(hi, k), _mm256_permutevar8x32_epi32(lo, k));
+}
+LANE_INLINE F ffloor(F v) { return _mm256_round_ps(v, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC); }
+LANE_INLINE F table16f(const float* tbl, I k) {
+  const F lo = _mm256_loadu_ps(tbl), hi = _mm256_loadu_ps(tbl + 8);
+  return sel(gti(k, i32(7)), _mm256_permutevar8x32_ps(hi, k), _mm256_permutevar8x32_ps(lo, k));
 }
 LANE_INLINE F loadf(const float* p) { return _mm256_load_ps(p); }
 LANE_INLINE void storef(float* p, F v) { _mm256_store_ps(p, v); }

@@ -46,7 +46,6 @@ LANE_INLINE F to_f(I v) { return _mm512_cvtepi32_ps(v); }
 LANE_INLINE I trunc_i(F v) { return _mm512_cvttps_epi32(v); }
 LANE_INLINE I addi(I a, I b) { return _mm512_add_epi32(a, b); }
 LANE_INLINE I subi(I a, I b) { return _mm512_sub_epi32(a, b); }
-LANE_INLINE I mulli(I a, I b) { return _mm512_mullo_epi32(a, b); }
 LANE_INLINE I mini(I a, I b) { return _mm512_min_epi32(a, b); }
 LANE_INLINE I maxi(I a, I b) { return _mm512_max_epi32(a, b); }
 template <int k>
@@ -74,6 +73,8 @@ LANE_INLINE I sel(M m, I yes, I no) { return _mm512_mask_blend_epi32(m, no, yes)
 LANE_INLINE I inc_where(M m, I v) { return _mm512_mask_add_epi32(v, m, v, _mm512_set1_epi32(1)); }
 LANE_INLINE I dec_where(M m, I v) { return _mm512_mask_sub_epi32(v, m, v, _mm512_set1_epi32(1)); }
 LANE_INLINE I table16(const int* tbl, I k) { return _mm512_permutexvar_epi32(k, _mm512_loadu_si512(tbl)); }
+LANE_INLINE F ffloor(F v) { return _mm512_roundscale_ps(v, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC); }
+LANE_INLINE F table16f(const float* tbl, I k) { return _mm512_permutexvar_ps(k, _mm512_loadu_ps(tbl)); }
 LANE_INLINE F loadf(const float* p) { return _mm512_load_ps(p); }
 LANE_INLINE void storef(float* p, F v) { _mm512_store_ps(p, v); }
 LANE_INLINE void storei(int* p, I v) { _mm512_store_si512(p, v); }
@@ -103,16 +104,19 @@ LANE_INLINE I move_lanes(I dst, M place, I src, M take) {
 }
 
 // Moves the lanes `take` of a batch (its planes and new endpoints) to the lanes `place` of the
-// gathered batch (sl, sep).
+// gathered batch (sl, sep): one two-source permute per register, its indices computed once.
 LANE_INLINE void gather_lanes(Lanes& sl, Ends& sep, M place, const Lanes& bl, const Ends& bep, M take) {
+  const I iota = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+  // Lane j of place ← lane (16 + the source lane) of the pair (sl, bl); other lanes keep their own.
+  const I ix = _mm512_mask_expand_epi32(iota, place, _mm512_maskz_compress_epi32(take, _mm512_add_epi32(iota, i32(16))));
   for (int c = 0; c < 3; ++c)
     for (int t = 0; t < 16; ++t) {
-      sl.H[c][t] = move_lanes(sl.H[c][t], place, bl.H[c][t], take);
-      sl.W[c][t] = move_lanes(sl.W[c][t], place, bl.W[c][t], take);
+      sl.H[c][t] = _mm512_permutex2var_ps(sl.H[c][t], ix, bl.H[c][t]);
+      sl.W[c][t] = _mm512_permutex2var_ps(sl.W[c][t], ix, bl.W[c][t]);
     }
-  sep.m = move_lanes(sep.m, place, bep.m, take);
+  sep.m = _mm512_permutex2var_epi32(sep.m, ix, bep.m);
   for (int k = 0; k < 2; ++k)
-    for (int c = 0; c < 3; ++c) sep.e[k][c] = move_lanes(sep.e[k][c], place, bep.e[k][c], take);
+    for (int c = 0; c < 3; ++c) sep.e[k][c] = _mm512_permutex2var_epi32(sep.e[k][c], ix, bep.e[k][c]);
 }
 
 // Loads sixteen blocks into a batch's planes.
