@@ -17,10 +17,10 @@
 //    it), and every palette entry lies between the endpoints, so no texel can speckle.
 //  * Solid blocks are mode 14 with exact endpoints (a half-bit value is always representable).
 // This file is the one-block path (plain C++ and SSE2 over the 16 texels); images go through
-// fit_blocks_fast (`fast`, and `default` for its incumbents), which on AVX2 CPUs fits eight
-// blocks per batch (bc6h_fast_avx2.cpp, the same operations lane by lane). In `fast`, blocks whose
-// one-region error is high then get a two-region candidate (bc6h_fast_two_region.cpp), kept when
-// it is better. Bytes depend only on the block.
+// fit_blocks_fast (`fast`, and `default` for its incumbents), which fits sixteen blocks per batch
+// on AVX-512 CPUs and eight on AVX2 ones (bc6h_fast_lanes.inc, the same operations lane by lane).
+// In `fast`, blocks whose one-region error is high then get a two-region candidate
+// (bc6h_fast_two_region.cpp), kept when it is better. Bytes depend only on the block.
 #include "codecs/bc6h_fast.h"
 
 #include <Imath/half.h>
@@ -46,6 +46,7 @@ namespace {
 
 std::atomic<bool> g_force_portable{false};
 std::atomic<bool> g_force_scalar{false};
+std::atomic<bool> g_force_avx2{false};
 
 void to_half_portable(const float* in, uint16_t* out, int n) {
   for (int i = 0; i < n; ++i) out[i] = Imath::half(in[i]).bits();
@@ -544,30 +545,47 @@ bool copy_block_in_range(const float* p, size_t stride, float rgb[48]) {
 #endif
 }
 
+// One batch of `lanes` blocks from block i on (a partial batch repeats block i), through fit.
+template <int lanes, class Fit>
+static void fit_batch(const uint16_t* h, const float* x, const uint8_t* valid, int n, int i, OneRegionFit* fits,
+                      Fit fit) {
+  const uint16_t* hp[lanes];
+  const float* xp[lanes];
+  const uint8_t* vp[lanes];
+  OneRegionFit* op[lanes];
+  for (int l = 0; l < lanes; ++l) {
+    const int b = i + l < n ? i + l : i;
+    hp[l] = h + 48 * b, xp[l] = x + 48 * b, vp[l] = valid + 16 * b;
+    op[l] = i + l < n ? fits + i + l : nullptr;
+  }
+  fit(hp, xp, vp, op);
+}
+
+void force_avx2(bool avx2) { g_force_avx2.store(avx2, std::memory_order_relaxed); }
+
 void fit_blocks_fast(const uint16_t* h, const float* x, const uint8_t* valid, int n, OneRegionFit* fits) {
   int i = 0;
-  if (!scalar_forced() && cpu_has_avx2()) {
-    for (; i < n; i += 8) {
-      const uint16_t* hp[8];
-      const float* xp[8];
-      const uint8_t* vp[8];
-      OneRegionFit* op[8];
-      for (int l = 0; l < 8; ++l) {
-        const int b = i + l < n ? i + l : i;  // a partial batch repeats its first block
-        hp[l] = h + 48 * b, xp[l] = x + 48 * b, vp[l] = valid + 16 * b;
-        op[l] = i + l < n ? fits + i + l : nullptr;
-      }
-      fit_blocks_fast_x8(hp, xp, vp, op);
+  if (!scalar_forced() && !g_force_avx2.load(std::memory_order_relaxed) && cpu_has_avx512()) {
+    // Up to kMaxBatches batches of sixteen at a time (their second passes gathered); a last
+    // batch of at most eight blocks takes the AVX2 path (half the lanes' work; same fits).
+    for (; n - i > 8; i += 16 * kMaxBatches) {
+      const int batches = std::min(kMaxBatches, (n - i + 15) / 16);
+      fit_batch<16 * kMaxBatches>(h, x, valid, n, i, fits, [batches](auto hp, auto xp, auto vp, auto op) {
+        fit_blocks_fast_x16n(batches, hp, xp, vp, op);
+      });
     }
+  }
+  if (!scalar_forced() && cpu_has_avx2()) {
+    for (; i < n; i += 8) fit_batch<8>(h, x, valid, n, i, fits, fit_blocks_fast_x8);
     return;
   }
   for (; i < n; ++i) fit_one_region_fast(h + 48 * i, x + 48 * i, valid + 16 * i, fits + i);
 }
 
 void encode_blocks_fast(const uint16_t* h, const float* x, const uint8_t* valid, int n, uint8_t* out) {
-  for (int i = 0; i < n; i += 8) {  // eight fits on the stack at a time
-    const int m = std::min(8, n - i);
-    OneRegionFit fits[8];
+  for (int i = 0; i < n; i += 16 * kMaxBatches) {  // kMaxBatches AVX-512 batches of fits on the stack at a time
+    const int m = std::min(16 * kMaxBatches, n - i);
+    OneRegionFit fits[16 * kMaxBatches];
     fit_blocks_fast(h + 48 * i, x + 48 * i, valid + 16 * i, m, fits);
     for (int j = 0; j < m; ++j) {
       const int b = i + j;

@@ -20,6 +20,10 @@ void floats_to_half(const float* in, uint16_t* out, int n);
 void force_scalar(bool scalar);
 bool scalar_forced();
 
+// true = AVX2 batches of eight even when the CPU has AVX-512 (whose batches hold sixteen blocks):
+// tests force each path (AVX-512, AVX2, scalar) and compare the bytes.
+void force_avx2(bool avx2);
+
 // Which conversion floats_to_half uses: true = the portable path whatever the CPU (tests).
 void force_portable_half(bool portable);
 bool cpu_has_f16c();
@@ -84,6 +88,16 @@ void fit_blocks_fast_x8(const uint16_t* const h[8], const float* const x[8], con
                         OneRegionFit* const out[8]);
 bool cpu_has_avx2();
 
+// fit_blocks_fast_x8 for `batches` (1..kMaxBatches) batches of sixteen blocks, one block per
+// AVX-512 lane (bc6h_fast_avx512.cpp; block i: h[i], x[i], valid[i] → *out[i], skipped when
+// null): the same fits as fit_one_region_fast. The second least-squares pass's index step runs
+// on the lanes that need it gathered from all the batches. Call only when cpu_has_avx512() (F,
+// VL, BW, DQ and the OS's ZMM state).
+constexpr int kMaxBatches = 8;
+void fit_blocks_fast_x16n(int batches, const uint16_t* const h[], const float* const x[], const uint8_t* const valid[],
+                          OneRegionFit* const out[]);
+bool cpu_has_avx512();
+
 // The two-region candidate of `fast` (bc6h_fast_two_region.cpp): when one_err (the one-region
 // fit's error, weighted squared half steps) is above its gate, fits the best-ranked partition and
 // overwrites out (the one-region block) when its error is lower. Same no-specks bound; depends
@@ -92,8 +106,9 @@ void improve_with_two_regions(const uint16_t h[48], const float x[48], const uin
                               uint8_t out[16]);
 
 // Fits n UF16 blocks (block i: h + 48i, x + 48i, valid + 16i → fits[i]), each exactly as
-// fit_one_region_fast fits it alone: eight per AVX2 batch when the CPU has AVX2 and the scalar
-// path is not forced (force_scalar), a partial batch padded with copies of its first block.
+// fit_one_region_fast fits it alone: sixteen per AVX-512 batch when the CPU has AVX-512 (unless
+// force_avx2), else eight per AVX2 batch when it has AVX2, unless the scalar path is forced
+// (force_scalar); a partial batch is padded with copies of its first block.
 void fit_blocks_fast(const uint16_t* h, const float* x, const uint8_t* valid, int n, OneRegionFit* fits);
 
 // Encodes n UF16 blocks (block i → out + 16i), each exactly as encode_block_fast encodes it

@@ -278,7 +278,7 @@ TEST(Bc6h, HalfConversionPathsGiveTheSameBits) {
 }
 
 TEST(Bc6h, SimdAndScalarLoopsWriteTheSameBytes) {
-  // fast (the AVX2 batches, or the one-block SSE2 loops), default (fast-fit blocks and searched ones), high
+  // fast (the AVX-512 or AVX2 batches, or the one-block SSE2 loops), default (fast-fit blocks and searched ones), high
   // (two regions, 3-bit indices), unsigned and signed, on a crop of each shared image.
   for (const char* file : {"lightmap_smooth.exr", "hdr_hard.exr", "lightmap_noisy.exr"}) {
     const ImageF src = clamp_rgb(read_image(std::string(AHD_SHARED_DIR) + "/data/bc6h/" + file));
@@ -301,6 +301,10 @@ TEST(Bc6h, SimdAndScalarLoopsWriteTheSameBytes) {
         const std::vector<uint8_t> sse2 = bc6h_encode_image(crop, o);
         bc6h::force_search_sse2(false);
         EXPECT_EQ(scalar, sse2) << file << " " << bc6h_quality_name(q) << (is_signed ? " signed" : "") << " (SSE2)";
+        bc6h::force_avx2(true);  // eight-block AVX2 batches where the CPU has AVX-512
+        const std::vector<uint8_t> avx2 = bc6h_encode_image(crop, o);
+        bc6h::force_avx2(false);
+        EXPECT_EQ(scalar, avx2) << file << " " << bc6h_quality_name(q) << (is_signed ? " signed" : "") << " AVX2";
       }
     // max (its polish evaluates candidates through the same index step) on a 32×32 corner.
     ImageF small(32, 32, 3);
@@ -429,12 +433,16 @@ TEST(Bc6h, FastIgnoresPaddingTexels) {
 }
 
 TEST(Bc6h, FastBatchedBlocksAreTheBlocksEncodedAlone) {
-  // The AVX2 path encodes eight blocks per batch, one per lane. A block's bytes must not depend
-  // on the other blocks of its batch (PEERS.md: a batched peer encoder got this wrong): random
+  // The AVX2 path encodes eight blocks per batch, one per lane; the AVX-512 path sixteen, eight
+  // batches per call, the second pass's index step on lanes gathered from all eight. A block's
+  // bytes must not depend on the other blocks of its batch (PEERS.md: a batched peer encoder got this wrong): random
   // blocks of many kinds — solid, partial (padding texels), gradients, a wide range of values,
   // one bright texel — encoded alone, in mixed batches of every offset, and with the one-block
   // scalar path forced, must give the same bytes.
-  std::printf("AVX2 on this CPU: %s\n", bc6h::cpu_has_avx2() ? "yes" : "no");
+  // The same holds for the AVX-512 path's sixteen-block batches, and with the AVX2 path forced
+  // on a CPU that has AVX-512.
+  std::printf("AVX2 on this CPU: %s, AVX-512: %s\n", bc6h::cpu_has_avx2() ? "yes" : "no",
+              bc6h::cpu_has_avx512() ? "yes" : "no");
   constexpr int kBlocks = 203;  // not a multiple of 8: the last batch is partial
   std::mt19937 rng(13);
   std::uniform_real_distribution<float> u(0, 1);
@@ -473,39 +481,44 @@ TEST(Bc6h, FastBatchedBlocksAreTheBlocksEncodedAlone) {
     bc6h::encode_block_fast(&h[b * 48], &x[b * 48], &valid[b * 16], one);
     ASSERT_TRUE(std::equal(one, one + 16, &scalar[b * 16])) << b;
   }
-  // The fits themselves (`default` starts from them and reads their error against a threshold):
-  // batched fits equal the one-block fits field by field, the error bit for bit.
-  std::vector<bc6h::OneRegionFit> fits(kBlocks);
-  bc6h::fit_blocks_fast(h.data(), x.data(), valid.data(), kBlocks, fits.data());
-  for (int b = 0; b < kBlocks; ++b) {
-    bc6h::OneRegionFit one;
-    bc6h::fit_one_region_fast(&h[b * 48], &x[b * 48], &valid[b * 16], &one);
-    ASSERT_EQ(fits[b].mode, one.mode) << b;
-    for (int k = 0; k < 2; ++k)
-      for (int c = 0; c < 3; ++c) ASSERT_EQ(fits[b].e[k][c], one.e[k][c]) << b;
-    ASSERT_TRUE(std::equal(one.idx, one.idx + 16, fits[b].idx)) << b;
-    ASSERT_EQ(std::bit_cast<uint32_t>(fits[b].err), std::bit_cast<uint32_t>(one.err)) << b << " " << one.err;
+  for (bool avx2 : {false, true}) {
+    SCOPED_TRACE(avx2 ? "AVX2 forced" : "widest batches");
+    bc6h::force_avx2(avx2);
+    // The fits themselves (`default` starts from them and reads their error against a threshold):
+    // batched fits equal the one-block fits field by field, the error bit for bit.
+    std::vector<bc6h::OneRegionFit> fits(kBlocks);
+    bc6h::fit_blocks_fast(h.data(), x.data(), valid.data(), kBlocks, fits.data());
+    for (int b = 0; b < kBlocks; ++b) {
+      bc6h::OneRegionFit one;
+      bc6h::fit_one_region_fast(&h[b * 48], &x[b * 48], &valid[b * 16], &one);
+      ASSERT_EQ(fits[b].mode, one.mode) << b;
+      for (int k = 0; k < 2; ++k)
+        for (int c = 0; c < 3; ++c) ASSERT_EQ(fits[b].e[k][c], one.e[k][c]) << b;
+      ASSERT_TRUE(std::equal(one.idx, one.idx + 16, fits[b].idx)) << b;
+      ASSERT_EQ(std::bit_cast<uint32_t>(fits[b].err), std::bit_cast<uint32_t>(one.err)) << b << " " << one.err;
+    }
+    for (int offset = 0; offset < 16; ++offset) {  // every block in every lane position
+      std::vector<uint8_t> batched((kBlocks - offset) * 16);
+      bc6h::encode_blocks_fast(&h[offset * 48], &x[offset * 48], &valid[offset * 16], kBlocks - offset, batched.data());
+      EXPECT_TRUE(std::equal(batched.begin(), batched.end(), alone.begin() + offset * 16)) << "offset " << offset;
+    }
+    // Shuffled batches: each block among different neighbours.
+    std::vector<int> order(kBlocks);
+    for (int b = 0; b < kBlocks; ++b) order[b] = b;
+    std::shuffle(order.begin(), order.end(), rng);
+    std::vector<float> xs(kBlocks * 48);
+    std::vector<uint16_t> hs(kBlocks * 48);
+    std::vector<uint8_t> vs(kBlocks * 16), shuffled(kBlocks * 16);
+    for (int i = 0; i < kBlocks; ++i) {
+      std::copy_n(&x[order[i] * 48], 48, &xs[i * 48]);
+      std::copy_n(&h[order[i] * 48], 48, &hs[i * 48]);
+      std::copy_n(&valid[order[i] * 16], 16, &vs[i * 16]);
+    }
+    bc6h::encode_blocks_fast(hs.data(), xs.data(), vs.data(), kBlocks, shuffled.data());
+    for (int i = 0; i < kBlocks; ++i)
+      ASSERT_TRUE(std::equal(&shuffled[i * 16], &shuffled[i * 16] + 16, &alone[order[i] * 16])) << order[i];
+    bc6h::force_avx2(false);
   }
-  for (int offset = 0; offset < 8; ++offset) {  // every block in every lane position
-    std::vector<uint8_t> batched((kBlocks - offset) * 16);
-    bc6h::encode_blocks_fast(&h[offset * 48], &x[offset * 48], &valid[offset * 16], kBlocks - offset, batched.data());
-    EXPECT_TRUE(std::equal(batched.begin(), batched.end(), alone.begin() + offset * 16)) << "offset " << offset;
-  }
-  // Shuffled batches: each block among different neighbours.
-  std::vector<int> order(kBlocks);
-  for (int b = 0; b < kBlocks; ++b) order[b] = b;
-  std::shuffle(order.begin(), order.end(), rng);
-  std::vector<float> xs(kBlocks * 48);
-  std::vector<uint16_t> hs(kBlocks * 48);
-  std::vector<uint8_t> vs(kBlocks * 16), shuffled(kBlocks * 16);
-  for (int i = 0; i < kBlocks; ++i) {
-    std::copy_n(&x[order[i] * 48], 48, &xs[i * 48]);
-    std::copy_n(&h[order[i] * 48], 48, &hs[i * 48]);
-    std::copy_n(&valid[order[i] * 16], 16, &vs[i * 16]);
-  }
-  bc6h::encode_blocks_fast(hs.data(), xs.data(), vs.data(), kBlocks, shuffled.data());
-  for (int i = 0; i < kBlocks; ++i)
-    ASSERT_TRUE(std::equal(&shuffled[i * 16], &shuffled[i * 16] + 16, &alone[order[i] * 16])) << order[i];
   // And the blocks decode within the no-specks bound.
   for (int b = 0; b < kBlocks; ++b) {
     uint16_t dec[48];
