@@ -178,11 +178,38 @@ void decode_plane_texel(PixelFormat f, const TextureLevel& lvl, uint32_t x, uint
   const uint32_t bw = uint32_t(fi.block_width), bh = uint32_t(fi.block_height);
   const uint32_t blocks_per_row = (lvl.width + bw - 1) / bw;
   const size_t offset = (size_t(y / bh) * blocks_per_row + x / bw) * size_t(fi.bytes_per_block);
+  // Block formats: the texel's block alone, decoded on the stack by the decoder decode_plane uses
+  // (the error estimate calls this for each sampled texel of every level: no allocations here).
+  const uint8_t* blk = lvl.data.data() + offset;
+  const int t = int((y % bh) * bw + (x % bw));
+  switch (f) {
+    case PixelFormat::BC6H_UFLOAT:
+    case PixelFormat::BC6H_SFLOAT: {
+      uint16_t h[48];
+      bc6h_decode_block(blk, f == PixelFormat::BC6H_SFLOAT, h);
+      for (int c = 0; c < 3; ++c) {
+        Imath::half v;
+        v.setBits(h[t * 3 + c]);
+        out[c] = float(v);
+      }
+      return;
+    }
+    case PixelFormat::BC4_UNORM:
+    case PixelFormat::BC5_UNORM: {
+      float v[16];
+      for (int c = 0; c < fi.channels; ++c) {
+        bc4_decode_block(blk + 8 * c, v);
+        out[c] = v[t];
+      }
+      return;
+    }
+    default:
+      break;
+  }
   TextureLevel block;  // the texel's block as a level of its own
   block.width = bw;
   block.height = bh;
-  block.data.assign(lvl.data.begin() + std::ptrdiff_t(offset),
-                    lvl.data.begin() + std::ptrdiff_t(offset + size_t(fi.bytes_per_block)));
+  block.data.assign(blk, blk + fi.bytes_per_block);
   const ImageF img = decode_plane(f, block);
   const float* v = img.at(int(x % bw), int(y % bh));
   for (int c = 0; c < fi.channels; ++c) out[c] = v[c];

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <random>
 
 #include "io/profile_file.h"
 #include "cli_runner.h"
@@ -104,6 +105,23 @@ TEST(ErrorEstimate, SampleIsFixedStratifiedAndCovered) {
   std::vector<uint8_t> few(50, 0);
   few[3] = few[17] = few[49] = 1;
   EXPECT_EQ(error_sample(few, 1000), (std::vector<size_t>{3, 17, 49}));
+}
+
+// The picks are pinned (FNV-1a of the indices, from the first implementation's straight scan) so
+// that a faster scan cannot move the sample, and with it every estimate a report prints.
+TEST(ErrorEstimate, SamplePicksArePinned) {
+  const unsigned long long expected[3] = {0xb2df618e2e2627a5ull, 0x17ad381b58d6b23aull, 0xeb1072ee8184a5a7ull};
+  for (int pat = 0; pat < 3; ++pat) {
+    std::vector<uint8_t> cov(2048 * 1024 + 77, 0);
+    std::mt19937 rng(pat);
+    for (size_t i = 0; i < cov.size(); ++i)
+      cov[i] = pat == 0 ? (i / 37) % 3 != 0 : pat == 1 ? (rng() % 7) < 3 : ((i % 2048) < 1500 && (i / 2048) % 100 < 60);
+    const auto s = error_sample(cov, 4096);
+    ASSERT_EQ(s.size(), 4096u);
+    unsigned long long h = 1469598103934665603ull;
+    for (size_t v : s) h = (h ^ v) * 1099511628211ull;
+    EXPECT_EQ(h, expected[pat]) << "pattern " << pat;
+  }
 }
 
 TEST(ErrorEstimate, SmallImagesAreMeasuredExactly) {

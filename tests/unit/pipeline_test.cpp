@@ -2,11 +2,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
+#include <random>
 
 #include "io/profile_file.h"
 #include "fit/ahd_decode.h"
 #include "fit/fit_image.h"
 #include "pipeline/convert.h"
+#include "pipeline/plane_codec.h"
 #include "sample/analytic_baker.h"
 
 using namespace ahd;
@@ -113,5 +116,29 @@ TEST(Pipeline, DecodedPlanesReproduceIzAtTexelCentres) {
     double e[3];
     decode_irradiance(&p.iz[i * 3], &p.d[i * 3], &p.ratio[i * 3], z, opt.fit.dz_min, e);
     for (int c = 0; c < 3; ++c) ASSERT_NEAR(e[c], p.iz[i * 3 + c], 1e-6 * p.iz[i * 3 + c] + 1e-30);
+  }
+}
+
+// The error estimate decodes one texel at a time (decode_plane_texel: the block alone, on the
+// stack); every texel must read as whole-level decoding reads it, bit for bit, in every format a
+// profile can write, on random bytes and an odd size (partial blocks at the right and bottom).
+TEST(Pipeline, OneTexelDecodeIsWholeLevelDecode) {
+  std::mt19937 rng(11);
+  for (PixelFormat f : {PixelFormat::BC6H_UFLOAT, PixelFormat::BC6H_SFLOAT, PixelFormat::BC4_UNORM,
+                        PixelFormat::BC5_UNORM, PixelFormat::R8_UNORM, PixelFormat::RG8_UNORM,
+                        PixelFormat::RGBA8_UNORM, PixelFormat::B10G11R11_UFLOAT, PixelFormat::E5B9G9R9_UFLOAT}) {
+    TextureLevel lvl;
+    lvl.width = 9;
+    lvl.height = 7;
+    lvl.data.resize(level_size_bytes(f, lvl.width, lvl.height));
+    for (uint8_t& b : lvl.data) b = uint8_t(rng());
+    const ImageF all = decode_plane(f, lvl);
+    for (uint32_t y = 0; y < lvl.height; ++y)
+      for (uint32_t x = 0; x < lvl.width; ++x) {
+        float v[4] = {};
+        decode_plane_texel(f, lvl, x, y, v);
+        ASSERT_EQ(std::memcmp(v, all.at(int(x), int(y)), sizeof(float) * size_t(all.channels)), 0)
+            << format_info(f).name << " texel " << x << "," << y;
+      }
   }
 }
