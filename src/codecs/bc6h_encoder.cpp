@@ -1406,8 +1406,9 @@ bool noise_along_one_line(const float rgb[48], const Block& b) {
 //    re-picked, the kPartitionsTried best-ranked partitions tried in their most precise mode
 //    whose deltas fit, each refined kTwoRegionPasses times (unless no partition's two lines fit
 //    the block kTwoLineGain times better than one line; the second one only within
-//    kRefineSecond of the best), the incumbent refined by least squares (kOneRegionPasses) unless two regions beat it kTwoRegionsClear times over,
-//    and the winner polished again unless it is the polished incumbent unchanged.
+//    kRefineSecond of the best), the incumbent refined by least squares (kOneRegionPasses)
+//    unless two regions beat it kTwoRegionsClear times over, and the winner polished again
+//    unless it is the polished incumbent unchanged.
 // The constants were chosen on ../shared/data/bc6h (smooth / hard / noisy; callgrind instruction
 // counts and log-RMSE, issue 13). Measured alternatives: without the polish 0.00855 / 0.00794 /
 // 0.04617 (the polish gives 0.00827 / 0.00794 / 0.04580 and pays for the pruning below); the
