@@ -1,7 +1,5 @@
 #include "fit/fit_image.h"
 
-#include <cmath>
-
 #include "core/error.h"
 #include "core/large_buffer.h"
 #include "core/parallel.h"
@@ -38,18 +36,6 @@ AhdImage fit_image(const ShImage& sh, const FitOptions& opt, int threads, FitSta
   return out;
 }
 
-AhdFit fit_ambient_texel(const ShImage& sh, size_t i, const FitOptions& opt) {
-  if (!sh.normals.empty()) {  // rotated zeros may be −0 and decide the sign of a zero I_z: the general route
-    IrradiancePoly p[3];
-    local_polys(sh, i, p);
-    return fit_texel_constant(p, opt);
-  }
-  // E(z) = e0 + e_z + q_zz with e_z = q_zz = +0 (which also turns −0 into +0).
-  const float* t = sh.texel(i);
-  const double ez[3] = {l0_irradiance(t[0]) + 0.0, l0_irradiance(t[1]) + 0.0, l0_irradiance(t[2]) + 0.0};
-  return fit_constant_irradiance(ez, opt);
-}
-
 FitStats ambient_fit_stats(const ShImage& sh, const FitOptions& opt, int threads) {
   if (sh.coeffs != 1) throw Error("ambient_fit_stats: needs an L0 image (1 coefficient)");
   // The rules' counts per row, summed in row order after (no shared counters between threads).
@@ -58,30 +44,14 @@ FitStats ambient_fit_stats(const ShImage& sh, const FitOptions& opt, int threads
   };
   std::vector<RowCounts> rows(size_t(sh.height));
   const size_t w = size_t(sh.width);
-  const bool local = sh.normals.empty();  // tangent-space SH: E(z) straight from coefficient 0
   parallel_for(size_t(sh.height), threads, 8, [&](size_t y) {
     RowCounts& n = rows[y];
     for (size_t i = y * w; i < (y + 1) * w; ++i) {
       if (!sh.coverage[i]) continue;
+      const AhdFit f = fit_ambient_texel(sh, i, opt);
       n.covered++;
-      if (!local) {
-        const AhdFit f = fit_ambient_texel(sh, i, opt);
-        n.negative += (f.flags & kFitNegativeIz) != 0;
-        n.black += (f.flags & kFitBlack) != 0;
-        continue;
-      }
-      // fit_constant_irradiance's two counted flags without the texel (4 M texels at 2048²).
-      const float* t = sh.texel(i);
-      double iz[3];
-      bool negative = false;
-      for (int c = 0; c < 3; ++c) {
-        const double ez = l0_irradiance(t[c]) + 0.0;
-        iz[c] = std::isfinite(ez) ? ez : 0.0;
-        if (iz[c] < 0.0) iz[c] = 0.0, negative = true;
-      }
-      const double lum_iz = opt.luma[0] * iz[0] + opt.luma[1] * iz[1] + opt.luma[2] * iz[2];
-      n.negative += negative;
-      n.black += !(lum_iz > 0.0);
+      n.negative += (f.flags & kFitNegativeIz) != 0;
+      n.black += (f.flags & kFitBlack) != 0;
     }
   });
   FitStats stats;

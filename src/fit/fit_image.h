@@ -27,8 +27,19 @@ struct FitStats {
 };
 
 // The fit of texel i of an L0 image (plain lightmaps: sh.coeffs == 1), bit for bit fit_image's:
-// every texel's fit is the pure ambient lobe (fit_texel_constant: d = z, ratio = 1).
-AhdFit fit_ambient_texel(const ShImage& sh, size_t i, const FitOptions& opt);
+// every texel's fit is the pure ambient lobe (fit_texel_constant: d = z, ratio = 1). Inline: the
+// per-texel loops of plain lightmaps (their fit's counts: 4 M texels at 2048²) call it.
+inline AhdFit fit_ambient_texel(const ShImage& sh, size_t i, const FitOptions& opt) {
+  if (!sh.normals.empty()) {  // rotated zeros may be −0 and decide the sign of a zero I_z: the general route
+    IrradiancePoly p[3];
+    local_polys(sh, i, p);
+    return fit_texel_constant(p, opt);
+  }
+  // E(z) = e0 + e_z + q_zz with e_z = q_zz = +0 (which also turns −0 into +0).
+  const float* t = sh.texel(i);
+  const double ez[3] = {l0_irradiance(t[0]) + 0.0, l0_irradiance(t[1]) + 0.0, l0_irradiance(t[2]) + 0.0};
+  return fit_constant_irradiance(ez, opt);
+}
 
 // One mip level after the fit stage: the SH it was fitted from and the fitted (dilated) AHD.
 // The quantiser needs both: the closed loop refits the ratio against the SH.
@@ -52,6 +63,13 @@ inline void ambient_level_iz(const ShImage& sh, size_t i, float iz[3]) {
   } else {
     for (int c = 0; c < 3; ++c) iz[c] = t[c];
   }
+}
+
+// Texel i's I_z, whichever form the level holds: fitted_texel(l, i).iz without making the texel
+// (the quantiser's I_z plane reads every texel of every level).
+inline void fitted_iz(const FittedLevel& l, size_t i, float iz[3]) {
+  if (l.ahd.texels.empty()) return ambient_level_iz(l.sh, i, iz);
+  for (int c = 0; c < 3; ++c) iz[c] = l.ahd.texels[i].iz[c];
 }
 
 // Texel i's fit, whichever form the level holds (ambient-only: d = z, ratio = 1, flags 0).

@@ -117,14 +117,7 @@ LevelPlanes quantise_level(const FittedLevel& lv, const Profile& profile, const 
   // I_z: a float copy of one band of rows at a time, never of the whole level.
   out.iz = encode_banded(profile.iz, w, h, 3, codec, stats, [&](int y0, ImageF& band) {
     const size_t first = size_t(y0) * size_t(w);
-    if (lv.ahd.texels.empty()) {  // an ambient-only level: I_z straight from the SH
-      parallel_for(band.texels(), opt.threads, 4096, [&](size_t j) { ambient_level_iz(sh, first + j, &band.data[j * 3]); });
-      return;
-    }
-    parallel_for(band.texels(), opt.threads, 4096, [&](size_t j) {
-      const AhdFit f = fitted_texel(lv, first + j);
-      for (int c = 0; c < 3; ++c) band.data[j * 3 + c] = f.iz[c];
-    });
+    parallel_for(band.texels(), opt.threads, 4096, [&](size_t j) { fitted_iz(lv, first + j, &band.data[j * 3]); });
   });
   if (!directional) return out;
   // The direction and ratio planes are made a band of rows at a time too: no float image of the
