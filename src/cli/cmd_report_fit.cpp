@@ -36,15 +36,17 @@ AhdImage quantised_planes(const ShImage& sh, const FitOptions& fit) {
   opt.direction = DirectionPlanes::Keep;
   const ConvertResult r = convert(sh, load_profile(rgb ? "uncompressed-rgb" : "uncompressed"), opt);
   const DecodedPlanes p = decode_planes(r.planes, rgb, 0);
-  AhdImage a;
-  a.width = sh.width, a.height = sh.height, a.coverage = sh.coverage;
-  a.texels.resize(sh.texels());
-  for (size_t i = 0; i < sh.texels(); ++i)
+  AhdImage a = make_ahd_image(sh.width, sh.height, false);  // the decoded ratios, three a texel
+  a.coverage = sh.coverage;
+  for (size_t i = 0; i < sh.texels(); ++i) {
+    AhdFit f{};
     for (int c = 0; c < 3; ++c) {
-      a.texels[i].iz[c] = p.iz[i * 3 + c];
-      a.texels[i].d[c] = p.d[i * 3 + c];
-      a.texels[i].ratio[c] = p.ratio[i * 3 + c];
+      f.iz[c] = p.iz[i * 3 + c];
+      f.d[c] = p.d[i * 3 + c];
+      f.ratio[c] = p.ratio[i * 3 + c];
     }
+    a.set_texel(i, f);
+  }
   return a;
 }
 

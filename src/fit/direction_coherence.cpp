@@ -11,10 +11,10 @@
 namespace ahd {
 
 void smooth_directions(const ShImage& sh, const FitOptions& opt, int threads, AhdImage* fit) {
-  const std::vector<AhdFit> first = fit->texels;  // the first pass, read-only
+  const AhdImage first = *fit;  // the first pass, read-only
   const int w = fit->width, h = fit->height;
   parallel_for(first.size(), threads, 1024, [&](size_t i) {
-    const AhdFit& t = first[i];
+    const AhdFit t = first.texel(i);
     if (!sh.coverage[i] || (t.flags & (kFitNoDirection | kFitNonFinite))) return;
     const int x = int(i % size_t(w)), y = int(i / size_t(w));
     double ds[3] = {0, 0, 0};
@@ -22,8 +22,8 @@ void smooth_directions(const ShImage& sh, const FitOptions& opt, int threads, Ah
     for (int yy = std::max(0, y - 1); yy <= std::min(h - 1, y + 1); ++yy)
       for (int xx = std::max(0, x - 1); xx <= std::min(w - 1, x + 1); ++xx) {
         const size_t j = size_t(yy) * w + xx;
-        if (!sh.coverage[j] || (first[j].flags & (kFitNoDirection | kFitNonFinite))) continue;
-        for (int k = 0; k < 3; ++k) ds[k] += first[j].d[k];
+        if (!sh.coverage[j] || (first.flags[j] & (kFitNoDirection | kFitNonFinite))) continue;
+        for (int k = 0; k < 3; ++k) ds[k] += first.d[j * 3 + k];
         ++count;
       }
     const double len = std::sqrt(ds[0] * ds[0] + ds[1] * ds[1] + ds[2] * ds[2]);
@@ -49,7 +49,7 @@ void smooth_directions(const ShImage& sh, const FitOptions& opt, int threads, Ah
     if (!(fs <= f.value(dl))) return;  // never worse than the linear d
     AhdFit s = fit_colours(p, ds, iz, opt);
     s.flags |= t.flags;
-    fit->texels[i] = s;
+    fit->set_texel(i, s);
   });
 }
 

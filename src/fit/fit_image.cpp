@@ -1,5 +1,7 @@
 #include "fit/fit_image.h"
 
+#include <cstring>
+
 #include "core/error.h"
 #include "core/large_buffer.h"
 #include "core/parallel.h"
@@ -7,16 +9,41 @@
 
 namespace ahd {
 
+void AhdImage::set_texel(size_t i, const AhdFit& f) {
+  for (int c = 0; c < 3; ++c) {
+    iz[i * 3 + c] = f.iz[c];
+    d[i * 3 + c] = f.d[c];
+  }
+  if (one_ratio) {
+    if (std::memcmp(&f.ratio[0], &f.ratio[1], sizeof(float)) != 0 || std::memcmp(&f.ratio[0], &f.ratio[2], sizeof(float)) != 0)
+      throw Error("AhdImage: a texel of the one-ratio (luminance) form has three different ratios");
+    ratio[i] = f.ratio[0];
+  } else {
+    for (int c = 0; c < 3; ++c) ratio[i * 3 + c] = f.ratio[c];
+  }
+  flags[i] = f.flags;
+}
+
+AhdImage make_ahd_image(int width, int height, bool one_ratio) {
+  AhdImage a;
+  a.width = width;
+  a.height = height;
+  a.one_ratio = one_ratio;
+  const size_t n = size_t(width) * size_t(height);
+  assign_large(a.iz, n * 3, 0.0f);
+  assign_large(a.d, n * 3, 0.0f);
+  assign_large(a.ratio, one_ratio ? n : n * 3, 0.0f);
+  assign_large(a.flags, n, uint8_t(0));
+  return a;
+}
+
 AhdImage fit_image(const ShImage& sh, const FitOptions& opt, int threads, FitStats* stats) {
-  AhdImage out;
-  out.width = sh.width;
-  out.height = sh.height;
+  AhdImage out = make_ahd_image(sh.width, sh.height, opt.ratio_form == RatioForm::Luminance);
   out.coverage = sh.coverage;
-  assign_large(out.texels, sh.texels(), AhdFit{});
   parallel_for(sh.texels(), threads, 1024, [&](size_t i) {
     IrradiancePoly p[3];
     local_polys(sh, i, p);
-    out.texels[i] = fit_texel(p, opt);
+    out.set_texel(i, fit_texel(p, opt));
   });
   if (opt.direction_fit == DirectionFit::Refined && opt.coherence_tolerance > 0)
     smooth_directions(sh, opt, threads, &out);
@@ -25,7 +52,7 @@ AhdImage fit_image(const ShImage& sh, const FitOptions& opt, int threads, FitSta
     stats->texels = sh.texels();
     for (size_t i = 0; i < sh.texels(); ++i) {
       if (!sh.coverage[i]) continue;
-      const uint8_t f = out.texels[i].flags;
+      const uint8_t f = out.flags[i];
       stats->covered++;
       stats->no_direction += (f & kFitNoDirection) != 0;
       stats->dir_clamped += (f & kFitDirClamped) != 0;

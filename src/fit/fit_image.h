@@ -9,12 +9,40 @@
 
 namespace ahd {
 
+// The fitted texels of an image, stored as planes. Why planes and not an array of AhdFit: in the
+// luminance form the three ratios are one number, and an AhdFit pads its flags byte to 4, so a
+// texel takes 29 bytes here instead of 40 — at level 0 of a 1024² L1 lightmap that is 11 MiB of a
+// peak that must stay within twice the 48 MiB of SH (README, "Whole conversions").
 struct AhdImage {
   int width = 0;
   int height = 0;
-  std::vector<AhdFit> texels;      // width*height
-  std::vector<uint8_t> coverage;   // copied from the SH image
+  bool one_ratio = false;          // the luminance form: ratio holds one value a texel, not three
+  std::vector<float> iz;           // 3 a texel: irradiance along the normal, RGB
+  std::vector<float> d;            // 3 a texel: unit direction, local frame
+  std::vector<float> ratio;        // 1 (one_ratio) or 3 a texel
+  std::vector<uint8_t> flags;      // 1 a texel: FitFlag bits
+  std::vector<uint8_t> coverage;   // 1 a texel: copied from the SH image
+
+  size_t size() const { return flags.size(); }
+  bool empty() const { return flags.empty(); }
+  AhdFit texel(size_t i) const {
+    AhdFit f;
+    for (int c = 0; c < 3; ++c) {
+      f.iz[c] = iz[i * 3 + c];
+      f.d[c] = d[i * 3 + c];
+      f.ratio[c] = one_ratio ? ratio[i] : ratio[i * 3 + c];
+    }
+    f.flags = flags[i];
+    return f;
+  }
+  // Stores f as texel i. With one_ratio, f's three ratios must be the same bits (the luminance
+  // form's are); otherwise throws ahd::Error rather than drop two of them.
+  void set_texel(size_t i, const AhdFit& f);
 };
+
+// A w×h AhdImage of zero texels (coverage left empty: the caller copies it), its planes advised
+// for huge pages. one_ratio: see AhdImage.
+AhdImage make_ahd_image(int width, int height, bool one_ratio);
 
 // How often each rule of the fit fired, over covered texels.
 struct FitStats {
@@ -68,13 +96,13 @@ inline void ambient_level_iz(const ShImage& sh, size_t i, float iz[3]) {
 // Texel i's I_z, whichever form the level holds: fitted_texel(l, i).iz without making the texel
 // (the quantiser's I_z plane reads every texel of every level).
 inline void fitted_iz(const FittedLevel& l, size_t i, float iz[3]) {
-  if (l.ahd.texels.empty()) return ambient_level_iz(l.sh, i, iz);
-  for (int c = 0; c < 3; ++c) iz[c] = l.ahd.texels[i].iz[c];
+  if (l.ahd.empty()) return ambient_level_iz(l.sh, i, iz);
+  for (int c = 0; c < 3; ++c) iz[c] = l.ahd.iz[i * 3 + c];
 }
 
 // Texel i's fit, whichever form the level holds (ambient-only: d = z, ratio = 1, flags 0).
 inline AhdFit fitted_texel(const FittedLevel& l, size_t i) {
-  if (!l.ahd.texels.empty()) return l.ahd.texels[i];
+  if (!l.ahd.empty()) return l.ahd.texel(i);
   AhdFit f{};
   ambient_level_iz(l.sh, i, f.iz);
   for (int c = 0; c < 3; ++c) f.ratio[c] = 1.0f;

@@ -71,7 +71,7 @@ FitQuality fit_quality(const ShImage& sh, const AhdImage& fit, const FitOptions&
     if (!sh.coverage[i]) return;
     IrradiancePoly p[3];
     local_polys(sh, i, p);
-    const AhdFit& t = fit.texels[i];
+    const AhdFit t = fit.texel(i);
     double ca[3], cd[3], u[3], lca[3], lcd[3], ld[3];
     decode_colours(t.iz, t.d, t.ratio, opt.dz_min, ca, cd, u);
     ls_lobe(p, opt, lca, lcd, ld);
@@ -106,8 +106,8 @@ double direction_p99_angle_deg(const AhdImage& fit) {
   std::vector<double> angles;
   auto add = [&](size_t a, size_t b) {
     if (!fit.coverage[a] || !fit.coverage[b]) return;
-    const float* u = fit.texels[a].d;
-    const float* v = fit.texels[b].d;
+    const float* u = &fit.d[a * 3];
+    const float* v = &fit.d[b * 3];
     const double dot = double(u[0]) * v[0] + double(u[1]) * v[1] + double(u[2]) * v[2];
     angles.push_back(std::acos(std::clamp(dot, -1.0, 1.0)) * 180.0 / kPi);
   };
@@ -141,7 +141,7 @@ FilteredError filtered_error(const ShImage& sh, const AhdImage& fit, const FitOp
         float iz[3] = {}, d[3] = {}, r[3] = {};
         IrradiancePoly q[3];
         for (int k = 0; k < 4; ++k) {
-          const AhdFit& t = fit.texels[idx[k]];
+          const AhdFit t = fit.texel(idx[k]);
           for (int c = 0; c < 3; ++c) {
             iz[c] += float(w[k] * t.iz[c]), d[c] += float(w[k] * t.d[c]), r[c] += float(w[k] * t.ratio[c]);
             q[c].e0 += w[k] * p[k][c].e0;

@@ -47,7 +47,7 @@ std::vector<float> pack_level(const FittedLevel& l, int nch) {
     o[k++] = sh.coverage[i] ? 1.0f : 0.0f;
     if (normals)
       for (int c = 0; c < 3; ++c) o[k++] = sh.normals[i * 3 + c];
-    const AhdFit& f = l.ahd.texels[i];
+    const AhdFit f = l.ahd.texel(i);
     for (int c = 0; c < 3; ++c) o[k++] = f.iz[c];
     for (int c = 0; c < 3; ++c) o[k++] = f.d[c];
     for (int c = 0; c < 3; ++c) o[k++] = f.ratio[c];
@@ -151,9 +151,8 @@ std::vector<FittedLevel> read_intermediate(const std::string& path, FitOptions* 
     FittedLevel l;
     l.sh = make_sh_image(spec.width, spec.height, coeffs);
     if (normals) l.sh.normals.resize(l.sh.texels() * 3);
-    l.ahd.width = spec.width;
-    l.ahd.height = spec.height;
-    l.ahd.texels.resize(l.sh.texels());
+    // Three ratios a texel whatever the form: the file's are kept as written.
+    l.ahd = make_ahd_image(spec.width, spec.height, false);
     for (size_t i = 0; i < l.sh.texels(); ++i) {
       const float* p = &px[i * spec.nchannels];
       size_t k = 0;  // walks `names` in the order channel_names() lists them
@@ -163,11 +162,12 @@ std::vector<FittedLevel> read_intermediate(const std::string& path, FitOptions* 
       l.sh.coverage[i] = next() > 0.5f;
       if (normals)
         for (int c = 0; c < 3; ++c) l.sh.normals[i * 3 + c] = next();
-      AhdFit& f = l.ahd.texels[i];
+      AhdFit f;
       for (int c = 0; c < 3; ++c) f.iz[c] = next();
       for (int c = 0; c < 3; ++c) f.d[c] = next();
       for (int c = 0; c < 3; ++c) f.ratio[c] = next();
       f.flags = uint8_t(next());
+      l.ahd.set_texel(i, f);
     }
     l.ahd.coverage = l.sh.coverage;
     levels.push_back(std::move(l));

@@ -145,25 +145,28 @@ void dilate(ImageF& plane, const std::vector<uint8_t>& coverage, int threads, Di
 
 void dilate_ahd(AhdImage& img, double dz_min, int threads, DilateStats* stats) {
   const size_t n = size_t(img.width) * img.height;
-  if (img.texels.size() != n || img.coverage.size() != n) throw Error("dilate_ahd: malformed image");
-  // I_z, d and ratio as one 9-value texel (the weights depend only on coverage, so dilating them
-  // together is the same as one by one), read and written in place: no plane copy of the image.
-  // The filled texels hold the raw means until every ring is done, as a plane would.
-  AhdFit* t = img.texels.data();
-  dilate_rings(img.width, img.height, 9, img.coverage, threads, stats,
+  const size_t nr = img.one_ratio ? 1 : 3;
+  if (img.flags.size() != n || img.iz.size() != n * 3 || img.d.size() != n * 3 || img.ratio.size() != n * nr ||
+      img.coverage.size() != n)
+    throw Error("dilate_ahd: malformed image");
+  // I_z, d and ratio as one texel of 7 or 9 values (the weights depend only on coverage, so dilating
+  // them together is the same as one by one; one ratio is the mean three equal ones would have),
+  // read and written in place: no plane copy of the image. The filled texels hold the raw means
+  // until every ring is done, as a plane would.
+  dilate_rings(img.width, img.height, int(6 + nr), img.coverage, threads, stats,
                [&](size_t i, float* v) {
-                 std::copy_n(t[i].iz, 3, v);
-                 std::copy_n(t[i].d, 3, v + 3);
-                 std::copy_n(t[i].ratio, 3, v + 6);
+                 std::copy_n(&img.iz[i * 3], 3, v);
+                 std::copy_n(&img.d[i * 3], 3, v + 3);
+                 std::copy_n(&img.ratio[i * nr], nr, v + 6);
                },
                [&](size_t i, const float* v) {
-                 std::copy_n(v, 3, t[i].iz);
-                 std::copy_n(v + 3, 3, t[i].d);
-                 std::copy_n(v + 6, 3, t[i].ratio);
+                 std::copy_n(v, 3, &img.iz[i * 3]);
+                 std::copy_n(v + 3, 3, &img.d[i * 3]);
+                 std::copy_n(v + 6, nr, &img.ratio[i * nr]);
                });
   parallel_for(n, threads, 1024, [&](size_t i) {
     if (img.coverage[i]) return;
-    AhdFit& f = img.texels[i];
+    AhdFit f = img.texel(i);
     double d[3] = {f.d[0], f.d[1], f.d[2]};
     const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     if (len > 0) {
@@ -179,6 +182,7 @@ void dilate_ahd(AhdImage& img, double dz_min, int threads, DilateStats* stats) {
       f.ratio[c] = len > 0 ? std::clamp(f.ratio[c], 0.0f, 1.0f) : 1.0f;
     }
     f.flags = 0;
+    img.set_texel(i, f);
   });
 }
 

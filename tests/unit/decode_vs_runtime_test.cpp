@@ -68,7 +68,7 @@ Agreement decode_vs_runtime(const WorldBake& b, const std::string& layout, const
     for (size_t i = 0; i < sh.texels(); ++i) {
       if (!b.w.tangent.coverage[i]) continue;
       const float* tn = tangent_n.at(int(i % N), int(i / N));
-      const AhdFit& f = fit[0].ahd.texels[i];
+      const AhdFit f = fit[0].ahd.texel(i);
       for (int c = 0; c < 3; ++c) {
         const double rt = runtime(i, c, world_n[i].data());
         const double dec_v = e.data[i * 3 + c] / kPi;

@@ -51,9 +51,9 @@ std::vector<AhdLobe> fit_lobes(const ShImage& sh) {
   std::vector<AhdLobe> lobes(sh.texels());
   for (size_t i = 0; i < lobes.size(); ++i)
     for (int c = 0; c < 3; ++c) {
-      lobes[i].ca[c] = fitted_ca(levels[0].ahd.texels[i], c);
-      lobes[i].cd[c] = fitted_cd(levels[0].ahd.texels[i], c);
-      lobes[i].d[c] = levels[0].ahd.texels[i].d[c];
+      lobes[i].ca[c] = fitted_ca(levels[0].ahd.texel(i), c);
+      lobes[i].cd[c] = fitted_cd(levels[0].ahd.texel(i), c);
+      lobes[i].d[c] = levels[0].ahd.texel(i).d[c];
     }
   return lobes;
 }

@@ -281,7 +281,7 @@ TEST(Fit, Figure2NaiveInterpolationOvershootsOursIsLinear) {
   add_directional_light(img.texel(1), 9, dB, tiny);
   FitOptions opt;
   const AhdImage fit = fit_image(img, opt, 1);
-  const AhdFit &A = fit.texels[0], &B = fit.texels[1];
+  const AhdFit A = fit.texel(0), B = fit.texel(1);
   double naive_overshoot = 0, ours_dev = 0;
   for (int k = 0; k <= 64; ++k) {
     const double t = k / 64.0;
@@ -317,8 +317,8 @@ TEST(Fit, HardCasesStayFiniteAndConstrained) {
     sanitise_sh(hc.sh, false, &rs);
     FitStats st;
     const AhdImage fit = fit_image(hc.sh, opt, 1, &st);
-    for (size_t i = 0; i < fit.texels.size(); ++i) {
-      const AhdFit& f = fit.texels[i];
+    for (size_t i = 0; i < fit.size(); ++i) {
+      const AhdFit f = fit.texel(i);
       for (int c = 0; c < 3; ++c) {
         ASSERT_TRUE(std::isfinite(f.iz[c]) && std::isfinite(fitted_ca(f, c)) && std::isfinite(fitted_cd(f, c))) << hc.name;
         ASSERT_GE(f.iz[c], 0.0f) << hc.name;
@@ -336,10 +336,10 @@ TEST(Fit, HardCasesStayFiniteAndConstrained) {
       EXPECT_EQ(rs.non_finite_texels, 3u) << "NaN, +Inf and −Inf texels are counted";
     }
     if (hc.name.rfind("black", 0) == 0) {
-      EXPECT_EQ(st.black, fit.texels.size());
+      EXPECT_EQ(st.black, fit.size());
     }
     if (hc.name.rfind("pure ambient", 0) == 0) {
-      EXPECT_EQ(st.no_direction, fit.texels.size());
+      EXPECT_EQ(st.no_direction, fit.size());
     }
     if (hc.name.rfind("negative SH", 0) == 0) {
       EXPECT_GE(st.negative_iz, 1u);
@@ -349,7 +349,7 @@ TEST(Fit, HardCasesStayFiniteAndConstrained) {
     }
     if (hc.name.rfind("two opposed", 0) == 0) {
       // Lights at ±x cancel L1 exactly: no preferred direction.
-      EXPECT_TRUE(fit.texels[1].flags & kFitNoDirection);
+      EXPECT_TRUE(fit.texel(1).flags & kFitNoDirection);
     }
   }
 }
@@ -360,9 +360,9 @@ TEST(Fit, PureAmbientIsAllAmbient) {
   add_ambient(img.texel(0), a);
   const AhdImage fit = fit_image(img, FitOptions{}, 1);
   for (int c = 0; c < 3; ++c) {
-    EXPECT_NEAR(fitted_ca(fit.texels[0], c), fit.texels[0].iz[c], 1e-6 * fit.texels[0].iz[c]);
-    EXPECT_NEAR(fitted_cd(fit.texels[0], c), 0.0f, 1e-6 * fit.texels[0].iz[c]);
-    EXPECT_NEAR(fit.texels[0].iz[c], kPi * a[c], 1e-5);  // constant radiance L gives E = πL
+    EXPECT_NEAR(fitted_ca(fit.texel(0), c), fit.texel(0).iz[c], 1e-6 * fit.texel(0).iz[c]);
+    EXPECT_NEAR(fitted_cd(fit.texel(0), c), 0.0f, 1e-6 * fit.texel(0).iz[c]);
+    EXPECT_NEAR(fit.texel(0).iz[c], kPi * a[c], 1e-5);  // constant radiance L gives E = πL
   }
 }
 
@@ -385,8 +385,8 @@ TEST(Fit, WorldSpaceInputEqualsTangentSpaceInput) {
     add_directional_light(world.texel(0), 9, w, col[l]);
   }
   world.normals = {float(n[0]), float(n[1]), float(n[2])};
-  const AhdFit a = fit_image(t2, FitOptions{}, 1).texels[0];
-  const AhdFit b = fit_image(world, FitOptions{}, 1).texels[0];
+  const AhdFit a = fit_image(t2, FitOptions{}, 1).texel(0);
+  const AhdFit b = fit_image(world, FitOptions{}, 1).texel(0);
   for (int c = 0; c < 3; ++c) {
     EXPECT_NEAR(a.iz[c], b.iz[c], 1e-5 * a.iz[c]);
     EXPECT_NEAR(a.d[c], b.d[c], 1e-5);

@@ -41,11 +41,11 @@ TEST(Intermediate, RoundTripIsExactAndTranscodeMatchesConvert) {
   for (size_t l = 0; l < levels.size(); ++l) {
     EXPECT_EQ(back[l].sh.data, levels[l].sh.data);
     EXPECT_EQ(back[l].sh.coverage, levels[l].sh.coverage);
-    for (size_t i = 0; i < levels[l].ahd.texels.size(); ++i)
+    for (size_t i = 0; i < levels[l].ahd.size(); ++i)
       for (int c = 0; c < 3; ++c) {
-        ASSERT_EQ(back[l].ahd.texels[i].iz[c], levels[l].ahd.texels[i].iz[c]);
-        ASSERT_EQ(back[l].ahd.texels[i].d[c], levels[l].ahd.texels[i].d[c]);
-        ASSERT_EQ(back[l].ahd.texels[i].ratio[c], levels[l].ahd.texels[i].ratio[c]);
+        ASSERT_EQ(back[l].ahd.texel(i).iz[c], levels[l].ahd.texel(i).iz[c]);
+        ASSERT_EQ(back[l].ahd.texel(i).d[c], levels[l].ahd.texel(i).d[c]);
+        ASSERT_EQ(back[l].ahd.texel(i).ratio[c], levels[l].ahd.texel(i).ratio[c]);
       }
   }
   ConvertResult again;

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <random>
 
+#include "fit_bits.h"
 #include "core/error.h"
 #include "fit/fit_image.h"
 #include "fit/hemisphere_error.h"
@@ -125,7 +126,7 @@ Linearity check_linearity(const std::vector<ShImage>& chain) {
           const double r = ref[c] / ws;
           EXPECT_GT(r, 0.0);
           worst.sh = std::max(worst.sh, std::fabs(iz_of(g, o, c) - r) / r);
-          worst.fit = std::max(worst.fit, std::fabs(double(fit.texels[o].iz[c]) - r) / r);
+          worst.fit = std::max(worst.fit, std::fabs(double(fit.texel(o).iz[c]) - r) / r);
         }
       }
   }
@@ -302,11 +303,6 @@ TEST(Mips, WorldSpaceAverageThenRotateDiffersOnCurvedCharts) {
 }
 
 // Two fitted texels with the same bits in every field (field by field: padding is no data).
-static bool same_fit(const AhdFit& p, const AhdFit& q) {
-  return std::memcmp(p.iz, q.iz, sizeof p.iz) == 0 && std::memcmp(p.d, q.d, sizeof p.d) == 0 &&
-         std::memcmp(p.ratio, q.ratio, sizeof p.ratio) == 0 && p.flags == q.flags;
-}
-
 TEST(Mips, ThreadCountDoesNotChangeTheChain) {
   for (bool world : {false, true}) {
     const ShImage img = atlas(61, 47, 9, 4, world);
@@ -322,8 +318,8 @@ TEST(Mips, ThreadCountDoesNotChangeTheChain) {
   const auto x = fit_mip_chain(img, FitOptions{}, 0, 1), y = fit_mip_chain(img, FitOptions{}, 0, 2);
   ASSERT_EQ(x.size(), y.size());
   for (size_t l = 0; l < x.size(); ++l)
-    for (size_t i = 0; i < x[l].ahd.texels.size(); ++i)
-      ASSERT_TRUE(same_fit(x[l].ahd.texels[i], y[l].ahd.texels[i])) << l << " " << i;
+    for (size_t i = 0; i < x[l].ahd.size(); ++i)
+      ASSERT_TRUE(same_fit_bits(x[l].ahd.texel(i), y[l].ahd.texel(i))) << l << " " << i;
 }
 
 // Gutter garbage must influence nothing: not the coarse SH, not the fit, not the dilated values.
@@ -340,8 +336,8 @@ TEST(Mips, ChainIgnoresUncoveredInput) {
     if (l > 0) {
       EXPECT_EQ(x[l].sh.data, y[l].sh.data) << "level " << l;
     }
-    for (size_t i = 0; i < x[l].ahd.texels.size(); ++i)
-      ASSERT_TRUE(same_fit(x[l].ahd.texels[i], y[l].ahd.texels[i])) << l << " " << i;
+    for (size_t i = 0; i < x[l].ahd.size(); ++i)
+      ASSERT_TRUE(same_fit_bits(x[l].ahd.texel(i), y[l].ahd.texel(i))) << l << " " << i;
   }
 }
 
@@ -359,12 +355,12 @@ TEST(Mips, FitMipChainErrorPerLevel) {
     std::printf("  %dx%d analytic scene, L2: level  size    covered guard filled rings  rel.mean  rel.p99   rel.max   Iz.max\n", w, h);
     for (size_t l = 0; l < chain.size(); ++l) {
       const FittedLevel& lv = chain[l];
-      std::vector<AhdLobe> lobes(lv.ahd.texels.size());
+      std::vector<AhdLobe> lobes(lv.ahd.size());
       for (size_t i = 0; i < lobes.size(); ++i)
         for (int c = 0; c < 3; ++c) {
-          lobes[i].ca[c] = fitted_ca(lv.ahd.texels[i], c);
-          lobes[i].cd[c] = fitted_cd(lv.ahd.texels[i], c);
-          lobes[i].d[c] = lv.ahd.texels[i].d[c];
+          lobes[i].ca[c] = fitted_ca(lv.ahd.texel(i), c);
+          lobes[i].cd[c] = fitted_cd(lv.ahd.texel(i), c);
+          lobes[i].d[c] = lv.ahd.texel(i).d[c];
         }
       const ErrorReport e = measure_error(lv.sh, lobes, 2);
       std::printf("  %33zu %4dx%-4d %6zu %5zu %6zu %5d  %.2e  %.2e  %.2e  %.1e\n", l, lv.sh.width, lv.sh.height,
@@ -377,8 +373,9 @@ TEST(Mips, FitMipChainErrorPerLevel) {
       EXPECT_LT(e.relative.mean, 0.25) << "level " << l;
       EXPECT_LT(e.relative.max, 1.0) << "level " << l;
       EXPECT_LT(e.normal_rel.max, 1e-5) << "level " << l;
-      for (const AhdFit& f : lv.ahd.texels)
+      for (size_t i = 0; i < lv.ahd.size(); ++i)
         for (int c = 0; c < 3; ++c) {
+          const AhdFit f = lv.ahd.texel(i);
           ASSERT_TRUE(std::isfinite(f.iz[c]) && std::isfinite(fitted_ca(f, c)) && std::isfinite(fitted_cd(f, c)));
           ASSERT_GE(f.iz[c], 0.0f);
         }
@@ -409,13 +406,13 @@ TEST(Mips, AmbientLevelHoldsTheFullFitsIz) {
     DilateStats da, df;
     const FittedLevel a = fit_ambient_level(ShImage(img), FitOptions{}, 2, &fa, &da);
     const FittedLevel f = fit_level(ShImage(img), FitOptions{}, 2, &ff, &df);
-    ASSERT_TRUE(a.ahd.texels.empty());
-    ASSERT_EQ(a.sh.texels(), f.ahd.texels.size());
-    for (size_t i = 0; i < f.ahd.texels.size(); ++i) {
+    ASSERT_TRUE(a.ahd.empty());
+    ASSERT_EQ(a.sh.texels(), f.ahd.size());
+    for (size_t i = 0; i < f.ahd.size(); ++i) {
       const AhdFit t = fitted_texel(a, i);
-      ASSERT_EQ(std::memcmp(t.iz, f.ahd.texels[i].iz, sizeof t.iz), 0) << world << " " << i;
-      ASSERT_EQ(std::memcmp(t.d, f.ahd.texels[i].d, sizeof t.d), 0) << i;
-      ASSERT_EQ(std::memcmp(t.ratio, f.ahd.texels[i].ratio, sizeof t.ratio), 0) << i;
+      ASSERT_EQ(std::memcmp(t.iz, f.ahd.texel(i).iz, sizeof t.iz), 0) << world << " " << i;
+      ASSERT_EQ(std::memcmp(t.d, f.ahd.texel(i).d, sizeof t.d), 0) << i;
+      ASSERT_EQ(std::memcmp(t.ratio, f.ahd.texel(i).ratio, sizeof t.ratio), 0) << i;
       // Covered texels keep their SH (the next level is filtered from it).
       if (img.coverage[i]) ASSERT_EQ(std::memcmp(a.sh.texel(i), img.texel(i), 3 * sizeof(float)), 0) << i;
     }

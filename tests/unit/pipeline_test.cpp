@@ -38,7 +38,7 @@ TEST(Pipeline, AnalyticSceneFitKeepsIzAndSigns) {
       if (!sh.coverage[i]) continue;
       IrradiancePoly p[3];
       local_polys(sh, i, p);
-      const AhdFit& f = fit.texels[i];
+      const AhdFit f = fit.texel(i);
       for (int c = 0; c < 3; ++c) {
         const double ez = p[c].e0 + p[c].e[2] + p[c].q[2][2];
         ASSERT_GT(ez, 0.0);

@@ -52,8 +52,10 @@ DecodedPlanes fitted_planes(const ShImage& sh) {
   const auto lv = fit_levels(sh, opt, &r);
   DecodedPlanes p;
   p.width = sh.width, p.height = sh.height;
-  for (const auto& t : lv[0].ahd.texels)
+  for (size_t i = 0; i < lv[0].ahd.size(); ++i) {
+    const AhdFit t = lv[0].ahd.texel(i);
     for (int c = 0; c < 3; ++c) p.iz.push_back(t.iz[c]), p.d.push_back(t.d[c]), p.ratio.push_back(t.ratio[c]);
+  }
   return p;
 }
 
