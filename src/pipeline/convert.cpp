@@ -438,7 +438,7 @@ ConvertResult convert(ShImage&& sh, const Profile& profile, const ConvertOptions
     FitStats fs;
     DilateStats ds;
     // L0 images (plain lightmaps) store no fit: it is the pure ambient lobe at every texel,
-    // computed from the SH where needed (40 bytes a texel would be most of their memory).
+    // computed from the SH where needed (29 bytes a texel, more than twice their SH).
     FittedLevel level = next.coeffs == 1 ? fit_ambient_level(std::move(next), opt.fit, opt.threads, &fs, &ds)
                                          : fit_level(std::move(next), opt.fit, opt.threads, &fs, &ds);
     r.dilate_stats.push_back(ds);
