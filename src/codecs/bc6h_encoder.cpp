@@ -98,24 +98,21 @@ int half_signed_int(float v) {
 // Quantises a c-domain value to `bits`: the component whose unquantised value is closest to c
 // (of floor(c·2^bits/2^16 + 0.5) and its two neighbours; on a tie the smaller).
 int quantize(double c, int bits, bool is_signed) {
-  if (!is_signed && bits < 15) {  // UF16 below 15 bits: the same choice, unquantize written out, selects
-    const int maxv = (1 << bits) - 1;
-    const double x = c * (1.0 / double(1 << (16 - bits))) + 0.5;  // exact: a power of two
-    int f = int(x);
-    f -= f > x;
-    f = std::clamp(f, 0, maxv);
-    // The candidates lo, lo + 1 and (when it exists) lo + 2; otherwise lo + 1 twice, which the
-    // strict comparison below never picks a second time.
-    const int lo = std::max(0, f - 1), hi = std::min(maxv, f + 1), k1 = lo + 1, k2 = std::min(lo + 2, hi);
-    const auto dist = [&](int k) {
-      const int u = ((k << 16) + 0x8000) >> bits;
-      return std::fabs((k == 0 ? 0 : k == maxv ? 0xFFFF : u) - c);
-    };
-    const double d0 = dist(lo), d1 = dist(k1), d2 = dist(k2);
-    const bool one = d1 < d0;
-    const double bd = one ? d1 : d0;
-    const int best = one ? k1 : lo;
-    return d2 < bd ? k2 : best;
+  if (!is_signed && bits < 15) {
+    // UF16 below 15 bits, in closed form (the same choice, ≈ 5× fewer instructions: it runs for
+    // every endpoint component of every candidate). With s = 2^(16 − bits), unquantize gives
+    // u(0) = 0, u(k) = k·s + s/2 for 0 < k < maxv and u(maxv) = 65535, so the midpoints are
+    // 0.75·s (0 | 1), (k + 1)·s (k | k + 1) and maxv·s + (s/2 − 1)/2 (maxv − 1 | maxv); a value on
+    // a midpoint goes to the smaller component. Checked equal to the three-candidate search for
+    // every multiple of 1/64 in [−4, 65540], ±3 ulps around every multiple of 1/4, 2 M random
+    // values per precision (6–14 bits) and NaN (→ 0); callers clamp to [0, 65535] first.
+    const int maxv = (1 << bits) - 1, s = 1 << (16 - bits);
+    const double y = c * (1.0 / double(s));  // exact: a power of two
+    if (!(y > 0.75)) return 0;
+    if (c > double(maxv) * s + (s / 2 - 1) * 0.5) return maxv;
+    int k = int(y);
+    if (double(k) == y) --k;  // on the midpoint k·s: the smaller component
+    return std::clamp(k, 1, maxv - 1);
   }
   const int minv = is_signed ? -((1 << (bits - 1)) - 1) : 0;
   const int maxv = is_signed ? (1 << (bits - 1)) - 1 : (1 << bits) - 1;
@@ -982,13 +979,15 @@ void try_two_regions(const Block& b, int n_parts, int max_exact, int refine_top,
     // Region 1's moments for all 32 partitions from the subset sums of the four rows of texels
     // (4 × 15 sums, then 3 additions per partition instead of one per texel).
     Moments rows[4][16];
-    for (int g = 0; g < 4; ++g) {
-      rows[g][0] = Moments{};
-      for (int m = 1; m < 16; ++m) {
-        rows[g][m] = rows[g][m & (m - 1)];
-        rows[g][m].add(per_texel[4 * g + __builtin_ctz(unsigned(m))], 1.0);
+    const auto fill_rows = [&] {
+      for (int g = 0; g < 4; ++g) {
+        rows[g][0] = Moments{};
+        for (int m = 1; m < 16; ++m) {
+          rows[g][m] = rows[g][m & (m - 1)];
+          rows[g][m].add(per_texel[4 * g + __builtin_ctz(unsigned(m))], 1.0);
+        }
       }
-    }
+    };
 #ifdef __SSE2__
     if (!scalar_forced()) {
       // The same sums as below (region 1 from the four rows in row order, region 0 as all minus
@@ -1002,7 +1001,18 @@ void try_two_regions(const Block& b, int n_parts, int max_exact, int refine_top,
       static const bool avx2 = cpu_has_avx2();
       const bool wide = avx2 && !search_sse2_forced();
       alignas(32) double m[16][10][4];
-      for (int p = 0; p < 32; ++p) {
+      if (wide) {  // the same sums four components per vector (partition_moments_avx2)
+        alignas(32) double pt[16][12];
+        for (int t = 0; t < 16; ++t) {
+          const Moments& q = per_texel[t];
+          const double v[12] = {q.w, q.s[0], q.s[1], q.s[2], q.ss[0], q.ss[1], q.ss[2], q.ss[3], q.ss[4], q.ss[5], 0, 0};
+          std::memcpy(pt[t], v, sizeof v);
+        }
+        partition_moments_avx2(pt, allv, kPartitions, m);
+      } else {
+        fill_rows();
+      }
+      for (int p = 0; p < 32 && !wide; ++p) {
         const unsigned mask = kPartitions[p];
         const Moments &m0 = rows[0][mask & 15], &m1 = rows[1][(mask >> 4) & 15], &m2 = rows[2][(mask >> 8) & 15],
                       &m3 = rows[3][mask >> 12];
@@ -1030,6 +1040,7 @@ void try_two_regions(const Block& b, int n_parts, int max_exact, int refine_top,
     } else
 #endif
     {
+      fill_rows();
       for (int p = 0; p < 32; ++p) {
         const unsigned mask = kPartitions[p];
         Moments r1 = rows[0][mask & 15];
@@ -1303,12 +1314,16 @@ void fill_targets(const float rgb[48], const uint8_t valid[16], bool is_signed, 
 
   // No decoded value may exceed its channel's brightest input in the block by more than one
   // half-float step (nor, signed, go below its darkest by more than one step): no specks.
+  // Padding texels take values that change neither extreme (selects, not branches).
   for (int c = 0; c < 3; ++c) {
-    b.cap[c] = -(1 << 30), b.floor_[c] = 1 << 30;
-    for (int t = 0; t < 16; ++t)
-      if (valid[t]) b.cap[c] = std::max(b.cap[c], b.h[t][c]), b.floor_[c] = std::min(b.floor_[c], b.h[t][c]);
-    b.cap[c] += 1;
-    b.floor_[c] = is_signed ? b.floor_[c] - 1 : -(1 << 30);
+    int cap = -(1 << 30), floor = 1 << 30;
+    for (int t = 0; t < 16; ++t) {
+      const int v = b.h[t][c];
+      cap = std::max(cap, valid[t] ? v : -(1 << 30));
+      floor = std::min(floor, valid[t] ? v : 1 << 30);
+    }
+    b.cap[c] = cap + 1;
+    b.floor_[c] = is_signed ? floor - 1 : -(1 << 30);
   }
 }
 

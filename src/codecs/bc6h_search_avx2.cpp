@@ -102,6 +102,45 @@ __attribute__((target("avx2"))) void pair_residuals_avx2(const double mm[][10][4
   }
 }
 
+__attribute__((target("avx2"))) void partition_moments_avx2(const double pt[16][12], const double all[10],
+                                                               const uint16_t partitions[32], double m[16][10][4]) {
+  // rows[g][s]: the moments of the subset s (bit i = texel 4g + i) of row g, three vectors of
+  // components 0–3, 4–7 and 8–11 (10 and 11 are padding).
+  alignas(32) double rows[4][16][12];
+  for (int g = 0; g < 4; ++g) {
+    for (int v = 0; v < 3; ++v) _mm256_store_pd(&rows[g][0][4 * v], _mm256_setzero_pd());
+    for (int s = 1; s < 16; ++s) {
+      const double* prev = rows[g][s & (s - 1)];
+      const double* add = pt[4 * g + __builtin_ctz(unsigned(s))];
+      for (int v = 0; v < 3; ++v)
+        _mm256_store_pd(&rows[g][s][4 * v], _mm256_add_pd(_mm256_load_pd(&prev[4 * v]), _mm256_loadu_pd(&add[4 * v])));
+    }
+  }
+  alignas(32) double allv[12] = {};
+  for (int k = 0; k < 10; ++k) allv[k] = all[k];
+  for (int p = 0; p < 32; ++p) {
+    const unsigned mask = partitions[p];
+    const double *m0 = rows[0][mask & 15], *m1 = rows[1][(mask >> 4) & 15], *m2 = rows[2][(mask >> 8) & 15],
+                 *m3 = rows[3][mask >> 12];
+    double(*mp)[4] = m[p / 2];
+    const int lane = 2 * (p & 1);
+    for (int v = 0; v < 3; ++v) {
+      const D r1 = _mm256_add_pd(
+          _mm256_add_pd(_mm256_add_pd(_mm256_load_pd(&m0[4 * v]), _mm256_load_pd(&m1[4 * v])), _mm256_load_pd(&m2[4 * v])),
+          _mm256_load_pd(&m3[4 * v]));
+      const D r0 = _mm256_sub_pd(_mm256_load_pd(&allv[4 * v]), r1);
+      // (region 0, region 1) pairs of components 4v, 4v + 2 and 4v + 1, 4v + 3.
+      const D lo = _mm256_unpacklo_pd(r0, r1), hi = _mm256_unpackhi_pd(r0, r1);
+      _mm_storeu_pd(&mp[4 * v][lane], _mm256_castpd256_pd128(lo));
+      _mm_storeu_pd(&mp[4 * v + 1][lane], _mm256_castpd256_pd128(hi));
+      if (v < 2) {
+        _mm_storeu_pd(&mp[4 * v + 2][lane], _mm256_extractf128_pd(lo, 1));
+        _mm_storeu_pd(&mp[4 * v + 3][lane], _mm256_extractf128_pd(hi, 1));
+      }
+    }
+  }
+}
+
 __attribute__((target("avx2"))) float held_channel_error_avx2(const int u[4], int ng, const float fr[16],
                                                                 const float fwa[16], const float fwb[16],
                                                                 const float gn[16], const float gm[16], int cap,

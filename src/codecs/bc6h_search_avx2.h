@@ -22,6 +22,15 @@ double pick_indices_avx2(const float target[3][16], const float valid[16], const
 // only when cpu_has_avx2().
 void pair_residuals_avx2(const double m[][10][4], int pairs, double* out);
 
+// The partition ranking's moments (bc6h_encoder.cpp's try_two_regions) for all 32 partitions, in
+// pair_residuals_avx2's layout: pt[t] = texel t's moments (w, s[0..2], ss[0..5], two padding
+// zeros), all = their sum. Region 1 of partition p is the sum of its four rows' subsets (each
+// row's subset sums built as the encoder builds them: 0 + the texels in ascending order), added
+// in row order; region 0 is all minus region 1. The same additions per component, so the same
+// doubles as the scalar loops. Call only when cpu_has_avx2().
+void partition_moments_avx2(const double pt[16][12], const double all[10], const uint16_t partitions[32],
+                            double m[16][10][4]);
+
 // polish_steps' error of one channel (bc6h_encoder.cpp) with eight index groups per vector: for
 // groups i < ng (arrays filled up to a multiple of eight, padding with gn = 0), region fr[i],
 // weights fwa[i] / fwb[i] on the unquantised components u (u[0], u[1] region 0, u[2], u[3] region
