@@ -422,23 +422,33 @@ void axis_endpoints(const Block& b, uint16_t mask, int r, double lo[3], double h
 // accumulators, no branch), the two regions' power steps side by side so that their square roots
 // and divisions overlap.
 void axis_endpoints_pair(const Block& b, uint16_t mask, double t[2][2][3]) {
-  double sw[2] = {0, 0}, mean[2][3] = {};
-  for (int k = 0; k < 16; ++k) {
-    const int r = (mask >> k) & 1;
-    sw[r] += b.tw[k];
-    for (int c = 0; c < 3; ++c) mean[r][c] += b.tw[k] * b.q[k][c];
-  }
-  for (int r = 0; r < 2; ++r) {
-    if (sw[r] <= 0) sw[r] = 1;
-    for (double& m : mean[r]) m /= sw[r];
-  }
-  double cov[2][3][3] = {};
-  for (int k = 0; k < 16; ++k) {
-    const int r = (mask >> k) & 1;
-    double d[3];
-    for (int c = 0; c < 3; ++c) d[c] = b.q[k][c] - mean[r][c];
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) cov[r][i][j] += b.tw[k] * d[i] * d[j];
+  double mean[2][3] = {}, cov[2][3][3] = {};
+#if defined(__SSE2__) && defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+  static const bool avx2 = cpu_has_avx2();
+  const bool wide = avx2 && !scalar_forced() && !search_sse2_forced();
+#else
+  const bool wide = false;
+#endif
+  if (wide) {
+    region_moments_pair_avx2(b.q, b.tw, mask, mean, cov);  // the same sums, four lanes at a time
+  } else {
+    double sw[2] = {0, 0};
+    for (int k = 0; k < 16; ++k) {
+      const int r = (mask >> k) & 1;
+      sw[r] += b.tw[k];
+      for (int c = 0; c < 3; ++c) mean[r][c] += b.tw[k] * b.q[k][c];
+    }
+    for (int r = 0; r < 2; ++r) {
+      if (sw[r] <= 0) sw[r] = 1;
+      for (double& m : mean[r]) m /= sw[r];
+    }
+    for (int k = 0; k < 16; ++k) {
+      const int r = (mask >> k) & 1;
+      double d[3];
+      for (int c = 0; c < 3; ++c) d[c] = b.q[k][c] - mean[r][c];
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) cov[r][i][j] += b.tw[k] * d[i] * d[j];
+    }
   }
   double axis[2][3] = {{1, 1, 1}, {1, 1, 1}};
   bool done[2] = {false, false};

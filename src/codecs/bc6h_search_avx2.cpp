@@ -141,6 +141,56 @@ __attribute__((target("avx2"))) void partition_moments_avx2(const double pt[16][
   }
 }
 
+__attribute__((target("avx2"))) void region_moments_pair_avx2(const double q[16][3], const double tw[16],
+                                                                 uint16_t mask, double mean[2][3], double cov[2][3][3]) {
+  // Lanes (channel 0, 1, 2, weight): q is loaded with its fourth lane 0 and the weight lane set
+  // to 1, so tw·(q, 1) = (tw·q, tw).
+  const __m256i first3 = _mm256_setr_epi64x(-1, -1, -1, 0);
+  const D one3 = _mm256_setr_pd(0, 0, 0, 1);
+  D sum[2] = {_mm256_setzero_pd(), _mm256_setzero_pd()};
+  D in[2][16];  // per texel: all ones in its region's lane set, zeros in the other's
+  D qv[16];
+  for (int k = 0; k < 16; ++k) {
+    const bool r1 = (mask >> k) & 1;
+    in[1][k] = _mm256_castsi256_pd(_mm256_set1_epi64x(r1 ? -1 : 0));
+    in[0][k] = _mm256_castsi256_pd(_mm256_set1_epi64x(r1 ? 0 : -1));
+    qv[k] = _mm256_maskload_pd(q[k], first3);
+    const D v = _mm256_mul_pd(_mm256_set1_pd(tw[k]), _mm256_or_pd(qv[k], one3));
+    sum[0] = _mm256_add_pd(sum[0], _mm256_and_pd(v, in[0][k]));
+    sum[1] = _mm256_add_pd(sum[1], _mm256_and_pd(v, in[1][k]));
+  }
+  D mv[2];
+  for (int r = 0; r < 2; ++r) {
+    alignas(32) double s4[4];
+    _mm256_store_pd(s4, sum[r]);
+    const double sw = s4[3] <= 0 ? 1 : s4[3];
+    for (int c = 0; c < 3; ++c) mean[r][c] = s4[c] / sw;
+    mv[r] = _mm256_setr_pd(mean[r][0], mean[r][1], mean[r][2], 0);
+  }
+  D acc[2][3];
+  for (auto& a : acc)
+    for (D& x : a) x = _mm256_setzero_pd();
+  for (int k = 0; k < 16; ++k) {
+    const bool r1 = (mask >> k) & 1;
+    const D d = _mm256_sub_pd(qv[k], r1 ? mv[1] : mv[0]);
+    const D twd = _mm256_mul_pd(_mm256_set1_pd(tw[k]), d);  // (tw·d[i]) in lane i
+    const D x0 = _mm256_mul_pd(_mm256_permute4x64_pd(twd, 0x00), d);
+    const D x1 = _mm256_mul_pd(_mm256_permute4x64_pd(twd, 0x55), d);
+    const D x2 = _mm256_mul_pd(_mm256_permute4x64_pd(twd, 0xAA), d);
+    for (int r = 0; r < 2; ++r) {
+      acc[r][0] = _mm256_add_pd(acc[r][0], _mm256_and_pd(x0, in[r][k]));
+      acc[r][1] = _mm256_add_pd(acc[r][1], _mm256_and_pd(x1, in[r][k]));
+      acc[r][2] = _mm256_add_pd(acc[r][2], _mm256_and_pd(x2, in[r][k]));
+    }
+  }
+  for (int r = 0; r < 2; ++r)
+    for (int i = 0; i < 3; ++i) {
+      alignas(32) double row[4];
+      _mm256_store_pd(row, acc[r][i]);
+      for (int j = 0; j < 3; ++j) cov[r][i][j] = row[j];
+    }
+}
+
 __attribute__((target("avx2"))) float held_channel_error_avx2(const int u[4], int ng, const float fr[16],
                                                                 const float fwa[16], const float fwb[16],
                                                                 const float gn[16], const float gm[16], int cap,

@@ -31,6 +31,14 @@ void pair_residuals_avx2(const double m[][10][4], int pairs, double* out);
 void partition_moments_avx2(const double pt[16][12], const double all[10], const uint16_t partitions[32],
                             double m[16][10][4]);
 
+// The weighted means and covariances of a partition's two regions (bc6h_encoder.cpp's
+// axis_endpoints_pair): region r = bit t of mask; mean[r] = Σ tw·q / Σ tw (Σ tw ≤ 0 taken as 1),
+// cov[r][i][j] = Σ (tw·d[i])·d[j] with d = q − mean[r], each sum in texel order. A texel adds
+// +0 to the other region's sums, which changes none of them (they start at +0 and never become
+// −0), so the doubles are the scalar loops'. Call only when cpu_has_avx2().
+void region_moments_pair_avx2(const double q[16][3], const double tw[16], uint16_t mask, double mean[2][3],
+                              double cov[2][3][3]);
+
 // polish_steps' error of one channel (bc6h_encoder.cpp) with eight index groups per vector: for
 // groups i < ng (arrays filled up to a multiple of eight, padding with gn = 0), region fr[i],
 // weights fwa[i] / fwb[i] on the unquantised components u (u[0], u[1] region 0, u[2], u[3] region
