@@ -803,14 +803,20 @@ bool polish_steps(const Block& b, Candidate& best, int rounds, double* gain = nu
     float cur = channel_error(u);
     const float start = cur;
     const int dlo = mi.transformed ? -(1 << (mi.delta[ch] - 1)) : -maxv, dhi = mi.transformed ? -dlo - 1 : maxv;
-    // Tries endpoint k's component one step in direction d; keeps it when the error drops.
-    auto step = [&](int k, int d) {
+    // Whether endpoint k's component may move one step in direction d.
+    auto feasible = [&](int k, int d) {
       const int v = c.e[k][ch] + d;
       if (v < 0 || v > maxv) return false;
       for (int j = 1; j < ends; ++j) {  // every delta from endpoint 0 must still fit
         const int dj = (j == k ? v : c.e[j][ch]) - (k == 0 ? v : c.e[0][ch]);
         if (dj < dlo || dj > dhi) return false;
       }
+      return true;
+    };
+    // Tries endpoint k's component one step in direction d; keeps it when the error drops.
+    auto step = [&](int k, int d) {
+      if (!feasible(k, d)) return false;
+      const int v = c.e[k][ch] + d;
       const int keep = u[k];
       u[k] = unquantize(v, mi.epb, false);
       const float err = channel_error(u);
@@ -823,7 +829,30 @@ bool polish_steps(const Block& b, Candidate& best, int rounds, double* gain = nu
     };
     // Both directions once per component, then further steps only where a step paid.
     int dir[4] = {0, 0, 0, 0};
-    for (int k = 0; k < ends; ++k) dir[k] = step(k, -1) ? -1 : step(k, 1) ? 1 : 0;
+    for (int k = 0; k < ends; ++k) {
+#if defined(__SSE2__) && defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+      if (wide && feasible(k, -1) && feasible(k, 1)) {
+        // Both steps' errors in one call (the up step's is computed even when the down step
+        // wins, and then unused): the same errors and choices as step(k, −1), then step(k, 1),
+        // without the dependence between them.
+        int ud[4], uu[4];
+        std::memcpy(ud, u, sizeof ud), std::memcpy(uu, u, sizeof uu);
+        ud[k] = unquantize(c.e[k][ch] - 1, mi.epb, false), uu[k] = unquantize(c.e[k][ch] + 1, mi.epb, false);
+        float e2[2];
+        bool o2[2];
+        held_channel_error_pair_avx2(ud, uu, ng, fr, fwa, fwb, gn, gm[ch], cap, L, e2, o2);
+        const float down = o2[0] ? std::numeric_limits<float>::infinity() : e2[0];
+        const float up = o2[1] ? std::numeric_limits<float>::infinity() : e2[1];
+        dir[k] = down < cur ? -1 : up < cur ? 1 : 0;
+        if (dir[k] != 0) {
+          cur = dir[k] < 0 ? down : up, u[k] = dir[k] < 0 ? ud[k] : uu[k];
+          c.e[k][ch] += dir[k], moved = true;
+        }
+        continue;
+      }
+#endif
+      dir[k] = step(k, -1) ? -1 : step(k, 1) ? 1 : 0;
+    }
     for (int round = 1; round < rounds; ++round) {
       bool any = false;
       for (int k = 0; k < ends; ++k)

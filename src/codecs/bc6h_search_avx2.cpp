@@ -216,10 +216,13 @@ __attribute__((target("avx2"))) void region_moments_pair_avx2(const double q[16]
     }
 }
 
-__attribute__((target("avx2"))) float held_channel_error_avx2(const int u[4], int ng, const float fr[16],
-                                                                const float fwa[16], const float fwb[16],
-                                                                const float gn[16], const float gm[16], int cap,
-                                                                const float* L, bool* over) {
+namespace {
+
+// held_channel_error_avx2's body (the pair version runs two of them side by side).
+__attribute__((target("avx2"), always_inline)) inline float channel_error(const int u[4], int ng, const float fr[16],
+                                                                           const float fwa[16], const float fwb[16],
+                                                                           const float gn[16], const float gm[16],
+                                                                           int cap, const float* L, bool* over) {
   const __m256 a0 = _mm256_set1_ps(float(u[0])), b0 = _mm256_set1_ps(float(u[1]));
   const __m256 da = _mm256_set1_ps(float(u[2] - u[0])), db = _mm256_set1_ps(float(u[3] - u[1]));
   const __m256 inv64 = _mm256_set1_ps(1.0f / 64.0f), k31 = _mm256_set1_ps(31.0f), k32 = _mm256_set1_ps(32.0f);
@@ -250,6 +253,24 @@ __attribute__((target("avx2"))) float held_channel_error_avx2(const int u[4], in
   _mm_store_ps(part, acc);
   *over = _mm256_movemask_epi8(out) != 0;
   return (part[0] + part[1]) + (part[2] + part[3]);
+}
+
+}  // namespace
+
+__attribute__((target("avx2"))) float held_channel_error_avx2(const int u[4], int ng, const float fr[16],
+                                                                const float fwa[16], const float fwb[16],
+                                                                const float gn[16], const float gm[16], int cap,
+                                                                const float* L, bool* over) {
+  return channel_error(u, ng, fr, fwa, fwb, gn, gm, cap, L, over);
+}
+
+__attribute__((target("avx2"))) void held_channel_error_pair_avx2(const int ua[4], const int ub[4], int ng,
+                                                                    const float fr[16], const float fwa[16],
+                                                                    const float fwb[16], const float gn[16],
+                                                                    const float gm[16], int cap, const float* L,
+                                                                    float err[2], bool over[2]) {
+  err[0] = channel_error(ua, ng, fr, fwa, fwb, gn, gm, cap, L, &over[0]);
+  err[1] = channel_error(ub, ng, fr, fwa, fwb, gn, gm, cap, L, &over[1]);
 }
 
 }  // namespace ahd::bc6h

@@ -48,6 +48,13 @@ void region_moments_pair_avx2(const double q[16][3], const double tw[16], uint16
 float held_channel_error_avx2(const int u[4], int ng, const float fr[16], const float fwa[16], const float fwb[16],
                               const float gn[16], const float gm[16], int cap, const float* L, bool* over);
 
+// held_channel_error_avx2 for two sets of components at once (err[0], over[0] for ua; err[1],
+// over[1] for ub): the same values, without a branch between the two, so their latencies overlap
+// (polish_steps tries a component's step down and up this way). Call only when cpu_has_avx2().
+void held_channel_error_pair_avx2(const int ua[4], const int ub[4], int ng, const float fr[16], const float fwa[16],
+                                  const float fwb[16], const float gn[16], const float gm[16], int cap, const float* L,
+                                  float err[2], bool over[2]);
+
 // Tests: true = evaluate takes its SSE2 index step even on an AVX2 CPU (both write the same bytes).
 void force_search_sse2(bool sse2);
 bool search_sse2_forced();
