@@ -287,6 +287,14 @@ Cand make(const Planes& f, int p, const float t[2][2][3]) {
     const float v[4] = {t[0][0][ch], t[0][1][ch], t[1][0][ch], t[1][1][ch]};
     spread[ch] = (std::max({v[0], v[1], v[2], v[3]}) - std::min({v[0], v[1], v[2], v[3]})) * (64.0f / 31.0f);
   }
+  // Modes of equal precision come one after another in kOrder (2, 3, 4: 11 bits; 6, 7, 8: 8
+  // bits) and quantise to the same endpoints, with the same indices, anchor mirrors and error:
+  // only their delta checks differ, so the previous mode's work is kept for the next one.
+  int q_bits = -1;          // precision of e (quantised, before the mirrors)
+  bool assigned = false;    // ea, ia, erra: e after the index step, for q_bits
+  int e[4][3], ea[4][3];
+  uint8_t ia[16];
+  float erra = 0;
   for (int m : kOrder) {
     const ModeInfo& mi = mode(m);
     if (mi.transformed) {
@@ -295,10 +303,12 @@ Cand make(const Planes& f, int p, const float t[2][2][3]) {
         may_fit &= spread[ch] <= float(((1 << mi.delta[ch]) + 2) << (16 - mi.epb));
       if (!may_fit) continue;
     }
-    int e[4][3];
-    for (int r = 0; r < 2; ++r)
-      for (int j = 0; j < 2; ++j)
-        for (int ch = 0; ch < 3; ++ch) e[2 * r + j][ch] = quantize_capped(t[r][j][ch], mi.epb, f.cap[ch]);
+    if (mi.epb != q_bits) {
+      for (int r = 0; r < 2; ++r)
+        for (int j = 0; j < 2; ++j)
+          for (int ch = 0; ch < 3; ++ch) e[2 * r + j][ch] = quantize_capped(t[r][j][ch], mi.epb, f.cap[ch]);
+      q_bits = mi.epb, assigned = false;
+    }
     // A mode whose deltas fit in none of the four orientations (each region either way round)
     // is skipped before the index step.
     if (mi.transformed) {
@@ -314,20 +324,24 @@ Cand make(const Planes& f, int p, const float t[2][2][3]) {
       }
       if (!any_fits) continue;
     }
-    uint8_t idx[16] = {};
-    float err = 0;
-    for (int r = 0; r < 2; ++r) {
-      err += assign_region(f, mask, r, e[2 * r], e[2 * r + 1], mi.epb, idx);
-      if (idx[anchor[r]] >= 4) {
-        for (int ch = 0; ch < 3; ++ch) std::swap(e[2 * r][ch], e[2 * r + 1][ch]);
-        for (int tt = 0; tt < 16; ++tt)
-          if (int((mask >> tt) & 1) == r) idx[tt] = uint8_t(7 - idx[tt]);
+    if (!assigned) {
+      std::memcpy(ea, e, sizeof e);
+      std::memset(ia, 0, 16);
+      erra = 0;
+      for (int r = 0; r < 2; ++r) {
+        erra += assign_region(f, mask, r, ea[2 * r], ea[2 * r + 1], mi.epb, ia);
+        if (ia[anchor[r]] >= 4) {
+          for (int ch = 0; ch < 3; ++ch) std::swap(ea[2 * r][ch], ea[2 * r + 1][ch]);
+          for (int tt = 0; tt < 16; ++tt)
+            if (int((mask >> tt) & 1) == r) ia[tt] = uint8_t(7 - ia[tt]);
+        }
       }
+      assigned = true;
     }
-    if (!deltas_fit(mi, e)) continue;
-    c.mode = m, c.err = err;
-    std::memcpy(c.e, e, sizeof e);
-    std::memcpy(c.idx, idx, 16);
+    if (!deltas_fit(mi, ea)) continue;
+    c.mode = m, c.err = erra;
+    std::memcpy(c.e, ea, sizeof ea);
+    std::memcpy(c.idx, ia, 16);
     return c;
   }
   return c;  // unreachable: the last mode always fits
