@@ -98,6 +98,12 @@ void fit_blocks_fast_x16n(int batches, const uint16_t* const h[], const float* c
                           OneRegionFit* const out[]);
 bool cpu_has_avx512();
 
+// fit_blocks_fast_x16n with each fit written as pack_one_region writes it: block i at blocks[i]
+// (16 bytes) and its fit error at *err[i], both skipped when blocks[i] is null (`fast` packs in
+// the lanes instead of block by block).
+void encode_blocks_fast_x16n(int batches, const uint16_t* const h[], const float* const x[], const uint8_t* const valid[],
+                             uint8_t* const blocks[], float* const err[]);
+
 // The two-region candidate of `fast` (bc6h_fast_two_region.cpp): when one_err (the one-region
 // fit's error, weighted squared half steps) is above its gate, fits the best-ranked partition and
 // overwrites out (the one-region block) when its error is lower. Same no-specks bound; depends
