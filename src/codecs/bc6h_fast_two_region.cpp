@@ -23,6 +23,15 @@
 #include "codecs/bc6h_fast.h"
 #include "codecs/bc6h_tables.h"
 
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+// GCC 12's AVX-512 intrinsics start their unmasked forms from _mm512_undefined_*(), which its
+// -Wuninitialized reports once per inlined use (a known false positive of the header).
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#include <immintrin.h>
+#define AHD_TWO_REGION_AVX512 1
+#endif
+
 namespace ahd::bc6h {
 
 namespace {
@@ -120,6 +129,67 @@ float assign_region(const Planes& f, uint16_t mask, int r, const int a[3], const
   }
   return total;
 }
+
+#ifdef AHD_TWO_REGION_AVX512
+// assign_region for both regions at once, the sixteen texels in one AVX-512 register: each
+// texel's operations are assign_region's in the same order (one table of both regions' palettes
+// per channel, entry 8r + k), and each region's error is the sum of its texels' in texel order,
+// as assign_region adds them: err[r] is bit for bit assign_region's, idx the same indices.
+__attribute__((target("avx2,avx512f,avx512vl,avx512bw,avx512dq"))) void assign_both_avx512(
+    const Planes& f, uint16_t mask, const int e[4][3], int bits, uint8_t idx[16], float err[2]) {
+  const __mmask16 r1 = __mmask16(mask);  // the texels of region 1
+  __m512 tab[3], d[3], p0[3];
+  for (int c = 0; c < 3; ++c) {
+    alignas(64) float t[16];
+    for (int r = 0; r < 2; ++r) {
+      const int ua = unq(e[2 * r][c], bits), ub = unq(e[2 * r + 1][c], bits);
+      for (int k = 0; k < 8; ++k) t[8 * r + k] = float(dec(interpolate(ua, ub, kWeights3[k])));
+    }
+    tab[c] = _mm512_load_ps(t);
+    d[c] = _mm512_mask_blend_ps(r1, _mm512_set1_ps(t[7] - t[0]), _mm512_set1_ps(t[15] - t[8]));
+    p0[c] = _mm512_mask_blend_ps(r1, _mm512_set1_ps(t[0]), _mm512_set1_ps(t[8]));
+  }
+  __m512 H[3], W[3], wd[3];
+  for (int c = 0; c < 3; ++c) {
+    H[c] = _mm512_loadu_ps(f.H[c]), W[c] = _mm512_loadu_ps(f.W[c]);
+    wd[c] = _mm512_mul_ps(W[c], d[c]);
+  }
+  const __m512 num = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(wd[0], _mm512_sub_ps(H[0], p0[0])),
+                                                 _mm512_mul_ps(wd[1], _mm512_sub_ps(H[1], p0[1]))),
+                                   _mm512_mul_ps(wd[2], _mm512_sub_ps(H[2], p0[2])));
+  const __m512 den = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(wd[0], d[0]), _mm512_mul_ps(wd[1], d[1])),
+                                   _mm512_mul_ps(wd[2], d[2]));
+  const __m512 zero = _mm512_setzero_ps(), k64 = _mm512_set1_ps(64.0f);
+  const __m512 safe = _mm512_mask_blend_ps(_mm512_cmp_ps_mask(den, zero, _CMP_GT_OQ), _mm512_set1_ps(1.0f), den);
+  __m512 p = _mm512_div_ps(_mm512_mul_ps(k64, num), safe);
+  // std::clamp(p, 0, 64): p < 0 → 0, 64 < p → 64.
+  p = _mm512_mask_blend_ps(_mm512_cmp_ps_mask(p, zero, _CMP_LT_OQ),
+                           _mm512_mask_blend_ps(_mm512_cmp_ps_mask(k64, p, _CMP_LT_OQ), p, k64), zero);
+  // kBelow.k[int(p)]: how many of the weights 9, 18, …, 64 are at or below int(p).
+  const __m512i ip = _mm512_cvttps_epi32(p), one = _mm512_set1_epi32(1);
+  __m512i k = _mm512_setzero_si512();
+  for (int j = 1; j < 8; ++j) k = _mm512_mask_add_epi32(k, _mm512_cmpge_epi32_mask(ip, _mm512_set1_epi32(kW3[j])), k, one);
+  const __m512i base = _mm512_mask_blend_epi32(r1, _mm512_setzero_si512(), _mm512_set1_epi32(8));
+  const __mmask16 below7 = _mm512_cmplt_epi32_mask(k, _mm512_set1_epi32(7));
+  const __m512i kn = _mm512_mask_add_epi32(k, below7, k, one);  // the next entry (k itself at 7)
+  __m512 errs[2];
+  for (int q = 0; q < 2; ++q) {
+    const __m512i ti = _mm512_add_epi32(base, q ? kn : k);
+    __m512 ec[3];
+    for (int c = 0; c < 3; ++c) ec[c] = _mm512_sub_ps(_mm512_permutexvar_ps(ti, tab[c]), H[c]);
+    errs[q] = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(_mm512_mul_ps(W[0], ec[0]), ec[0]), _mm512_mul_ps(_mm512_mul_ps(W[1], ec[1]), ec[1])),
+                            _mm512_mul_ps(_mm512_mul_ps(W[2], ec[2]), ec[2]));
+  }
+  const __m512 ek = errs[0], en = errs[1];
+  const __mmask16 up = below7 & _mm512_cmp_ps_mask(en, ek, _CMP_LT_OQ);
+  alignas(64) float best[16];
+  _mm512_store_ps(best, _mm512_mask_blend_ps(up, ek, en));
+  _mm_storeu_si128(reinterpret_cast<__m128i*>(idx), _mm512_cvtepi32_epi8(_mm512_mask_blend_epi32(up, k, kn)));
+  float total[2] = {0, 0};
+  for (int t = 0; t < 16; ++t) total[(mask >> t) & 1] += best[t];
+  err[0] = total[0], err[1] = total[1];
+}
+#endif
 
 // Least squares for one region's endpoints given its indices (half bits), held under the cap as
 // the one-region refit does. Returns false when a channel's system is singular.
@@ -275,7 +345,7 @@ bool deltas_fit(const ModeInfo& mi, const int e[4][3]) {
 // The most precise mode whose deltas fit after the anchors are fixed (texel 0 and region 1's
 // anchor need an index below 4: a region whose anchor is not is mirrored, which changes no
 // decoded value), with its indices and error.
-Cand make(const Planes& f, int p, const float t[2][2][3]) {
+Cand make(const Planes& f, int p, const float t[2][2][3], bool wide) {
   const uint16_t mask = kPartitions[p];
   const int anchor[2] = {0, kAnchor2[p]};
   Cand c;
@@ -328,8 +398,15 @@ Cand make(const Planes& f, int p, const float t[2][2][3]) {
       std::memcpy(ea, e, sizeof e);
       std::memset(ia, 0, 16);
       erra = 0;
+      float er[2] = {0, 0};
+#ifdef AHD_TWO_REGION_AVX512
+      const bool both = wide;
+      if (both) assign_both_avx512(f, mask, ea, mi.epb, ia, er);
+#else
+      const bool both = false;
+#endif
       for (int r = 0; r < 2; ++r) {
-        erra += assign_region(f, mask, r, ea[2 * r], ea[2 * r + 1], mi.epb, ia);
+        erra += both ? er[r] : assign_region(f, mask, r, ea[2 * r], ea[2 * r + 1], mi.epb, ia);
         if (ia[anchor[r]] >= 4) {
           for (int ch = 0; ch < 3; ++ch) std::swap(ea[2 * r][ch], ea[2 * r + 1][ch]);
           for (int tt = 0; tt < 16; ++tt)
@@ -390,6 +467,13 @@ void improve_with_two_regions(const uint16_t h[48], const float x[48], const uin
     }
     f.tw[t] = (f.W[0][t] + f.W[1][t] + f.W[2][t]) * (1.0f / 3.0f);
   }
+  // The index step sixteen texels at a time where the CPU has AVX-512 (the same bytes; the
+  // scalar loops when forced, so tests compare the two).
+#ifdef AHD_TWO_REGION_AVX512
+  const bool wide = !scalar_forced() && cpu_has_avx512();
+#else
+  const bool wide = false;
+#endif
   int parts[32];
   rank_partitions(f, kTried, parts);
   // Every ranked partition from its axes; least squares only on the kRefined best of them.
@@ -399,7 +483,7 @@ void improve_with_two_regions(const uint16_t h[48], const float x[48], const uin
   for (int i = 0; i < kTried; ++i) {
     const uint16_t mask = kPartitions[parts[i]];
     for (int r = 0; r < 2; ++r) axis_targets(f, mask, r, targets[i][r][0], targets[i][r][1]);
-    cand[i] = make(f, parts[i], targets[i]);
+    cand[i] = make(f, parts[i], targets[i], wide);
     order[i] = i;
   }
   std::stable_sort(order, order + kTried, [&](int a, int b) { return cand[a].err < cand[b].err; });
@@ -416,7 +500,7 @@ void improve_with_two_regions(const uint16_t h[48], const float x[48], const uin
       bool ok = true;
       for (int r = 0; r < 2 && ok; ++r) ok = refit_region(f, mask, r, c.idx, t[r][0], t[r][1]);
       if (!ok) break;
-      const Cand d = make(f, p, t);
+      const Cand d = make(f, p, t, wide);
       if (!(d.mode >= 0 && d.err < c.err)) break;
       c = d;
     }
