@@ -323,6 +323,103 @@ void axis_targets(const Planes& f, uint16_t mask, int r, float a[3], float b[3])
   }
 }
 
+#ifdef AHD_TWO_REGION_AVX512
+// axis_targets for both regions of kTried partitions at once, one (partition i, region r) per
+// AVX-512 lane 2i + r: each lane's operations are axis_targets' in the same order (a texel
+// outside the region or not valid leaves the lane's sums untouched, as its `continue` does; the
+// early returns become selections), so targets[i][r] are bit for bit axis_targets'.
+static_assert(2 * kTried == 16, "one lane per partition and region");
+__attribute__((target("avx2,avx512f,avx512vl,avx512bw,avx512dq"))) void axis_targets_avx512(
+    const Planes& f, const int parts[kTried], float targets[kTried][2][2][3]) {
+  alignas(64) int in[16];  // lane 2i + r: the texels of region r of partition i (bit t)
+  unsigned valid = 0;
+  for (int t = 0; t < 16; ++t) valid |= unsigned(f.valid[t] != 0) << t;
+  for (int i = 0; i < kTried; ++i) {
+    const unsigned m = kPartitions[parts[i]];
+    in[2 * i] = int(~m & valid & 0xFFFF), in[2 * i + 1] = int(m & valid);
+  }
+  const __m512i inv = _mm512_load_si512(in);
+  __mmask16 mt[16];  // texel t's lanes
+  for (int t = 0; t < 16; ++t) mt[t] = _mm512_test_epi32_mask(inv, _mm512_set1_epi32(1 << t));
+  __m512 w = _mm512_setzero_ps(), mean[3], lo[3], hi[3];
+  for (int c = 0; c < 3; ++c)
+    mean[c] = _mm512_setzero_ps(), lo[c] = _mm512_set1_ps(1e30f), hi[c] = _mm512_set1_ps(-1e30f);
+  for (int t = 0; t < 16; ++t) {
+    const __mmask16 k = mt[t];
+    w = _mm512_mask_add_ps(w, k, w, _mm512_set1_ps(f.tw[t]));
+    for (int c = 0; c < 3; ++c) {
+      const __m512 hv = _mm512_set1_ps(f.H[c][t]);
+      mean[c] = _mm512_mask_add_ps(mean[c], k, mean[c], _mm512_set1_ps(f.tw[t] * f.H[c][t]));
+      lo[c] = _mm512_mask_min_ps(lo[c], k, hv, lo[c]);  // std::min(lo, H): H < lo ? H : lo
+      hi[c] = _mm512_mask_max_ps(hi[c], k, hv, hi[c]);  // std::max(hi, H): hi < H ? H : hi
+    }
+  }
+  const __mmask16 empty = _mm512_cmp_ps_mask(lo[0], hi[0], _CMP_NLE_UQ);  // !(lo <= hi)
+  const __mmask16 light = _mm512_cmp_ps_mask(w, _mm512_setzero_ps(), _CMP_NGT_UQ) & ~empty;  // !(w > 0)
+  for (int c = 0; c < 3; ++c) mean[c] = _mm512_div_ps(mean[c], w);
+  __m512 cov[6];
+  for (int i = 0; i < 6; ++i) cov[i] = _mm512_setzero_ps();
+  for (int t = 0; t < 16; ++t) {
+    const __mmask16 k = mt[t];
+    const __m512 tw = _mm512_set1_ps(f.tw[t]);
+    const __m512 d0 = _mm512_sub_ps(_mm512_set1_ps(f.H[0][t]), mean[0]), d1 = _mm512_sub_ps(_mm512_set1_ps(f.H[1][t]), mean[1]),
+                 d2 = _mm512_sub_ps(_mm512_set1_ps(f.H[2][t]), mean[2]);
+    const __m512 w0 = _mm512_mul_ps(tw, d0), w1 = _mm512_mul_ps(tw, d1);
+    cov[0] = _mm512_mask_add_ps(cov[0], k, cov[0], _mm512_mul_ps(w0, d0));
+    cov[1] = _mm512_mask_add_ps(cov[1], k, cov[1], _mm512_mul_ps(w1, d1));
+    cov[2] = _mm512_mask_add_ps(cov[2], k, cov[2], _mm512_mul_ps(_mm512_mul_ps(tw, d2), d2));
+    cov[3] = _mm512_mask_add_ps(cov[3], k, cov[3], _mm512_mul_ps(w0, d1));
+    cov[4] = _mm512_mask_add_ps(cov[4], k, cov[4], _mm512_mul_ps(w0, d2));
+    cov[5] = _mm512_mask_add_ps(cov[5], k, cov[5], _mm512_mul_ps(w1, d2));
+  }
+  // principal_axis, lane-wise: a lane stops when its largest component is not above 0.
+  __m512 ax[3] = {cov[0], cov[1], cov[2]};
+  const __m512 sign = _mm512_set1_ps(-0.0f);
+  __mmask16 going = 0xFFFF;
+  for (int it = 0; it < 4; ++it) {
+    const __m512 v0 = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(cov[0], ax[0]), _mm512_mul_ps(cov[3], ax[1])), _mm512_mul_ps(cov[4], ax[2]));
+    const __m512 v1 = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(cov[3], ax[0]), _mm512_mul_ps(cov[1], ax[1])), _mm512_mul_ps(cov[5], ax[2]));
+    const __m512 v2 = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(cov[4], ax[0]), _mm512_mul_ps(cov[5], ax[1])), _mm512_mul_ps(cov[2], ax[2]));
+    const __m512 m = _mm512_max_ps(_mm512_max_ps(_mm512_andnot_ps(sign, v0), _mm512_andnot_ps(sign, v1)), _mm512_andnot_ps(sign, v2));
+    going &= _mm512_cmp_ps_mask(m, _mm512_setzero_ps(), _CMP_GT_OQ);
+    if (!going) break;
+    ax[0] = _mm512_mask_div_ps(ax[0], going, v0, m);
+    ax[1] = _mm512_mask_div_ps(ax[1], going, v1, m);
+    ax[2] = _mm512_mask_div_ps(ax[2], going, v2, m);
+  }
+  __m512 len2 = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(ax[0], ax[0]), _mm512_mul_ps(ax[1], ax[1])), _mm512_mul_ps(ax[2], ax[2]));
+  const __mmask16 flat = _mm512_cmp_ps_mask(len2, _mm512_setzero_ps(), _CMP_NGT_UQ);
+  for (int c = 0; c < 3; ++c) ax[c] = _mm512_mask_blend_ps(flat, ax[c], _mm512_set1_ps(1.0f));
+  len2 = _mm512_mask_blend_ps(flat, len2, _mm512_set1_ps(3.0f));
+  __m512 tmin = _mm512_set1_ps(1e30f), tmax = _mm512_set1_ps(-1e30f);
+  for (int t = 0; t < 16; ++t) {
+    const __m512 p = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(_mm512_sub_ps(_mm512_set1_ps(f.H[0][t]), mean[0]), ax[0]),
+                                                 _mm512_mul_ps(_mm512_sub_ps(_mm512_set1_ps(f.H[1][t]), mean[1]), ax[1])),
+                                   _mm512_mul_ps(_mm512_sub_ps(_mm512_set1_ps(f.H[2][t]), mean[2]), ax[2]));
+    tmin = _mm512_mask_blend_ps(mt[t] & _mm512_cmp_ps_mask(p, tmin, _CMP_LT_OQ), tmin, p);
+    tmax = _mm512_mask_blend_ps(mt[t] & _mm512_cmp_ps_mask(tmax, p, _CMP_LT_OQ), tmax, p);
+  }
+  const __m512 smin = _mm512_div_ps(tmin, len2), smax = _mm512_div_ps(tmax, len2);
+  alignas(64) float out[2][3][16];
+  for (int c = 0; c < 3; ++c) {
+    const __m512 va = _mm512_add_ps(mean[c], _mm512_mul_ps(smin, ax[c]));
+    const __m512 vb = _mm512_add_ps(mean[c], _mm512_mul_ps(smax, ax[c]));
+    // std::clamp(v, lo, hi): v < lo → lo, hi < v → hi.
+    __m512 a = _mm512_mask_blend_ps(_mm512_cmp_ps_mask(va, lo[c], _CMP_LT_OQ),
+                                    _mm512_mask_blend_ps(_mm512_cmp_ps_mask(hi[c], va, _CMP_LT_OQ), va, hi[c]), lo[c]);
+    __m512 b = _mm512_mask_blend_ps(_mm512_cmp_ps_mask(vb, lo[c], _CMP_LT_OQ),
+                                    _mm512_mask_blend_ps(_mm512_cmp_ps_mask(hi[c], vb, _CMP_LT_OQ), vb, hi[c]), lo[c]);
+    a = _mm512_mask_blend_ps(light, a, lo[c]), b = _mm512_mask_blend_ps(light, b, hi[c]);
+    a = _mm512_mask_blend_ps(empty, a, _mm512_setzero_ps()), b = _mm512_mask_blend_ps(empty, b, _mm512_setzero_ps());
+    _mm512_store_ps(out[0][c], a), _mm512_store_ps(out[1][c], b);
+  }
+  for (int i = 0; i < kTried; ++i)
+    for (int r = 0; r < 2; ++r)
+      for (int j = 0; j < 2; ++j)
+        for (int c = 0; c < 3; ++c) targets[i][r][j][c] = out[j][c][2 * i + r];
+}
+#endif
+
 struct Cand {
   int mode = -1;  // 0-based, two-region
   int e[4][3];    // region r's endpoints are e[2r], e[2r+1]
@@ -480,9 +577,13 @@ void improve_with_two_regions(const uint16_t h[48], const float x[48], const uin
   Cand cand[kTried];
   float targets[kTried][2][2][3];
   int order[kTried];
+#ifdef AHD_TWO_REGION_AVX512
+  if (wide) axis_targets_avx512(f, parts, targets);
+#endif
   for (int i = 0; i < kTried; ++i) {
     const uint16_t mask = kPartitions[parts[i]];
-    for (int r = 0; r < 2; ++r) axis_targets(f, mask, r, targets[i][r][0], targets[i][r][1]);
+    if (!wide)
+      for (int r = 0; r < 2; ++r) axis_targets(f, mask, r, targets[i][r][0], targets[i][r][1]);
     cand[i] = make(f, parts[i], targets[i], wide);
     order[i] = i;
   }
