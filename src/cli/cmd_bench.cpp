@@ -7,12 +7,12 @@
 //   wall 1t  MPix/s of wall time with one thread
 //   wall all MPix/s of wall time with every hardware thread
 //   cpu all  MPix/s per CPU-second of the process with every thread (CLOCK_PROCESS_CPUTIME_ID)
-// Each is the median of 3 runs (1 run for BC6H max). A run times one whole encode call as a caller
-// makes it: the encoder's setup, its output vector (allocated and filled inside the call) and the
-// encoding; the previous run's output is released before the clock starts, because freeing it is
-// not part of this call (inside the timer, the old and new outputs alternated between two heap
-// areas and about half the runs paid fresh-page faults for the new one: 64 faults, ≈ 7 % of a
-// 512² BC6H default encode on this VM).
+// Each is the median of 3 runs after one untimed run (1 run for BC6H max, none untimed). A run
+// times one whole encode call as a caller makes it: the encoder's setup, its output vector
+// (allocated and filled inside the call) and the encoding; the previous run's output is released
+// before the clock starts, because freeing it is not part of this call (inside the timer, the old
+// and new outputs alternated between two heap areas and about half the runs paid fresh-page
+// faults for the new one: 64 faults, ≈ 7 % of a 512² BC6H default encode on this VM).
 #include <time.h>
 
 #include <algorithm>
@@ -56,6 +56,12 @@ Timing time_runs(const std::function<void()>& encode, const std::function<void()
                  bool one_thread) {
   std::vector<double> wall, cpu;
   const clockid_t id = one_thread ? CLOCK_THREAD_CPUTIME_ID : CLOCK_PROCESS_CPUTIME_ID;
+  // One untimed run first when there are several: the process's first two allocations of an
+  // output buffer of a given size fault its pages in (glibc maps the first one, then grows the
+  // heap for the second; ≈ 16 µs per 4 KiB page on this VM, ≈ 1 ms for a 512² BC6H output, a
+  // third of `fast`'s encode), so two of three runs were cold and the median was a cold run.
+  // PEERS.md times the peers' encoding only, into memory already there.
+  if (runs > 1) encode();
   for (int r = 0; r < runs; ++r) {
     release();
     const double c0 = clock_seconds(id);
@@ -180,7 +186,7 @@ void add_bench_command(CLI::App& app) {
         "image,codec,quality,mpix_s_thread_cpu,mpix_s_wall_1thread,mpix_s_wall_all_threads,mpix_s_cpu_all_threads,threads,"
         "log_rmse,rmse,psnr_db,max_error\n";
     std::printf("speed: MPix/s; cpu/thr = one thread's CPU time (CLOCK_THREAD_CPUTIME_ID), wall 1t / wall %dt = wall time,\n"
-                "cpu %dt = per CPU-second of the process with %d threads; median of 3 runs (BC6H max: 1)\n",
+                "cpu %dt = per CPU-second of the process with %d threads; median of 3 runs after an untimed one (BC6H max: 1)\n",
                 all, all, all);
     std::printf("%-22s %-5s %-8s %8s %8s %8s %8s %10s %10s %8s %10s\n", "image", "codec", "quality", "cpu/thr", "wall 1t",
                 "wall all", "cpu all", "log-RMSE", "RMSE", "PSNR dB", "max err");

@@ -585,12 +585,33 @@ void fit_blocks_fast(const uint16_t* h, const float* x, const uint8_t* valid, in
 void encode_blocks_fast(const uint16_t* h, const float* x, const uint8_t* valid, int n, uint8_t* out) {
   for (int i = 0; i < n; i += 16 * kMaxBatches) {  // kMaxBatches AVX-512 batches of fits on the stack at a time
     const int m = std::min(16 * kMaxBatches, n - i);
-    OneRegionFit fits[16 * kMaxBatches];
-    fit_blocks_fast(h + 48 * i, x + 48 * i, valid + 16 * i, m, fits);
-    for (int j = 0; j < m; ++j) {
-      const int b = i + j;
-      pack_one_region(fits[j], out + 16 * b);
-      improve_with_two_regions(h + 48 * b, x + 48 * b, valid + 16 * b, fits[j].err, out + 16 * b);
+    float err[16 * kMaxBatches];
+    int j = 0;
+    if (!scalar_forced() && !g_force_avx2.load(std::memory_order_relaxed) && cpu_has_avx512() && m > 8) {
+      // The AVX-512 batches pack in their lanes (the blocks pack_one_region writes); as in
+      // fit_blocks_fast, at most eight blocks take the path below instead.
+      const int full = m;
+      const uint16_t* hp[16 * kMaxBatches];
+      const float* xp[16 * kMaxBatches];
+      const uint8_t* vp[16 * kMaxBatches];
+      uint8_t* bp[16 * kMaxBatches];
+      float* ep[16 * kMaxBatches];
+      for (int l = 0; l < 16 * kMaxBatches; ++l) {
+        const int b = i + (l < full ? l : 0);  // padding repeats the first block
+        hp[l] = h + 48 * b, xp[l] = x + 48 * b, vp[l] = valid + 16 * b;
+        bp[l] = l < full ? out + 16 * (i + l) : nullptr, ep[l] = err + l;
+      }
+      encode_blocks_fast_x16n((full + 15) / 16, hp, xp, vp, bp, ep);
+      j = full;
+    }
+    if (j < m) {
+      OneRegionFit fits[16 * kMaxBatches];
+      fit_blocks_fast(h + 48 * (i + j), x + 48 * (i + j), valid + 16 * (i + j), m - j, fits);
+      for (int k = j; k < m; ++k) pack_one_region(fits[k - j], out + 16 * (i + k)), err[k] = fits[k - j].err;
+    }
+    for (int k = 0; k < m; ++k) {
+      const int b = i + k;
+      improve_with_two_regions(h + 48 * b, x + 48 * b, valid + 16 * b, err[k], out + 16 * b);
     }
   }
 }

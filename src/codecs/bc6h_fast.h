@@ -92,11 +92,18 @@ bool cpu_has_avx2();
 // AVX-512 lane (bc6h_fast_avx512.cpp; block i: h[i], x[i], valid[i] → *out[i], skipped when
 // null): the same fits as fit_one_region_fast. The second least-squares pass's index step runs
 // on the lanes that need it gathered from all the batches. Call only when cpu_has_avx512() (F,
-// VL, BW, DQ and the OS's ZMM state).
+// VL, BW, DQ and the OS's ZMM state). h[i] must be the half bits of x[i] (floats_to_half's):
+// batches of whole blocks convert x themselves.
 constexpr int kMaxBatches = 8;
 void fit_blocks_fast_x16n(int batches, const uint16_t* const h[], const float* const x[], const uint8_t* const valid[],
                           OneRegionFit* const out[]);
 bool cpu_has_avx512();
+
+// fit_blocks_fast_x16n with each fit written as pack_one_region writes it: block i at blocks[i]
+// (16 bytes) and its fit error at *err[i], both skipped when blocks[i] is null (`fast` packs in
+// the lanes instead of block by block).
+void encode_blocks_fast_x16n(int batches, const uint16_t* const h[], const float* const x[], const uint8_t* const valid[],
+                             uint8_t* const blocks[], float* const err[]);
 
 // The two-region candidate of `fast` (bc6h_fast_two_region.cpp): when one_err (the one-region
 // fit's error, weighted squared half steps) is above its gate, fits the best-ranked partition and

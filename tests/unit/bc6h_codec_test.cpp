@@ -555,6 +555,66 @@ double fast_measure(const uint16_t h[48], const float x[48], const uint16_t dec[
 
 }  // namespace
 
+TEST(Bc6h, FastTwoRegionLanesWriteTheScalarBytes) {
+  // The two-region candidate's AVX-512 index step and axis targets (one partition region per
+  // lane, sums masked by region and validity) against its scalar loops, on blocks made for it:
+  // two clusters on a random partition with noise, every other block partial — some with a region
+  // that has no valid texel, some with a single valid texel. Same bytes, the no-specks bound, and
+  // the candidate must win on most of them (else this would not test it).
+  constexpr int kBlocks = 96;
+  std::mt19937 rng(1313);
+  std::uniform_real_distribution<float> u(0, 1);
+  std::vector<float> x(kBlocks * 48);
+  std::vector<uint16_t> h(kBlocks * 48);
+  std::vector<uint8_t> valid(kBlocks * 16, 1);
+  for (int b = 0; b < kBlocks; ++b) {
+    const unsigned part = bc6h::kPartitions[rng() % 32];
+    float colour[2][3];
+    for (int r = 0; r < 2; ++r)
+      for (int c = 0; c < 3; ++c) colour[r][c] = std::exp2(12 * u(rng) - 4);
+    for (int t = 0; t < 16; ++t) {
+      const int r = (part >> t) & 1;
+      const float n = std::exp2(0.6f * u(rng) - 0.3f);
+      for (int c = 0; c < 3; ++c) x[b * 48 + t * 3 + c] = std::min(colour[r][c] * n, 65504.0f);
+    }
+    if (b % 2) {  // partial: a random valid mask (region 1 only, one texel, or random)
+      const int kind = (b / 2) % 3;
+      for (int t = 0; t < 16; ++t) {
+        const bool keep = kind == 0 ? ((part >> t) & 1) != 0 : kind == 1 ? t == int(rng() % 16) || t == 15 : u(rng) < 0.5f;
+        valid[b * 16 + t] = keep ? 1 : 0;
+      }
+      valid[b * 16 + 15] = 1;  // texel 15 is in region 1 of every partition: never empty
+      int first = 0;
+      while (!valid[b * 16 + first]) ++first;
+      for (int t = 0; t < 16; ++t)
+        if (!valid[b * 16 + t])
+          for (int c = 0; c < 3; ++c) x[b * 48 + t * 3 + c] = x[b * 48 + first * 3 + c];
+    }
+  }
+  bc6h::floats_to_half(x.data(), h.data(), kBlocks * 48);
+  std::vector<uint8_t> wide(kBlocks * 16), scalar(kBlocks * 16);
+  bc6h::encode_blocks_fast(h.data(), x.data(), valid.data(), kBlocks, wide.data());
+  bc6h::force_scalar(true);
+  bc6h::encode_blocks_fast(h.data(), x.data(), valid.data(), kBlocks, scalar.data());
+  bc6h::force_scalar(false);
+  int two_region = 0;
+  for (int b = 0; b < kBlocks; ++b) {
+    ASSERT_TRUE(std::equal(&wide[b * 16], &wide[b * 16] + 16, &scalar[b * 16])) << b;
+    const int code = wide[b * 16] & 0x1F;
+    two_region += code != 0x03 && code != 0x07 && code != 0x0B && code != 0x0F;
+    uint16_t dec[48];
+    bc6h_decode_block(&wide[b * 16], false, dec);
+    for (int c = 0; c < 3; ++c) {
+      int top = 0;
+      for (int t = 0; t < 16; ++t)
+        if (valid[b * 16 + t]) top = std::max(top, int(h[b * 48 + t * 3 + c]));
+      for (int t = 0; t < 16; ++t) ASSERT_LE(int(dec[t * 3 + c]), top + 1) << b;
+    }
+  }
+  std::printf("AVX-512: %s; two-region blocks: %d of %d\n", bc6h::cpu_has_avx512() ? "yes" : "no", two_region, kBlocks);
+  EXPECT_GT(two_region, kBlocks / 3);
+}
+
 TEST(Bc6h, FastTwoClustersGetTwoRegions) {
   // Two clusters that no one line follows (the top half varies along grey, the bottom half
   // along red): `fast` writes a two-region block, lower in its error measure than the one-region
