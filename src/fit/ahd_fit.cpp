@@ -27,6 +27,13 @@ bool optimal_direction(const IrradiancePoly p[3], const FitOptions& opt, double 
   return true;
 }
 
+void linear_direction(const IrradiancePoly p[3], const FitOptions& opt, float d[3]) {
+  double v[3];
+  optimal_direction(p, opt, v);
+  tilt_above_horizon(v, opt.dz_min);
+  for (int i = 0; i < 3; ++i) d[i] = float(v[i]);
+}
+
 void fit_channel(const HemisphereMoments& m, double iz, double dz, double* ca, double* cd, double* t_out) {
   // General solution of [1 d_z][C_a C_d]ᵀ = I_z (eq. 11): C_a = a0 − d_z t, C_d = b0 + t.
   const double k = 1.0 / (dz * dz + 1.0);

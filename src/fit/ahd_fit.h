@@ -33,6 +33,11 @@ struct FitOptions {
   // that costs at most this fraction of its constrained hemisphere error (direction_coherence.h;
   // 0 = off). Chosen by measurement (README "Choosing the direction").
   double coherence_tolerance = 0.02;
+  // Refined only, over an image (fit_image): after the coherence pass, any two adjacent texels whose
+  // directions turn by more than max(this, their linear directions' angle) in degrees both fall back
+  // to the linear fit, until no pair does (direction_guard.h; 0 = off). Chosen by measurement
+  // (README "Choosing the direction", the pair guard).
+  double pair_guard_deg = 4.0;
 };
 
 // Why a texel needed a rule (bits of AhdFit::flags; counted in FitStats).
@@ -73,6 +78,11 @@ HemisphereMoments hemisphere_moments(const IrradiancePoly& p, const double d[3],
 // Optimal linear direction of the luminance L1 band of the three channel polynomials.
 // Returns false (and d = z) when the L1 luminance is below the threshold.
 bool optimal_direction(const IrradiancePoly p[3], const FitOptions& opt, double d[3]);
+
+// The d that fit_texel with DirectionFit::Linear stores (optimal_direction after the horizon rule,
+// as floats; z when there is no direction), without the colours: what the refined fit's pair guard
+// compares against (direction_guard.h).
+void linear_direction(const IrradiancePoly p[3], const FitOptions& opt, float d[3]);
 
 // The closed-form minimiser of E(t) (eq. 12) for one channel, clamped to [t_min, t_max]
 // (C_a ≥ 0, C_d ≥ 0); writes C_a, C_d. Requires iz ≥ 0 and d[2] > 0.
