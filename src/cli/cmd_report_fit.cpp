@@ -110,7 +110,7 @@ void report_fit(const FitSets& fs) {
           std::snprintf(filtered, sizeof filtered, "%.4f", fe.mean_irradiance > 0 ? fe.rms / fe.mean_irradiance : 0.0);
         }
         char reverted[32] = "–";
-        if (dir == DirectionFit::Refined && opt.pair_guard_deg > 0 && st.covered)
+        if (dir == DirectionFit::Refined && opt.pair_guard_deg > 0 && st.covered && sets[s].height > 1)
           std::snprintf(reverted, sizeof reverted, "%.2f %%", 100.0 * double(st.guard_reverted) / double(st.covered));
         std::printf("| %s | %s | %s | %.3f | %.3f | %.3f | %.3f | %s | %s | %s | %.0f |\n", names[s].c_str(),
                     form == RatioForm::Rgb ? "rgb" : "luminance", direction_fit_name(dir), qf.ratio(), qq.ratio(),
