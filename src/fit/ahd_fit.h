@@ -105,6 +105,9 @@ AhdFit fit_colours(const IrradiancePoly p[3], const double d[3], const double iz
 // Fits one texel from its three channel polynomials (local frame). Always finite output for
 // finite input; constraints always hold (C_a, C_d ≥ 0, ratio in [0,1], d_z ≥ dz_min).
 AhdFit fit_texel(const IrradiancePoly p[3], const FitOptions& opt);
+// The same, also writing linear_direction(p, opt) to linear_d (when not null) from the d it
+// computes on the way (fit_image's pair guard needs it beside a refined fit).
+AhdFit fit_texel(const IrradiancePoly p[3], const FitOptions& opt, float linear_d[3]);
 
 // What fit_texel returns for a texel whose irradiance is the same for every normal (only e0
 // nonzero: every texel of an L0 image): the pure ambient lobe, exact with nothing to solve —

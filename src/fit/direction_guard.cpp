@@ -51,9 +51,18 @@ size_t guard_direction_pairs(const ShImage& sh, const FitOptions& opt, const std
   // before reverted (no other pair changed). The candidates of a sweep are decided against one
   // state (marks first, reverts after), in ascending order: nothing depends on the thread count.
   std::vector<size_t> candidates, fresh;
-  parallel_for(n, threads, 4096, [&](size_t i) { mark[i] = breaks(i); });
-  for (size_t i = 0; i < n; ++i)
-    if (mark[i]) fresh.push_back(i);
+  // Sweep 0 tests each pair once: bit 1 its right pair, bit 2 its lower pair (each item writes only
+  // its own byte), then a texel breaks when one of its four pairs does.
+  parallel_for(n, threads, 4096, [&](size_t i) {
+    if (!sh.coverage[i]) return;
+    const size_t x = i % w, y = i / w;
+    mark[i] = uint8_t((x + 1 < w && sh.coverage[i + 1] && violates(*fit, linear_d, i, i + 1, t_deg, cos_t) ? 1 : 0) |
+                      (y + 1 < h && sh.coverage[i + w] && violates(*fit, linear_d, i, i + w, t_deg, cos_t) ? 2 : 0));
+  });
+  for (size_t y = 0, i = 0; y < h; ++y)
+    for (size_t x = 0; x < w; ++x, ++i)
+      if ((mark[i] & 3) || (x > 0 && (mark[i - 1] & 1)) || (y > 0 && (mark[i - w] & 2))) fresh.push_back(i);
+  std::fill(mark.begin(), mark.end(), uint8_t(0));
   size_t total = 0;
   while (!fresh.empty()) {
     parallel_for(fresh.size(), threads, 64, [&](size_t k) {

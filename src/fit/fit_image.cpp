@@ -18,14 +18,13 @@ AhdImage fit_image(const ShImage& sh, const FitOptions& opt, int threads, FitSta
   // A single row or column is not guarded: the random-lighting sets are independent texels laid out
   // n×1, and reverting a texel because of an unrelated one beside it would only lose accuracy.
   const bool guard = refined && opt.pair_guard_deg > 0 && sh.width > 1 && sh.height > 1;
-  // The pair guard compares against the linear d: a few ns a texel beside the refined fit, from the
-  // same polynomials (the linear colours are refitted only where the guard reverts).
+  // The pair guard compares against the linear d, which the fit computes on the way (its first
+  // start); the linear colours are refitted only where the guard reverts.
   std::vector<float> linear_d(guard ? sh.texels() * 3 : 0);
   parallel_for(sh.texels(), threads, 1024, [&](size_t i) {
     IrradiancePoly p[3];
     local_polys(sh, i, p);
-    out.texels[i] = fit_texel(p, opt);
-    if (guard) linear_direction(p, opt, &linear_d[i * 3]);
+    out.texels[i] = fit_texel(p, opt, guard ? &linear_d[i * 3] : nullptr);
   });
   if (refined && opt.coherence_tolerance > 0) smooth_directions(sh, opt, threads, &out);
   size_t reverted = 0;

@@ -189,6 +189,17 @@ TEST(FitRefine, PairGuardBoundsEveryNeighbourAngleByTheLinearOnes) {
     EXPECT_LE(p_on, std::max(ref.pair_guard_deg, p_lin));
     EXPECT_GT(reverted, 0u);
     EXPECT_EQ(reverted <= st.guard_reverted, true);  // reverted texels already linear do not show as changed
+    // The linear d the guard compares against, as fit_texel hands it on: linear_direction's, and the
+    // d the linear fit stores.
+    for (size_t i = 0; i < n; ++i) {
+      IrradiancePoly p[3];
+      local_polys(sh, i, p);
+      float handed[3], direct[3];
+      fit_texel(p, ref, handed);
+      linear_direction(p, ref, direct);
+      ASSERT_EQ(std::memcmp(handed, direct, sizeof handed), 0) << "texel " << i;
+      ASSERT_EQ(std::memcmp(handed, l.texels[i].d, sizeof handed), 0) << "texel " << i;
+    }
   }
 }
 
