@@ -58,8 +58,9 @@ BENCHMARK(BM_FitTexel)
     ->ArgNames({"coeffs", "refined", "rgb"});
 
 // A whole image on one thread: the per-texel fit plus, for refined, the coherence pass
-// (fit/direction_coherence.h), which BM_FitTexel does not see. Args: direction fit (0 linear,
-// 1 refined), ratio form (0 luminance, 1 RGB). Analytic scene 128², L2; time per texel.
+// (fit/direction_coherence.h) and the pair guard (fit/direction_guard.h), which BM_FitTexel does
+// not see. Args: direction fit (0 linear, 1 refined), ratio form (0 luminance, 1 RGB), pair guard
+// (1 on, the default; 0 off: what the guard costs). Analytic scene 128², L2; time per texel.
 void BM_FitImage(benchmark::State& state) {
   BakerOptions bo;
   bo.width = bo.height = 128;
@@ -67,10 +68,16 @@ void BM_FitImage(benchmark::State& state) {
   FitOptions opt;
   opt.direction_fit = state.range(0) ? DirectionFit::Refined : DirectionFit::Linear;
   opt.ratio_form = state.range(1) ? RatioForm::Rgb : RatioForm::Luminance;
+  if (!state.range(2)) opt.pair_guard_deg = 0;
   for (auto _ : state) benchmark::DoNotOptimize(fit_image(sh, opt, 1));
   state.SetItemsProcessed(int64_t(state.iterations()) * bo.width * bo.height);
 }
-BENCHMARK(BM_FitImage)->ArgsProduct({{0, 1}, {0, 1}})->ArgNames({"refined", "rgb"})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FitImage)
+    ->ArgsProduct({{0, 1}, {0, 1}, {1}})
+    ->Args({1, 0, 0})
+    ->Args({1, 1, 0})
+    ->ArgNames({"refined", "rgb", "guard"})
+    ->Unit(benchmark::kMillisecond);
 
 void BM_ConvertUncompressed(benchmark::State& state) {
   BakerOptions bo;

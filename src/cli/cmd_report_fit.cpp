@@ -62,6 +62,7 @@ struct FitSets {
   bool hard = true;          // also the harder sets
   bool refined = true;       // also the refined fit (off: a quick calibration run)
   double coherence = FitOptions{}.coherence_tolerance;
+  double guard = FitOptions{}.pair_guard_deg;
 };
 
 void report_fit(const FitSets& fs) {
@@ -87,7 +88,8 @@ void report_fit(const FitSets& fs) {
   }
   std::printf("| set | ratio | direction fit | fitted / LS | quantised / LS | issue 18: mean of texel ratios "
               "(400 dirs) | issue 18: ratio of means (400 dirs) | neighbour angle p99 (°) | "
-              "bilinear sub-texel rel RMSE | fit ns/texel (thread CPU) |\n|---|---|---|---|---|---|---|---|---|---|\n");
+              "bilinear sub-texel rel RMSE | pair guard: reverted | fit ns/texel (thread CPU) |\n"
+              "|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (size_t s = 0; s < sets.size(); ++s)
     for (RatioForm form : {RatioForm::Rgb, RatioForm::Luminance})
       for (DirectionFit dir : {DirectionFit::Linear, DirectionFit::Refined}) {
@@ -96,8 +98,10 @@ void report_fit(const FitSets& fs) {
         opt.ratio_form = form;
         opt.direction_fit = dir;
         opt.coherence_tolerance = fs.coherence;
+        opt.pair_guard_deg = fs.guard;
+        FitStats st;
         const double t0 = thread_seconds();
-        const AhdImage fit = fit_image(sets[s], opt, 1);
+        const AhdImage fit = fit_image(sets[s], opt, 1, &st);
         const double ns = 1e9 * (thread_seconds() - t0) / double(sets[s].texels());
         const FitQuality qf = fit_quality(sets[s], fit, opt, 0, /*directions=*/400);
         const FitQuality qq = fit_quality(sets[s], quantised_planes(sets[s], opt), opt, 0);
@@ -107,9 +111,12 @@ void report_fit(const FitSets& fs) {
           std::snprintf(angle, sizeof angle, "%.2f", direction_p99_angle_deg(fit));
           std::snprintf(filtered, sizeof filtered, "%.4f", fe.mean_irradiance > 0 ? fe.rms / fe.mean_irradiance : 0.0);
         }
-        std::printf("| %s | %s | %s | %.3f | %.3f | %.3f | %.3f | %s | %s | %.0f |\n", names[s].c_str(),
+        char reverted[32] = "–";
+        if (dir == DirectionFit::Refined && opt.pair_guard_deg > 0 && st.covered && sets[s].height > 1)
+          std::snprintf(reverted, sizeof reverted, "%.2f %%", 100.0 * double(st.guard_reverted) / double(st.covered));
+        std::printf("| %s | %s | %s | %.3f | %.3f | %.3f | %.3f | %s | %s | %s | %.0f |\n", names[s].c_str(),
                     form == RatioForm::Rgb ? "rgb" : "luminance", direction_fit_name(dir), qf.ratio(), qq.ratio(),
-                    qf.sampled_texel_ratio, qf.sampled_ratio, angle, filtered, ns);
+                    qf.sampled_texel_ratio, qf.sampled_ratio, angle, filtered, reverted, ns);
         std::fflush(stdout);
       }
 }
@@ -130,6 +137,7 @@ void add_report_fit_command(CLI::App* report) {
   f->add_option("--bounce-scale", fs->bounce_scale, "Smooth scene: coloured bounce light scale")->check(CLI::Range(0.0, 100.0));
   f->add_option("--smooth-coeffs", fs->smooth_coeffs, "Smooth scene: 4 (L1) or 9 (L2)")->check(CLI::IsMember({4, 9}));
   f->add_option("--coherence", fs->coherence, "Refined: coherence tolerance (0 = off)")->check(CLI::Range(0.0, 1.0));
+  f->add_option("--guard", fs->guard, "Refined: pair guard angle T in degrees (0 = off)")->check(CLI::Range(0.0, 90.0));
   f->add_flag("!--no-hard", fs->hard, "Only the calibrated sets");
   f->add_flag("!--no-refined", fs->refined, "Only the linear fit (calibration)");
   f->callback([fs]() { report_fit(*fs); });

@@ -27,6 +27,13 @@ bool optimal_direction(const IrradiancePoly p[3], const FitOptions& opt, double 
   return true;
 }
 
+void linear_direction(const IrradiancePoly p[3], const FitOptions& opt, float d[3]) {
+  double v[3];
+  optimal_direction(p, opt, v);
+  tilt_above_horizon(v, opt.dz_min);
+  for (int i = 0; i < 3; ++i) d[i] = float(v[i]);
+}
+
 void fit_channel(const HemisphereMoments& m, double iz, double dz, double* ca, double* cd, double* t_out) {
   // General solution of [1 d_z][C_a C_d]ᵀ = I_z (eq. 11): C_a = a0 − d_z t, C_d = b0 + t.
   const double k = 1.0 / (dz * dz + 1.0);
@@ -92,15 +99,22 @@ AhdFit fit_texel_constant(const IrradiancePoly p[3], const FitOptions& opt) {
   return fit_constant_irradiance(ez, opt);
 }
 
-AhdFit fit_texel(const IrradiancePoly p[3], const FitOptions& opt) {
+AhdFit fit_texel(const IrradiancePoly p[3], const FitOptions& opt) { return fit_texel(p, opt, nullptr); }
+
+AhdFit fit_texel(const IrradiancePoly p[3], const FitOptions& opt, float linear_d[3]) {
   double d[3];
   const bool directional = optimal_direction(p, opt, d);
   // Irradiance the same for every normal (a plain lightmap, or no L1/L2 at this texel): the pure
   // ambient lobe is exact, so there is nothing to fit (and plain maps skip the per-channel solve).
-  if (!directional && irradiance_is_constant(p)) return fit_texel_constant(p, opt);
+  if (!directional && irradiance_is_constant(p)) {
+    if (linear_d) linear_d[0] = 0.0f, linear_d[1] = 0.0f, linear_d[2] = 1.0f;  // optimal_direction's z
+    return fit_texel_constant(p, opt);
+  }
   uint8_t flags = directional ? 0 : kFitNoDirection;
   // Decoding divides by d_z: grazing / below-horizon directions are tilted up (ahd_decode.h).
   if (tilt_above_horizon(d, opt.dz_min)) flags |= kFitDirClamped;
+  if (linear_d)
+    for (int i = 0; i < 3; ++i) linear_d[i] = float(d[i]);  // = linear_direction(p, opt)
   double ez[3], iz[3];
   bool negative;
   irradiance_along_z(p, ez);

@@ -33,6 +33,11 @@ struct FitOptions {
   // that costs at most this fraction of its constrained hemisphere error (direction_coherence.h;
   // 0 = off). Chosen by measurement (README "Choosing the direction").
   double coherence_tolerance = 0.02;
+  // Refined only, over an image (fit_image): after the coherence pass, any two adjacent texels whose
+  // directions turn by more than max(this, their linear directions' angle) in degrees both fall back
+  // to the linear fit, until no pair does (direction_guard.h; 0 = off). Chosen by measurement
+  // (README "Choosing the direction", the pair guard).
+  double pair_guard_deg = 4.0;
 };
 
 // Why a texel needed a rule (bits of AhdFit::flags; counted in FitStats).
@@ -44,8 +49,8 @@ enum FitFlag : uint8_t {
   kFitNonFinite = 16,      // NaN/Inf reached the fit: that channel stored as 0
 };
 
-// One fitted texel: what the planes store, before quantisation (40 bytes: a fitted level is held
-// whole while it is quantised, so the colours are derived, not stored).
+// One fitted texel: what the planes store, before quantisation (a fitted level is held whole while
+// it is quantised — as planes, fit_image.h's AhdImage — so the colours are derived, not stored).
 struct AhdFit {
   float iz[3];     // irradiance along the local z (the normal), RGB
   float d[3];      // unit highlight direction, local frame, d[2] ≥ dz_min
@@ -74,6 +79,11 @@ HemisphereMoments hemisphere_moments(const IrradiancePoly& p, const double d[3],
 // Returns false (and d = z) when the L1 luminance is below the threshold.
 bool optimal_direction(const IrradiancePoly p[3], const FitOptions& opt, double d[3]);
 
+// The d that fit_texel with DirectionFit::Linear stores (optimal_direction after the horizon rule,
+// as floats; z when there is no direction), without the colours: what the refined fit's pair guard
+// compares against (direction_guard.h).
+void linear_direction(const IrradiancePoly p[3], const FitOptions& opt, float d[3]);
+
 // The closed-form minimiser of E(t) (eq. 12) for one channel, clamped to [t_min, t_max]
 // (C_a ≥ 0, C_d ≥ 0); writes C_a, C_d. Requires iz ≥ 0 and d[2] > 0.
 void fit_channel(const HemisphereMoments& m, double iz, double dz, double* ca, double* cd, double* t = nullptr);
@@ -95,6 +105,9 @@ AhdFit fit_colours(const IrradiancePoly p[3], const double d[3], const double iz
 // Fits one texel from its three channel polynomials (local frame). Always finite output for
 // finite input; constraints always hold (C_a, C_d ≥ 0, ratio in [0,1], d_z ≥ dz_min).
 AhdFit fit_texel(const IrradiancePoly p[3], const FitOptions& opt);
+// The same, also writing linear_direction(p, opt) to linear_d (when not null) from the d it
+// computes on the way (fit_image's pair guard needs it beside a refined fit).
+AhdFit fit_texel(const IrradiancePoly p[3], const FitOptions& opt, float linear_d[3]);
 
 // What fit_texel returns for a texel whose irradiance is the same for every normal (only e0
 // nonzero: every texel of an L0 image): the pure ambient lobe, exact with nothing to solve —

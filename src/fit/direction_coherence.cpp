@@ -38,16 +38,23 @@ void smooth_directions(const ShImage& sh, const FitOptions& opt, int threads, Ah
     optimal_direction(p, opt, dl);
     tilt_above_horizon(dl, opt.dz_min);
     const RefineObjective f(p, iz, opt.ratio_form);
-    const double fs = f.value(ds), fb = f.value(db);
+    // The mean, the texel's own d and the linear d in one batch (their latencies overlap; the same
+    // bytes as three value() calls; the linear d's value is needed by almost every texel that
+    // gets this far), keeping the mean's moments for its colours.
+    const double* three[3] = {ds, db, dl};
+    double fv[3];
+    LuneMoments ms[3];
+    f.values(three, 3, fv, ms);
+    const double fs = fv[0], fb = fv[1], fl = fv[2];
     if (!(fs <= fb)) {
       // Worse than the texel's own: within the tolerance? (Σ_c ∫ E_c² makes f the error itself;
-      // only computed here, it costs as much as the rest of the pass.)
+      // only computed here.)
       double e2 = 0;
       for (int c = 0; c < 3; ++c) e2 += hemisphere_square_integral(p[c]);
       if (!(fs - fb <= opt.coherence_tolerance * std::max(0.0, fb + e2))) return;
     }
-    if (!(fs <= f.value(dl))) return;  // never worse than the linear d
-    AhdFit s = fit_colours(p, ds, iz, opt);
+    if (!(fs <= fl)) return;  // never worse than the linear d
+    AhdFit s = fit_colours(p, ds, iz, opt, &ms[0]);  // the same bytes as recomputing the moments
     s.flags |= t.flags;
     fit->set_texel(i, s);
   });

@@ -6,6 +6,7 @@
 #include "core/large_buffer.h"
 #include "core/parallel.h"
 #include "fit/direction_coherence.h"
+#include "fit/direction_guard.h"
 
 namespace ahd {
 
@@ -40,16 +41,25 @@ AhdImage make_ahd_image(int width, int height, bool one_ratio) {
 AhdImage fit_image(const ShImage& sh, const FitOptions& opt, int threads, FitStats* stats) {
   AhdImage out = make_ahd_image(sh.width, sh.height, opt.ratio_form == RatioForm::Luminance);
   out.coverage = sh.coverage;
+  const bool refined = opt.direction_fit == DirectionFit::Refined;
+  // A single row or column is not guarded: the random-lighting sets are independent texels laid out
+  // n×1, and reverting a texel because of an unrelated one beside it would only lose accuracy.
+  const bool guard = refined && opt.pair_guard_deg > 0 && sh.width > 1 && sh.height > 1;
+  // The pair guard compares against the linear d, which the fit computes on the way (its first
+  // start); the linear colours are refitted only where the guard reverts.
+  std::vector<float> linear_d(guard ? sh.texels() * 3 : 0);
   parallel_for(sh.texels(), threads, 1024, [&](size_t i) {
     IrradiancePoly p[3];
     local_polys(sh, i, p);
-    out.set_texel(i, fit_texel(p, opt));
+    out.set_texel(i, fit_texel(p, opt, guard ? &linear_d[i * 3] : nullptr));
   });
-  if (opt.direction_fit == DirectionFit::Refined && opt.coherence_tolerance > 0)
-    smooth_directions(sh, opt, threads, &out);
+  if (refined && opt.coherence_tolerance > 0) smooth_directions(sh, opt, threads, &out);
+  size_t reverted = 0;
+  if (guard) reverted = guard_direction_pairs(sh, opt, linear_d, threads, &out);
   if (stats) {
     *stats = FitStats{};
     stats->texels = sh.texels();
+    stats->guard_reverted = reverted;
     for (size_t i = 0; i < sh.texels(); ++i) {
       if (!sh.coverage[i]) continue;
       const uint8_t f = out.flags[i];

@@ -52,6 +52,7 @@ struct FitStats {
   size_t dir_clamped = 0;
   size_t negative_iz = 0;
   size_t black = 0;
+  size_t guard_reverted = 0;  // refined: texels the pair guard put back to the linear fit (direction_guard.h)
 };
 
 // The fit of texel i of an L0 image (plain lightmaps: sh.coeffs == 1), bit for bit fit_image's:
@@ -111,7 +112,9 @@ inline AhdFit fitted_texel(const FittedLevel& l, size_t i) {
 }
 
 // Fits every texel (uncovered ones too; their values are replaced by dilation later); a refined
-// fit then takes the coherence pass (direction_coherence.h).
+// fit then takes the coherence pass (direction_coherence.h) and the pair guard
+// (direction_guard.h), both over the whole image, so the bytes depend on neither `threads` nor
+// any banding of later stages.
 AhdImage fit_image(const ShImage& sh, const FitOptions& opt, int threads, FitStats* stats = nullptr);
 
 // fit_image's counts for an L0 image, whose fit is never stored (every covered texel counts as

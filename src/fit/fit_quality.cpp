@@ -6,6 +6,7 @@
 
 #include "core/parallel.h"
 #include "fit/ahd_decode.h"
+#include "fit/direction_guard.h"
 #include "fit/direction_refine.h"
 #include "fit/hemisphere_error.h"
 #include "sample/hard_cases.h"
@@ -106,10 +107,7 @@ double direction_p99_angle_deg(const AhdImage& fit) {
   std::vector<double> angles;
   auto add = [&](size_t a, size_t b) {
     if (!fit.coverage[a] || !fit.coverage[b]) return;
-    const float* u = &fit.d[a * 3];
-    const float* v = &fit.d[b * 3];
-    const double dot = double(u[0]) * v[0] + double(u[1]) * v[1] + double(u[2]) * v[2];
-    angles.push_back(std::acos(std::clamp(dot, -1.0, 1.0)) * 180.0 / kPi);
+    angles.push_back(neighbour_angle_deg(&fit.d[a * 3], &fit.d[b * 3]));  // the pair guard's angle
   };
   for (int y = 0; y < fit.height; ++y)
     for (int x = 0; x < fit.width; ++x) {
