@@ -278,7 +278,9 @@ double evaluate(const Block& b, Candidate& cand) {
   // The index step: AVX2 when the CPU has it (eight entries per vector), else SSE2; the same picks.
   const auto pick = [&] {
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-    static const bool avx2 = cpu_has_avx2();
+    static const bool avx2 = cpu_has_avx2(), avx512 = cpu_has_avx512();
+    if (avx512 && !search_sse2_forced() && !avx2_forced())
+      return pick_indices_avx512(b.Lp, b.valid, pal, mask, n, kOff, cand.idx);
     if (avx2 && !search_sse2_forced()) return pick_indices_avx2(b.Lp, b.valid, pal, mask, n, kOff, cand.idx);
 #endif
     return pick_indices_sse2(b, pal, mask, n, cand.idx);

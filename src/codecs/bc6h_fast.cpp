@@ -562,6 +562,7 @@ static void fit_batch(const uint16_t* h, const float* x, const uint8_t* valid, i
 }
 
 void force_avx2(bool avx2) { g_force_avx2.store(avx2, std::memory_order_relaxed); }
+bool avx2_forced() { return g_force_avx2.load(std::memory_order_relaxed); }
 
 void fit_blocks_fast(const uint16_t* h, const float* x, const uint8_t* valid, int n, OneRegionFit* fits) {
   int i = 0;

@@ -23,6 +23,7 @@ bool scalar_forced();
 // true = AVX2 batches of eight even when the CPU has AVX-512 (whose batches hold sixteen blocks):
 // tests force each path (AVX-512, AVX2, scalar) and compare the bytes.
 void force_avx2(bool avx2);
+bool avx2_forced();
 
 // Which conversion floats_to_half uses: true = the portable path whatever the CPU (tests).
 void force_portable_half(bool portable);

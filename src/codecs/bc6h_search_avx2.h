@@ -14,6 +14,10 @@ namespace ahd::bc6h {
 // scalar loops of evaluate. Call only when cpu_has_avx2().
 double pick_indices_avx2(const float target[3][16], const float valid[16], const float pal[2][3][16], uint16_t mask,
                          int n, float off, uint8_t idx[16]);
+// The same, sixteen texels per AVX-512 vector (bc6h_search_avx512.cpp): the same indices and
+// error. Call only when cpu_has_avx512().
+double pick_indices_avx512(const float target[3][16], const float valid[16], const float pal[2][3][16], uint16_t mask,
+                           int n, float off, uint8_t idx[16]);
 
 // The partition ranking's residual (bc6h_encoder.cpp's pair_residual_sse2) for `pairs` pairs of
 // partitions, two per step: m[j][k] = {region 0 of partition 2j, region 1 of 2j, region 0 of

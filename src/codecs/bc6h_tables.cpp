@@ -1,11 +1,8 @@
 // The BC6H tables. Header layouts are written as the spec's tables list them, one token per run of
 // bits: "rw0-9" = RW bits 0..9 in that order, "rw15-10" = RW bits 15 down to 10, "d0-4" = the
-// partition number. They are parsed once into (field, bit) pairs.
+// partition number. They are parsed at compile time into (field, bit) pairs.
 #include "codecs/bc6h_tables.h"
 
-#include <cctype>
-#include <cstring>
-#include <string>
 
 namespace ahd::bc6h {
 namespace {
@@ -17,7 +14,7 @@ struct ModeSpec {
   const char* layout;  // after the mode bits
 };
 
-const ModeSpec kSpecs[kModeCount] = {
+constexpr ModeSpec kSpecs[kModeCount] = {
     {0x00, 2, true, 3, 10, 5, 5, 5,
      "gy4 by4 bz4 rw0-9 gw0-9 bw0-9 rx0-4 gz4 gy0-3 gx0-4 bz0 gz0-3 bx0-4 bz1 by0-3 ry0-4 bz2 rz0-4 bz3 d0-4"},
     {0x01, 2, true, 3, 7, 6, 6, 6,
@@ -46,55 +43,62 @@ const ModeSpec kSpecs[kModeCount] = {
     {0x0f, 1, true, 4, 16, 4, 4, 4, "rw0-9 gw0-9 bw0-9 rx0-3 rw15-10 gx0-3 gw15-10 bx0-3 bw15-10"},
 };
 
-Field field_of(const std::string& name) {
-  static const char* names[] = {"rw", "gw", "bw", "rx", "gx", "bx", "ry", "gy", "by", "rz", "gz", "bz"};
+// The field a two-letter token names ("rw" … "bz"); D for "d".
+constexpr Field field_of(char a, char b) {
+  constexpr char names[12][2] = {{'r', 'w'}, {'g', 'w'}, {'b', 'w'}, {'r', 'x'}, {'g', 'x'}, {'b', 'x'},
+                                 {'r', 'y'}, {'g', 'y'}, {'b', 'y'}, {'r', 'z'}, {'g', 'z'}, {'b', 'z'}};
   for (int i = 0; i < 12; ++i)
-    if (name == names[i]) return Field(i);
+    if (names[i][0] == a && names[i][1] == b) return Field(i);
   return D;
 }
 
-struct Modes {
-  ModeInfo m[kModeCount];
-  Modes() {
-    for (int i = 0; i < kModeCount; ++i) {
-      const ModeSpec& s = kSpecs[i];
-      ModeInfo& o = m[i];
-      o = ModeInfo{};
-      o.code = s.code, o.regions = s.regions, o.transformed = s.transformed, o.index_bits = s.index_bits;
-      o.epb = s.epb, o.delta[0] = s.dr, o.delta[1] = s.dg, o.delta[2] = s.db;
-      const char* p = s.layout;
-      while (*p) {
-        while (*p == ' ') ++p;
-        std::string name;
-        while (std::isalpha(static_cast<unsigned char>(*p))) name += *p++;
-        int a = 0, b;
-        while (std::isdigit(static_cast<unsigned char>(*p))) a = a * 10 + (*p++ - '0');
-        b = a;
-        if (*p == '-') {
-          ++p;
-          b = 0;
-          while (std::isdigit(static_cast<unsigned char>(*p))) b = b * 10 + (*p++ - '0');
-        }
-        const int step = b >= a ? 1 : -1;
-        for (int bit = a;; bit += step) {
-          o.layout_field[o.layout_count] = field_of(name);
-          o.layout_bit[o.layout_count] = uint8_t(bit);
-          ++o.layout_count;
-          if (bit == b) break;
-        }
+constexpr bool is_alpha(char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'); }
+constexpr bool is_digit(char c) { return c >= '0' && c <= '9'; }
+
+// Parses the layouts at compile time, so mode() is a plain table load (it sits in the encoder's
+// inner loops; the run-time parse behind a function-local static cost a call and a guard check).
+consteval ModeTable parse_modes() {
+  ModeTable t{};
+  for (int i = 0; i < kModeCount; ++i) {
+    const ModeSpec& s = kSpecs[i];
+    ModeInfo& o = t.m[i];
+    o.code = s.code, o.regions = s.regions, o.transformed = s.transformed, o.index_bits = s.index_bits;
+    o.epb = s.epb, o.delta[0] = s.dr, o.delta[1] = s.dg, o.delta[2] = s.db;
+    const char* p = s.layout;
+    while (*p) {
+      while (*p == ' ') ++p;
+      char name[2] = {0, 0};
+      int len = 0;
+      while (is_alpha(*p)) {
+        if (len < 2) name[len] = *p;
+        ++len, ++p;
+      }
+      int a = 0, b;
+      while (is_digit(*p)) a = a * 10 + (*p++ - '0');
+      b = a;
+      if (*p == '-') {
+        ++p;
+        b = 0;
+        while (is_digit(*p)) b = b * 10 + (*p++ - '0');
+      }
+      const Field f = len == 2 ? field_of(name[0], name[1]) : D;
+      const int step = b >= a ? 1 : -1;
+      for (int bit = a;; bit += step) {
+        o.layout_field[o.layout_count] = f;
+        o.layout_bit[o.layout_count] = uint8_t(bit);
+        ++o.layout_count;
+        if (bit == b) break;
       }
     }
   }
-};
-
-const Modes& modes() {
-  static const Modes m;
-  return m;
+  return t;
 }
 
 }  // namespace
 
-const ModeInfo& mode(int m) { return modes().m[m]; }
+constinit const ModeTable kModeTable = parse_modes();
+
+
 
 int mode_from_code(uint32_t code) {
   for (int i = 0; i < kModeCount; ++i)

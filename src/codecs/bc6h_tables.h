@@ -21,7 +21,11 @@ struct ModeInfo {
 };
 
 constexpr int kModeCount = 14;
-const ModeInfo& mode(int m);            // m in [0, 14)
+struct ModeTable {
+  ModeInfo m[kModeCount];
+};
+extern const ModeTable kModeTable;      // parsed from the spec's layouts at compile time
+inline const ModeInfo& mode(int m) { return kModeTable.m[m]; }  // m in [0, 14)
 int mode_from_code(uint32_t code);      // −1 for reserved codes
 
 extern const uint16_t kPartitions[32];  // bit t set = texel t in region 1
