@@ -106,9 +106,12 @@ void refine_direction(const IrradiancePoly p[3], const double iz[3], const FitOp
   refine_direction(p, iz, opt, d, RefineSearch{});
 }
 
-void refine_direction(const IrradiancePoly p[3], const double iz[3], const FitOptions& opt, double d[3],
-                      const RefineSearch& search, int* winner, LuneMoments* moments) {
-  const RefineObjective f(p, iz, opt.ratio_form);
+namespace {
+
+// The starts of refine_direction for one texel into cand[0..n), n returned; ids[i] says which
+// start cand[i] is (RefineSearch's `winner` numbering). cand[0] is d itself.
+int collect_starts(const IrradiancePoly p[3], const FitOptions& opt, const RefineSearch& search, const double d[3],
+                   double cand[6][3], int ids[6]) {
   // Cheap global starts: the local search from the linear d misses the better basin on varied
   // lighting (the L1 band averages the lights' directions; the best lobe follows the strongest).
   // Candidates: each channel's own L1 direction and the axis of the luminance L2 band's quadratic
@@ -117,8 +120,7 @@ void refine_direction(const IrradiancePoly p[3], const double iz[3], const FitOp
   // (RefineObjective::values) and the first smallest kept, as trying them one by one would. A
   // start within search.same_start_cos of one already listed is dropped (it would land in the same
   // basin; on near-grey lighting the channels' L1 directions are the linear d).
-  double cand[6][3];
-  int ids[6], n = 0;
+  int n = 0;
   auto add_start = [&](const double s[3], int id) {
     for (int i = 0; i < 3; ++i) cand[n][i] = s[i];
     if (id) {
@@ -157,73 +159,190 @@ void refine_direction(const IrradiancePoly p[3], const double iz[3], const FitOp
       }
     }
   }
-  const double* ptr[6];
-  double fs[6];
-  LuneMoments ms[6];
-  for (int i = 0; i < n; ++i) ptr[i] = cand[i];
-  f.values(ptr, n, fs, ms);
-  double best[3] = {d[0], d[1], d[2]};
-  double fbest = fs[0];
-  int ib = 0;
-  if (winner) *winner = 0;
-  if (!std::isfinite(fbest)) {
-    if (moments) *moments = ms[0];
-    return;
-  }
-  for (int i = 1; i < n; ++i)
-    if (fs[i] < fbest) {
-      fbest = fs[i], best[0] = cand[i][0], best[1] = cand[i][1], best[2] = cand[i][2], ib = i;
-      if (winner) *winner = ids[i];
-    }
-  LuneMoments mbest = ms[ib];
-  // Polish: Newton steps along the descent direction with the analytic gradient
-  // (refine_objective.h): the curvature along −∇f from the value at a small step h there (a
-  // parabola through f and its slope −|∇f| at the centre: one value, half the cost of a second
-  // gradient), then the 1-D Newton step (a fixed 0.1 rad where the curvature is not positive), at
-  // most 0.5 rad. The best point seen is kept, so this never loses what the starts found. The
-  // gradient at the best start comes from its moments of the batch. A further step is taken only
-  // when the last one lowered f by more than search.next_step_gain of the objective's scale
-  // Σ_c 2π I_c² (the error of a black lobe): most texels are converged after one.
-  if (search.line) {
-    const double h = 0.05;
-    const double scale = 2 * kPi * (iz[0] * iz[0] + iz[1] * iz[1] + iz[2] * iz[2]);
-    double g[3];
-    double centre[3] = {best[0], best[1], best[2]};
-    double fcentre = fbest;
-    f.gradient_at(centre, mbest, g);
-    for (int step = 0; step < search.steps; ++step) {
-      const double gl = std::sqrt(dot3(g, g));
-      if (!(gl > 0) || !std::isfinite(gl)) break;
-      double u[3] = {-g[0] / gl, -g[1] / gl, -g[2] / gl}, v[3] = {0, 0, 0};
-      double xh[3];
-      offset_dir(centre, u, v, h, 0, opt.dz_min, xh);
-      const double* px = xh;
-      double fh;
-      LuneMoments mh;
-      f.values(&px, 1, &fh, &mh);
-      if (fh < fbest) fbest = fh, best[0] = xh[0], best[1] = xh[1], best[2] = xh[2], mbest = mh;
-      const double kappa = 2.0 * (fh - fcentre + gl * h) / (h * h);
-      double t = kappa > 0 ? gl / kappa : 0.1;
-      t = std::min(t, 0.5);
-      double cn[3];
-      offset_dir(centre, u, v, t, 0, opt.dz_min, cn);
-      double fc;
-      LuneMoments mc;
-      const double* pc = cn;
-      f.values(&pc, 1, &fc, &mc);
-      if (!(fc < fbest)) break;
-      const double gain = fcentre - fc;
-      fbest = fc, best[0] = cn[0], best[1] = cn[1], best[2] = cn[2], mbest = mc;
-      fcentre = fc;
-      for (int i = 0; i < 3; ++i) centre[i] = cn[i];
-      // The next step's gradient only when there is one (most texels stop after the first).
-      if (step + 1 == search.steps || !(gain > search.next_step_gain * scale)) break;
-      f.gradient_at(centre, mbest, g);
-    }
+  return n;
+}
+
+// One texel's state in the lockstep search below.
+struct Lane {
+  const IrradiancePoly* p;
+  RefineObjective f;
+  double* d;
+  int* winner;
+  LuneMoments* moments;
+  double cand[6][3];
+  int ids[6], n;
+  double best[3], fbest;
+  LuneMoments mbest;
+  double centre[3], fcentre, g[3], u[3], v[3], xh[3], cn[3], gl, scale;
+  int step;
+  bool active;
+
+  void finish() {
     for (int i = 0; i < 3; ++i) d[i] = best[i];
     if (moments) *moments = mbest;
+    active = false;
+  }
+};
+
+constexpr int kMaxStarts = 6;
+
+// The starts of n lanes, all evaluated in one batch (lune_moments_lanes), then each lane's best
+// (the first smallest, as trying them one by one would): best, fbest, mbest. A lane whose given d
+// has no finite objective is finished there (d unchanged, its moments handed on) and not active.
+void pick_starts(Lane* lanes, int n, const FitOptions& opt, const RefineSearch& search) {
+  const IrradiancePoly* pp[kRefineLanes * kMaxStarts] = {};
+  const double* dd[kRefineLanes * kMaxStarts] = {};
+  LuneMoments ms[kRefineLanes * kMaxStarts];
+  int total = 0;
+  for (int k = 0; k < n; ++k) {
+    Lane& l = lanes[k];
+    l.n = collect_starts(l.p, opt, search, l.d, l.cand, l.ids);
+    for (int i = 0; i < l.n; ++i) pp[total] = l.p, dd[total] = l.cand[i], ++total;
+  }
+  lune_moments_lanes(pp, dd, total, ms);
+  int at = 0;
+  for (int k = 0; k < n; ++k) {
+    Lane& l = lanes[k];
+    const LuneMoments* m = ms + at;
+    at += l.n;
+    double fs[kMaxStarts];
+    for (int i = 0; i < l.n; ++i) fs[i] = l.f.value_at(m[i], l.cand[i][2]);
+    for (int i = 0; i < 3; ++i) l.best[i] = l.d[i];
+    l.fbest = fs[0];
+    int ib = 0;
+    if (l.winner) *l.winner = 0;
+    l.active = true;
+    if (!std::isfinite(l.fbest)) {
+      if (l.moments) *l.moments = m[0];
+      l.active = false;
+      continue;
+    }
+    for (int i = 1; i < l.n; ++i)
+      if (fs[i] < l.fbest) {
+        l.fbest = fs[i], l.best[0] = l.cand[i][0], l.best[1] = l.cand[i][1], l.best[2] = l.cand[i][2], ib = i;
+        if (l.winner) *l.winner = l.ids[i];
+      }
+    l.mbest = m[ib];
+  }
+}
+
+// Polish: Newton steps along the descent direction with the analytic gradient
+// (refine_objective.h): the curvature along −∇f from the value at a small step h there (a
+// parabola through f and its slope −|∇f| at the centre: one value, half the cost of a second
+// gradient), then the 1-D Newton step (a fixed 0.1 rad where the curvature is not positive), at
+// most 0.5 rad. The best point seen is kept, so this never loses what the starts found. The
+// gradient at the best start comes from its moments of the batch. A further step is taken only
+// when the last one lowered f by more than search.next_step_gain of the objective's scale
+// Σ_c 2π I_c² (the error of a black lobe): most texels are converged after one.
+// The active lanes run in lockstep, their lune moments in one batch per stage: one texel's steps
+// are a chain of square roots and divisions waiting on each other, and the other lanes' fill the
+// wait. Each lane's arithmetic is the one-lane search's, in the same order (the same bytes).
+void line_search(Lane* lanes, int n, const FitOptions& opt, const RefineSearch& search) {
+  const double h = 0.05;
+  for (int k = 0; k < n; ++k) {
+    Lane& l = lanes[k];
+    if (!l.active) continue;
+    const double* iz = l.f.iz;
+    l.scale = 2 * kPi * (iz[0] * iz[0] + iz[1] * iz[1] + iz[2] * iz[2]);
+    for (int i = 0; i < 3; ++i) l.centre[i] = l.best[i];
+    l.fcentre = l.fbest;
+    l.step = 0;
+    l.f.gradient_at(l.centre, l.mbest, l.g);
+  }
+  for (;;) {
+    const IrradiancePoly* pp[kRefineLanes];
+    const double* dd[kRefineLanes];
+    Lane* on[kRefineLanes];
+    int na = 0;
+    for (int k = 0; k < n; ++k) {
+      Lane& l = lanes[k];
+      if (!l.active) continue;
+      if (l.step >= search.steps) {
+        l.finish();
+        continue;
+      }
+      l.gl = std::sqrt(dot3(l.g, l.g));
+      if (!(l.gl > 0) || !std::isfinite(l.gl)) {
+        l.finish();
+        continue;
+      }
+      for (int i = 0; i < 3; ++i) l.u[i] = -l.g[i] / l.gl, l.v[i] = 0;
+      offset_dir(l.centre, l.u, l.v, h, 0, opt.dz_min, l.xh);
+      pp[na] = l.p, dd[na] = l.xh, on[na++] = &l;
+    }
+    if (!na) return;
+    LuneMoments mh[kRefineLanes], mc[kRefineLanes];
+    lune_moments_lanes(pp, dd, na, mh);
+    for (int j = 0; j < na; ++j) {
+      Lane& l = *on[j];
+      const double fh = l.f.value_at(mh[j], l.xh[2]);
+      if (fh < l.fbest) l.fbest = fh, l.best[0] = l.xh[0], l.best[1] = l.xh[1], l.best[2] = l.xh[2], l.mbest = mh[j];
+      const double kappa = 2.0 * (fh - l.fcentre + l.gl * h) / (h * h);
+      double t = kappa > 0 ? l.gl / kappa : 0.1;
+      t = std::min(t, 0.5);
+      offset_dir(l.centre, l.u, l.v, t, 0, opt.dz_min, l.cn);
+      dd[j] = l.cn;
+    }
+    lune_moments_lanes(pp, dd, na, mc);
+    for (int j = 0; j < na; ++j) {
+      Lane& l = *on[j];
+      const double fc = l.f.value_at(mc[j], l.cn[2]);
+      if (!(fc < l.fbest)) {
+        l.finish();
+        continue;
+      }
+      const double gain = l.fcentre - fc;
+      l.fbest = fc, l.best[0] = l.cn[0], l.best[1] = l.cn[1], l.best[2] = l.cn[2], l.mbest = mc[j];
+      l.fcentre = fc;
+      for (int i = 0; i < 3; ++i) l.centre[i] = l.cn[i];
+      // The next step's gradient only when there is one (most texels stop after the first).
+      if (l.step + 1 == search.steps || !(gain > search.next_step_gain * l.scale)) {
+        l.finish();
+        continue;
+      }
+      l.f.gradient_at(l.centre, l.mbest, l.g);
+      ++l.step;
+    }
+  }
+}
+
+}  // namespace
+
+void refine_direction_lanes(int n, const IrradiancePoly* const* p, const double* const* iz, const FitOptions& opt,
+                            double* const* d, LuneMoments* moments) {
+  const RefineSearch search;
+  Lane lanes[kRefineLanes];
+  for (int k = 0; k < n; ++k) {
+    lanes[k].p = p[k];
+    lanes[k].f = RefineObjective(p[k], iz[k], opt.ratio_form);
+    lanes[k].d = d[k];
+    lanes[k].winner = nullptr;
+    lanes[k].moments = moments ? &moments[k] : nullptr;
+  }
+  pick_starts(lanes, n, opt, search);
+  line_search(lanes, n, opt, search);
+}
+
+void refine_direction(const IrradiancePoly p[3], const double iz[3], const FitOptions& opt, double d[3],
+                      const RefineSearch& search, int* winner, LuneMoments* moments) {
+  // Cheap global starts: the local search from the linear d misses the better basin on varied
+  // lighting (the L1 band averages the lights' directions; the best lobe follows the strongest).
+  // (collect_starts; which pay: README "Choosing the direction".)
+  Lane l;
+  l.p = p;
+  l.f = RefineObjective(p, iz, opt.ratio_form);
+  l.d = d;
+  l.winner = winner;
+  l.moments = moments;
+  pick_starts(&l, 1, opt, search);
+  if (!l.active) return;
+  if (search.line) {
+    line_search(&l, 1, opt, search);
     return;
   }
+  const RefineObjective& f = l.f;
+  double best[3] = {l.best[0], l.best[1], l.best[2]};
+  double fbest = l.fbest;
   // Polish: Newton steps in the tangent plane with the analytic gradient (refine_objective.h); the
   // 2×2 Hessian from differences of that gradient over a step h along the two tangents, then
   // reused for the following steps (a quasi-Newton step from the new point's gradient). The best

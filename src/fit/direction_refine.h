@@ -27,6 +27,9 @@ LuneMoments lune_moments(const IrradiancePoly p[3], const double d[3]);
 // lune_moments for the n directions d[i] into out[i], stage by stage (their latencies overlap); the
 // same bytes as n single calls.
 void lune_moments(const IrradiancePoly p[3], const double* const* d, int n, LuneMoments* out);
+// The same with each direction's own polynomials: out[i] = lune_moments(p[i], d[i]) (p[i] points
+// to three channels), for several texels' directions in one batch (refine_direction_lanes).
+void lune_moments_lanes(const IrradiancePoly* const* p, const double* const* d, int n, LuneMoments* out);
 
 // ∫_{Ω+} E for one channel (HemisphereMoments::f0; independent of d).
 double hemisphere_integral(const IrradiancePoly& p);
@@ -71,5 +74,13 @@ struct RefineSearch {
 // on those it computed; the 2-D search recomputes them).
 void refine_direction(const IrradiancePoly p[3], const double iz[3], const FitOptions& opt, double d[3],
                       const RefineSearch& search, int* winner = nullptr, LuneMoments* moments = nullptr);
+
+// refine_direction with the default RefineSearch for n ≤ kRefineLanes texels at once, in lockstep
+// (one texel's steps wait on each other's square roots and divisions; several texels' overlap):
+// lane k (polynomials p[k], irradiance iz[k], direction d[k] in/out, and with `moments` their
+// moments into moments[k]) gets the same bytes as refine_direction alone.
+constexpr int kRefineLanes = 4;
+void refine_direction_lanes(int n, const IrradiancePoly* const* p, const double* const* iz, const FitOptions& opt,
+                            double* const* d, LuneMoments* moments);
 
 }  // namespace ahd

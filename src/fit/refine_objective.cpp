@@ -77,6 +77,12 @@ void RefineObjective::values(const double* const* d, int n, double* out, LuneMom
   }
 }
 
+double RefineObjective::value_at(const LuneMoments& m, double dz) const {
+  double a[3], b[3];
+  colours(m, dz, a, b);
+  return error_sum(*this, m, a, b);
+}
+
 double RefineObjective::value_grad(const double d[3], double grad[3], LuneMoments* moments) const {
   const LuneMoments m = lune_moments(p, d);
   if (moments) *moments = m;
