@@ -56,45 +56,62 @@ void offset_dir(const double c[3], const double u[3], const double v[3], double 
 
 // Unit eigenvector of the largest eigenvalue of the symmetric 3×3 matrix A (closed form: the
 // trigonometric eigenvalue solution, then the null space of A − λI as the longest cross product of
-// two of its rows). False when A is (nearly) a multiple of I: no axis stands out.
-bool principal_axis(const double A[3][3], double v[3]) {
-  const double p1 = A[0][1] * A[0][1] + A[0][2] * A[0][2] + A[1][2] * A[1][2];
-  const double q = (A[0][0] + A[1][1] + A[2][2]) / 3.0;
-  const double a = A[0][0] - q, b = A[1][1] - q, c = A[2][2] - q;
-  const double p = std::sqrt((a * a + b * b + c * c + 2.0 * p1) / 6.0);
-  const double scale = std::fabs(A[0][0]) + std::fabs(A[1][1]) + std::fabs(A[2][2]) + std::sqrt(p1);
-  if (!(p > 1e-9 * scale)) return false;
-  // det((A − qI)/p)/2 = cos 3φ; the largest eigenvalue is q + 2p cos φ.
-  const double ip = 1.0 / p;
-  const double B00 = a * ip, B11 = b * ip, B22 = c * ip, B01 = A[0][1] * ip, B02 = A[0][2] * ip, B12 = A[1][2] * ip;
-  const double det = B00 * (B11 * B22 - B12 * B12) - B01 * (B01 * B22 - B12 * B02) + B02 * (B01 * B12 - B11 * B02);
-  const double r = std::clamp(det / 2.0, -1.0, 1.0);
-  // cos(acos(r)/3) is the largest root x ∈ [½, 1] of 4x³ − 3x = r: Newton's method from
-  // ½ + ½√((1+r)/2) (exact at r = ±1, within 0.02 between), four steps, instead of libm's acos and
-  // cos (a sixth of the starts' cost).
-  double x = 0.5 + 0.5 * std::sqrt(0.5 * (1.0 + r));
-  for (int it = 0; it < 4; ++it) {
+// two of its rows), in three parts so that several texels' can run stage by stage (each part's
+// divisions and square roots wait on each other; other texels' fill the wait):
+//   AxisSolve s; if (s.begin(A)) { while (s.newton_step()) {}  if (s.end(A, v)) … }
+// begin is false when A is (nearly) a multiple of I: no axis stands out; end is false when no
+// eigenvector could be formed.
+struct AxisSolve {
+  double q, p, r, x;
+  int it;
+
+  bool begin(const double A[3][3]) {
+    const double p1 = A[0][1] * A[0][1] + A[0][2] * A[0][2] + A[1][2] * A[1][2];
+    q = (A[0][0] + A[1][1] + A[2][2]) / 3.0;
+    const double a = A[0][0] - q, b = A[1][1] - q, c = A[2][2] - q;
+    p = std::sqrt((a * a + b * b + c * c + 2.0 * p1) / 6.0);
+    const double scale = std::fabs(A[0][0]) + std::fabs(A[1][1]) + std::fabs(A[2][2]) + std::sqrt(p1);
+    if (!(p > 1e-9 * scale)) return false;
+    // det((A − qI)/p)/2 = cos 3φ; the largest eigenvalue is q + 2p cos φ.
+    const double ip = 1.0 / p;
+    const double B00 = a * ip, B11 = b * ip, B22 = c * ip, B01 = A[0][1] * ip, B02 = A[0][2] * ip, B12 = A[1][2] * ip;
+    const double det = B00 * (B11 * B22 - B12 * B12) - B01 * (B01 * B22 - B12 * B02) + B02 * (B01 * B12 - B11 * B02);
+    r = std::clamp(det / 2.0, -1.0, 1.0);
+    // cos(acos(r)/3) is the largest root x ∈ [½, 1] of 4x³ − 3x = r: Newton's method from
+    // ½ + ½√((1+r)/2) (exact at r = ±1, within 0.02 between), four steps, instead of libm's acos and
+    // cos (a sixth of the starts' cost).
+    x = 0.5 + 0.5 * std::sqrt(0.5 * (1.0 + r));
+    it = 0;
+    return true;
+  }
+  // One Newton step; false (and x unchanged) once the four are done or the slope vanishes.
+  bool newton_step() {
+    if (it >= 4) return false;
     const double dh = 12.0 * x * x - 3.0;
-    if (!(dh > 1e-12)) break;
+    if (!(dh > 1e-12)) return it = 4, false;
     x -= (4.0 * x * x * x - 3.0 * x - r) / dh;
+    ++it;
+    return true;
   }
-  const double lambda = q + 2.0 * p * x;
-  const double M[3][3] = {{A[0][0] - lambda, A[0][1], A[0][2]},
-                          {A[0][1], A[1][1] - lambda, A[1][2]},
-                          {A[0][2], A[1][2], A[2][2] - lambda}};
-  double best = 0;
-  for (int i = 0; i < 3; ++i) {
-    const double* x = M[i];
-    const double* y = M[(i + 1) % 3];
-    const double w[3] = {x[1] * y[2] - x[2] * y[1], x[2] * y[0] - x[0] * y[2], x[0] * y[1] - x[1] * y[0]};
-    const double n2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
-    if (n2 > best) best = n2, v[0] = w[0], v[1] = w[1], v[2] = w[2];
+  bool end(const double A[3][3], double v[3]) const {
+    const double lambda = q + 2.0 * p * x;
+    const double M[3][3] = {{A[0][0] - lambda, A[0][1], A[0][2]},
+                            {A[0][1], A[1][1] - lambda, A[1][2]},
+                            {A[0][2], A[1][2], A[2][2] - lambda}};
+    double best = 0;
+    for (int i = 0; i < 3; ++i) {
+      const double* x = M[i];
+      const double* y = M[(i + 1) % 3];
+      const double w[3] = {x[1] * y[2] - x[2] * y[1], x[2] * y[0] - x[0] * y[2], x[0] * y[1] - x[1] * y[0]};
+      const double n2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+      if (n2 > best) best = n2, v[0] = w[0], v[1] = w[1], v[2] = w[2];
+    }
+    if (!(best > 0) || !std::isfinite(best)) return false;
+    const double inv = 1.0 / std::sqrt(best);
+    for (int i = 0; i < 3; ++i) v[i] *= inv;
+    return true;
   }
-  if (!(best > 0) || !std::isfinite(best)) return false;
-  const double inv = 1.0 / std::sqrt(best);
-  for (int i = 0; i < 3; ++i) v[i] *= inv;
-  return true;
-}
+};
 
 }  // namespace
 
@@ -110,8 +127,19 @@ namespace {
 
 // The starts of refine_direction for one texel into cand[0..n), n returned; ids[i] says which
 // start cand[i] is (RefineSearch's `winner` numbering). cand[0] is d itself.
+// The luminance L2 band's quadratic form Σ_c luma_c Q_c, whose principal axis is a start.
+void luminance_l2_form(const IrradiancePoly p[3], const FitOptions& opt, double Q[3][3]) {
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) Q[i][j] = 0;
+  for (int c = 0; c < 3; ++c)
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) Q[i][j] += opt.luma[c] * p[c].q[i][j];
+}
+
+// `axis`: the principal axis of luminance_l2_form (AxisSolve), null when there is none or the L2
+// starts are off.
 int collect_starts(const IrradiancePoly p[3], const FitOptions& opt, const RefineSearch& search, const double d[3],
-                   double cand[6][3], int ids[6]) {
+                   const double* axis, double cand[6][3], int ids[6]) {
   // Cheap global starts: the local search from the linear d misses the better basin on varied
   // lighting (the L1 band averages the lights' directions; the best lobe follows the strongest).
   // Candidates: each channel's own L1 direction and the axis of the luminance L2 band's quadratic
@@ -140,12 +168,7 @@ int collect_starts(const IrradiancePoly p[3], const FitOptions& opt, const Refin
       add_start(s, 1 + c);
     }
   if (search.starts & (kStartL2Axis | kStartL2AxisBoth)) {
-    double Q[3][3] = {};
-    for (int c = 0; c < 3; ++c)
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) Q[i][j] += opt.luma[c] * p[c].q[i][j];
-    double axis[3] = {0, 0, 1};
-    if (principal_axis(Q, axis)) {
+    if (axis) {
       // The axis has no sign; the lobe should face the light, which the luminance L1 band points
       // toward (with kStartL2AxisBoth both signs are tried).
       double l1 = 0;
@@ -193,10 +216,29 @@ void pick_starts(Lane* lanes, int n, const FitOptions& opt, const RefineSearch& 
   const IrradiancePoly* pp[kRefineLanes * kMaxStarts] = {};
   const double* dd[kRefineLanes * kMaxStarts] = {};
   LuneMoments ms[kRefineLanes * kMaxStarts];
+  // The L2 axes of all lanes first, stage by stage (AxisSolve).
+  const bool l2 = (search.starts & (kStartL2Axis | kStartL2AxisBoth)) != 0;
+  double Q[kRefineLanes][3][3], axis[kRefineLanes][3];
+  AxisSolve solve[kRefineLanes];
+  bool has_axis[kRefineLanes] = {};
+  if (l2) {
+    for (int k = 0; k < n; ++k) {
+      luminance_l2_form(lanes[k].p, opt, Q[k]);
+      axis[k][0] = 0, axis[k][1] = 0, axis[k][2] = 1;
+      has_axis[k] = solve[k].begin(Q[k]);
+    }
+    for (bool more = true; more;) {
+      more = false;
+      for (int k = 0; k < n; ++k)
+        if (has_axis[k]) more |= solve[k].newton_step();
+    }
+    for (int k = 0; k < n; ++k)
+      if (has_axis[k]) has_axis[k] = solve[k].end(Q[k], axis[k]);
+  }
   int total = 0;
   for (int k = 0; k < n; ++k) {
     Lane& l = lanes[k];
-    l.n = collect_starts(l.p, opt, search, l.d, l.cand, l.ids);
+    l.n = collect_starts(l.p, opt, search, l.d, has_axis[k] ? axis[k] : nullptr, l.cand, l.ids);
     for (int i = 0; i < l.n; ++i) pp[total] = l.p, dd[total] = l.cand[i], ++total;
   }
   lune_moments_lanes(pp, dd, total, ms);
