@@ -17,9 +17,13 @@ bool parse_direction_fit(const std::string& s, DirectionFit* out) {
 }
 
 double least_squares_ratio(const LuneMoments& m, const double f0[3], const double iz[3], double dz) {
+  return least_squares_ratio_k(m, f0, iz, 1.0 / dz);
+}
+
+double least_squares_ratio_k(const LuneMoments& m, const double f0[3], const double iz[3], double k) {
   // With C_a = r I, C_d = (1−r) I k (k = 1/d_z), E_c(r) is quadratic in r; summing dE_c/dr = 0
   // over the channels gives r = num / den.
-  const double g0 = 2.0 * kPi, k = 1.0 / dz;
+  const double g0 = 2.0 * kPi;
   const double hh = g0 - 2.0 * k * m.g1 + k * k * m.g2;  // ∫ (1 − g/d_z)² ≥ 0
   double num = 0, den = 0;
   for (int c = 0; c < 3; ++c) {
@@ -242,13 +246,17 @@ void pick_starts(Lane* lanes, int n, const FitOptions& opt, const RefineSearch& 
     for (int i = 0; i < l.n; ++i) pp[total] = l.p, dd[total] = l.cand[i], ++total;
   }
   lune_moments_lanes(pp, dd, total, ms);
+  const RefineObjective* fo[kRefineLanes * kMaxStarts];
+  double dz[kRefineLanes * kMaxStarts], fall[kRefineLanes * kMaxStarts];
+  for (int k = 0, t = 0; k < n; ++k)
+    for (int i = 0; i < lanes[k].n; ++i, ++t) fo[t] = &lanes[k].f, dz[t] = lanes[k].cand[i][2];
+  values_at_lanes(fo, ms, dz, total, fall);
   int at = 0;
   for (int k = 0; k < n; ++k) {
     Lane& l = lanes[k];
     const LuneMoments* m = ms + at;
+    const double* fs = fall + at;
     at += l.n;
-    double fs[kMaxStarts];
-    for (int i = 0; i < l.n; ++i) fs[i] = l.f.value_at(m[i], l.cand[i][2]);
     for (int i = 0; i < 3; ++i) l.best[i] = l.d[i];
     l.fbest = fs[0];
     int ib = 0;
@@ -314,10 +322,14 @@ void line_search(Lane* lanes, int n, const FitOptions& opt, const RefineSearch& 
     }
     if (!na) return;
     LuneMoments mh[kRefineLanes], mc[kRefineLanes];
+    const RefineObjective* fo[kRefineLanes];
+    double dz[kRefineLanes], fv[kRefineLanes];
     lune_moments_lanes(pp, dd, na, mh);
+    for (int j = 0; j < na; ++j) fo[j] = &on[j]->f, dz[j] = on[j]->xh[2];
+    values_at_lanes(fo, mh, dz, na, fv);
     for (int j = 0; j < na; ++j) {
       Lane& l = *on[j];
-      const double fh = l.f.value_at(mh[j], l.xh[2]);
+      const double fh = fv[j];
       if (fh < l.fbest) l.fbest = fh, l.best[0] = l.xh[0], l.best[1] = l.xh[1], l.best[2] = l.xh[2], l.mbest = mh[j];
       const double kappa = 2.0 * (fh - l.fcentre + l.gl * h) / (h * h);
       double t = kappa > 0 ? l.gl / kappa : 0.1;
@@ -326,9 +338,11 @@ void line_search(Lane* lanes, int n, const FitOptions& opt, const RefineSearch& 
       dd[j] = l.cn;
     }
     lune_moments_lanes(pp, dd, na, mc);
+    for (int j = 0; j < na; ++j) dz[j] = on[j]->cn[2];
+    values_at_lanes(fo, mc, dz, na, fv);
     for (int j = 0; j < na; ++j) {
       Lane& l = *on[j];
-      const double fc = l.f.value_at(mc[j], l.cn[2]);
+      const double fc = fv[j];
       if (!(fc < l.fbest)) {
         l.finish();
         continue;

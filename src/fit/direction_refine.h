@@ -40,6 +40,8 @@ double hemisphere_square_integral(const IrradiancePoly& p);
 // hemisphere error summed over the three channels (a clamped 1-D least squares). f0[c] = ∫ E_c.
 // Returns 1 when every iz[c] is 0.
 double least_squares_ratio(const LuneMoments& m, const double f0[3], const double iz[3], double dz);
+// The same with k = 1.0 / dz already at hand (the same bytes).
+double least_squares_ratio_k(const LuneMoments& m, const double f0[3], const double iz[3], double k);
 
 // Σ_c ∫_{Ω+} (C_a + C_d max(0,ω·d) − E_c)² minus the d-independent Σ_c ∫ E_c², for the colours the
 // fit of `opt`'s ratio form chooses at the unit direction d (d_z > 0) with irradiance iz along z:

@@ -43,4 +43,8 @@ struct RefineObjective {
   void gradient(const double d[3], const LuneMoments& m, const double a[3], const double b[3], double grad[3]) const;
 };
 
+// out[i] = f[i]->value_at(m[i], dz[i]) for n evaluations (each with its own objective, e.g.
+// several texels'), stage by stage so that their divisions overlap: the same bytes.
+void values_at_lanes(const RefineObjective* const* f, const LuneMoments* m, const double* dz, int n, double* out);
+
 }  // namespace ahd
