@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "fit/ahd_decode.h"
+#include "fit/branchless.h"
 #include "fit/refine_objective.h"
 
 namespace ahd {
@@ -34,7 +35,8 @@ double least_squares_ratio_k(const LuneMoments& m, const double f0[3], const dou
   }
   if (!(den > 0.0)) return 1.0;
   const double r = num / den;
-  return r > 0.0 ? std::min(r, 1.0) : 0.0;  // also maps NaN to 0
+  // r > 0 ? std::min(r, 1.0) : 0 (also maps NaN to 0), without branches (fit/branchless.h).
+  return positive_part(less_or_second(1.0, r));
 }
 
 namespace {
@@ -267,11 +269,13 @@ void pick_starts(Lane* lanes, int n, const FitOptions& opt, const RefineSearch& 
       l.active = false;
       continue;
     }
-    for (int i = 1; i < l.n; ++i)
-      if (fs[i] < l.fbest) {
-        l.fbest = fs[i], l.best[0] = l.cand[i][0], l.best[1] = l.cand[i][1], l.best[2] = l.cand[i][2], ib = i;
-        if (l.winner) *l.winner = l.ids[i];
-      }
+    // The first smallest, without branches (which start wins is random on varied lighting).
+    for (int i = 1; i < l.n; ++i) {
+      ib = fs[i] < l.fbest ? i : ib;
+      l.fbest = less_or_second(fs[i], l.fbest);
+    }
+    for (int i = 0; i < 3; ++i) l.best[i] = l.cand[ib][i];
+    if (l.winner) *l.winner = l.ids[ib];
     l.mbest = m[ib];
   }
 }

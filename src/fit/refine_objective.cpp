@@ -2,10 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
 
+#include "fit/branchless.h"
 #include "fit/direction_refine.h"
 
 namespace ahd {
@@ -16,16 +14,6 @@ RefineObjective::RefineObjective(const IrradiancePoly p3[3], const double iz3[3]
 }
 
 namespace {
-
-// std::max(0.0, x) (x > 0 ? x : +0; NaN → 0) without a branch: maxsd(x, 0) is that exactly. On
-// random lighting the branch GCC emits for std::max here mispredicted often.
-inline double positive_part(double x) {
-#if defined(__SSE2__)
-  return _mm_cvtsd_f64(_mm_max_sd(_mm_set_sd(x), _mm_setzero_pd()));
-#else
-  return x > 0.0 ? x : 0.0;
-#endif
-}
 
 // choose_colours in stages, so that a batch's divisions overlap (values_at_lanes): first the
 // division (luminance: k = 1/d_z; RGB: one division for 1/(d_z² + 1), 1/hh and 1/d_z), then the
