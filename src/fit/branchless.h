@@ -26,4 +26,14 @@ inline double less_or_second(double a, double b) {
 #endif
 }
 
+// x > y ? a : b (b when either of x, y is NaN), by a compare mask.
+inline double select_greater(double x, double y, double a, double b) {
+#if defined(__SSE2__)
+  const __m128d m = _mm_cmpgt_sd(_mm_set_sd(x), _mm_set_sd(y));
+  return _mm_cvtsd_f64(_mm_or_pd(_mm_and_pd(m, _mm_set_sd(a)), _mm_andnot_pd(m, _mm_set_sd(b))));
+#else
+  return x > y ? a : b;
+#endif
+}
+
 }  // namespace ahd

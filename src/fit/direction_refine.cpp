@@ -336,8 +336,8 @@ void line_search(Lane* lanes, int n, const FitOptions& opt, const RefineSearch& 
       const double fh = fv[j];
       if (fh < l.fbest) l.fbest = fh, l.best[0] = l.xh[0], l.best[1] = l.xh[1], l.best[2] = l.xh[2], l.mbest = mh[j];
       const double kappa = 2.0 * (fh - l.fcentre + l.gl * h) / (h * h);
-      double t = kappa > 0 ? l.gl / kappa : 0.1;
-      t = std::min(t, 0.5);
+      // kappa > 0 ? gl / kappa : 0.1, then std::min(t, 0.5), without branches (fit/branchless.h).
+      const double t = less_or_second(0.5, select_greater(kappa, 0.0, l.gl / kappa, 0.1));
       offset_dir(l.centre, l.u, l.v, t, 0, opt.dz_min, l.cn);
       dd[j] = l.cn;
     }
