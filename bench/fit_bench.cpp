@@ -57,6 +57,30 @@ BENCHMARK(BM_FitTexel)
     ->ArgsProduct({{4, 9}, {0, 1}, {0, 1}})
     ->ArgNames({"coeffs", "refined", "rgb"});
 
+// BM_FitTexel's texels through fit_texels in groups of 4, as fit_image hands them (the refined
+// searches run in lockstep; the same bytes as fit_texel one at a time). Time per texel.
+void BM_FitTexels(benchmark::State& state) {
+  const int coeffs = int(state.range(0));
+  const size_t n = 4096, group = 4;
+  const auto polys = random_polys(coeffs, n);
+  FitOptions opt;
+  opt.direction_fit = state.range(1) ? DirectionFit::Refined : DirectionFit::Linear;
+  opt.ratio_form = state.range(2) ? RatioForm::Rgb : RatioForm::Luminance;
+  size_t i = 0;
+  AhdFit f[group];
+  for (auto _ : state) {
+    fit_texels(&polys[(i % n) * 3], int(group), opt, f, nullptr);
+    benchmark::DoNotOptimize(f);
+    i += group;
+  }
+  state.SetItemsProcessed(int64_t(state.iterations() * group));
+  state.SetLabel(std::string(coeffs == 4 ? "L1" : "L2") + (state.range(1) ? " refined" : " linear") +
+                 (state.range(2) ? " rgb" : " luminance"));
+}
+BENCHMARK(BM_FitTexels)
+    ->ArgsProduct({{4, 9}, {0, 1}, {0, 1}})
+    ->ArgNames({"coeffs", "refined", "rgb"});
+
 // A whole image on one thread: the per-texel fit plus, for refined, the coherence pass
 // (fit/direction_coherence.h) and the pair guard (fit/direction_guard.h), which BM_FitTexel does
 // not see. Args: direction fit (0 linear, 1 refined), ratio form (0 luminance, 1 RGB), pair guard

@@ -102,34 +102,53 @@ AhdFit fit_texel_constant(const IrradiancePoly p[3], const FitOptions& opt) {
 AhdFit fit_texel(const IrradiancePoly p[3], const FitOptions& opt) { return fit_texel(p, opt, nullptr); }
 
 AhdFit fit_texel(const IrradiancePoly p[3], const FitOptions& opt, float linear_d[3]) {
-  double d[3];
-  const bool directional = optimal_direction(p, opt, d);
-  // Irradiance the same for every normal (a plain lightmap, or no L1/L2 at this texel): the pure
-  // ambient lobe is exact, so there is nothing to fit (and plain maps skip the per-channel solve).
-  if (!directional && irradiance_is_constant(p)) {
-    if (linear_d) linear_d[0] = 0.0f, linear_d[1] = 0.0f, linear_d[2] = 1.0f;  // optimal_direction's z
-    return fit_texel_constant(p, opt);
+  AhdFit out;
+  fit_texels(p, 1, opt, &out, linear_d);
+  return out;
+}
+
+void fit_texels(const IrradiancePoly* p, int n, const FitOptions& opt, AhdFit* out, float* linear_d) {
+  // Per texel up to the refinement; the texels to refine then go through refine_direction_lanes
+  // together (their dependent chains overlap), and each gets its colours.
+  double d[kRefineLanes][3], iz[kRefineLanes][3];
+  uint8_t flags[kRefineLanes];
+  bool negative[kRefineLanes], refine[kRefineLanes] = {}, done[kRefineLanes] = {};
+  const IrradiancePoly* lp[kRefineLanes];
+  const double* liz[kRefineLanes];
+  double* ld[kRefineLanes];
+  int lane_of[kRefineLanes], nl = 0;
+  for (int k = 0; k < n; ++k) {
+    const IrradiancePoly* pk = p + 3 * k;
+    float* lin = linear_d ? linear_d + 3 * k : nullptr;
+    const bool directional = optimal_direction(pk, opt, d[k]);
+    // Irradiance the same for every normal (a plain lightmap, or no L1/L2 at this texel): the pure
+    // ambient lobe is exact, so there is nothing to fit (and plain maps skip the per-channel solve).
+    if (!directional && irradiance_is_constant(pk)) {
+      if (lin) lin[0] = 0.0f, lin[1] = 0.0f, lin[2] = 1.0f;  // optimal_direction's z
+      out[k] = fit_texel_constant(pk, opt);
+      done[k] = true;
+      continue;
+    }
+    flags[k] = directional ? 0 : kFitNoDirection;
+    // Decoding divides by d_z: grazing / below-horizon directions are tilted up (ahd_decode.h).
+    if (tilt_above_horizon(d[k], opt.dz_min)) flags[k] |= kFitDirClamped;
+    if (lin)
+      for (int i = 0; i < 3; ++i) lin[i] = float(d[k][i]);  // = linear_direction(p, opt)
+    double ez[3];
+    irradiance_along_z(pk, ez);
+    usable_iz(ez, iz[k], &flags[k], &negative[k]);
+    // Refinement keeps d_z ≥ dz_min itself; kFitDirClamped still says whether the linear d needed it.
+    refine[k] = directional && opt.direction_fit == DirectionFit::Refined;
+    if (refine[k]) lp[nl] = pk, liz[nl] = iz[k], ld[nl] = d[k], lane_of[k] = nl++;
   }
-  uint8_t flags = directional ? 0 : kFitNoDirection;
-  // Decoding divides by d_z: grazing / below-horizon directions are tilted up (ahd_decode.h).
-  if (tilt_above_horizon(d, opt.dz_min)) flags |= kFitDirClamped;
-  if (linear_d)
-    for (int i = 0; i < 3; ++i) linear_d[i] = float(d[i]);  // = linear_direction(p, opt)
-  double ez[3], iz[3];
-  bool negative;
-  irradiance_along_z(p, ez);
-  usable_iz(ez, iz, &flags, &negative);
-  // Refinement keeps d_z ≥ dz_min itself; kFitDirClamped still says whether the linear d needed it.
-  AhdFit colours;
-  if (directional && opt.direction_fit == DirectionFit::Refined) {
-    LuneMoments m;
-    refine_direction(p, iz, opt, d, RefineSearch{}, nullptr, &m);
-    colours = fit_colours(p, d, iz, opt, &m);
-  } else {
-    colours = fit_colours(p, d, iz, opt);
+  LuneMoments m[kRefineLanes];
+  if (nl) refine_direction_lanes(nl, lp, liz, opt, ld, m);
+  for (int k = 0; k < n; ++k) {
+    if (done[k]) continue;
+    const IrradiancePoly* pk = p + 3 * k;
+    out[k] = refine[k] ? fit_colours(pk, d[k], iz[k], opt, &m[lane_of[k]]) : fit_colours(pk, d[k], iz[k], opt);
+    out[k].flags |= flags[k] | (negative[k] ? kFitNegativeIz : 0);
   }
-  colours.flags |= flags | (negative ? kFitNegativeIz : 0);
-  return colours;
 }
 
 AhdFit fit_colours(const IrradiancePoly p[3], const double d[3], const double iz[3], const FitOptions& opt) {

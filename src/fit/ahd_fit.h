@@ -108,6 +108,11 @@ AhdFit fit_texel(const IrradiancePoly p[3], const FitOptions& opt);
 // The same, also writing linear_direction(p, opt) to linear_d (when not null) from the d it
 // computes on the way (fit_image's pair guard needs it beside a refined fit).
 AhdFit fit_texel(const IrradiancePoly p[3], const FitOptions& opt, float linear_d[3]);
+// fit_texel for n ≤ 4 texels at once (kRefineLanes of direction_refine.h): texel k's polynomials
+// are p[3k..3k+3), its fit goes to out[k] and, when linear_d is not null, its linear d to
+// linear_d[3k..3k+3). The same bytes as n fit_texel calls; the refined fit runs the texels'
+// searches in lockstep (faster per texel).
+void fit_texels(const IrradiancePoly* p, int n, const FitOptions& opt, AhdFit* out, float* linear_d);
 
 // What fit_texel returns for a texel whose irradiance is the same for every normal (only e0
 // nonzero: every texel of an L0 image): the pure ambient lobe, exact with nothing to solve —

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "fit/ahd_decode.h"
+#include "fit/branchless.h"
 #include "fit/refine_objective.h"
 
 namespace ahd {
@@ -17,9 +18,13 @@ bool parse_direction_fit(const std::string& s, DirectionFit* out) {
 }
 
 double least_squares_ratio(const LuneMoments& m, const double f0[3], const double iz[3], double dz) {
+  return least_squares_ratio_k(m, f0, iz, 1.0 / dz);
+}
+
+double least_squares_ratio_k(const LuneMoments& m, const double f0[3], const double iz[3], double k) {
   // With C_a = r I, C_d = (1−r) I k (k = 1/d_z), E_c(r) is quadratic in r; summing dE_c/dr = 0
   // over the channels gives r = num / den.
-  const double g0 = 2.0 * kPi, k = 1.0 / dz;
+  const double g0 = 2.0 * kPi;
   const double hh = g0 - 2.0 * k * m.g1 + k * k * m.g2;  // ∫ (1 − g/d_z)² ≥ 0
   double num = 0, den = 0;
   for (int c = 0; c < 3; ++c) {
@@ -30,7 +35,8 @@ double least_squares_ratio(const LuneMoments& m, const double f0[3], const doubl
   }
   if (!(den > 0.0)) return 1.0;
   const double r = num / den;
-  return r > 0.0 ? std::min(r, 1.0) : 0.0;  // also maps NaN to 0
+  // r > 0 ? std::min(r, 1.0) : 0 (also maps NaN to 0), without branches (fit/branchless.h).
+  return positive_part(less_or_second(1.0, r));
 }
 
 namespace {
@@ -56,45 +62,62 @@ void offset_dir(const double c[3], const double u[3], const double v[3], double 
 
 // Unit eigenvector of the largest eigenvalue of the symmetric 3×3 matrix A (closed form: the
 // trigonometric eigenvalue solution, then the null space of A − λI as the longest cross product of
-// two of its rows). False when A is (nearly) a multiple of I: no axis stands out.
-bool principal_axis(const double A[3][3], double v[3]) {
-  const double p1 = A[0][1] * A[0][1] + A[0][2] * A[0][2] + A[1][2] * A[1][2];
-  const double q = (A[0][0] + A[1][1] + A[2][2]) / 3.0;
-  const double a = A[0][0] - q, b = A[1][1] - q, c = A[2][2] - q;
-  const double p = std::sqrt((a * a + b * b + c * c + 2.0 * p1) / 6.0);
-  const double scale = std::fabs(A[0][0]) + std::fabs(A[1][1]) + std::fabs(A[2][2]) + std::sqrt(p1);
-  if (!(p > 1e-9 * scale)) return false;
-  // det((A − qI)/p)/2 = cos 3φ; the largest eigenvalue is q + 2p cos φ.
-  const double ip = 1.0 / p;
-  const double B00 = a * ip, B11 = b * ip, B22 = c * ip, B01 = A[0][1] * ip, B02 = A[0][2] * ip, B12 = A[1][2] * ip;
-  const double det = B00 * (B11 * B22 - B12 * B12) - B01 * (B01 * B22 - B12 * B02) + B02 * (B01 * B12 - B11 * B02);
-  const double r = std::clamp(det / 2.0, -1.0, 1.0);
-  // cos(acos(r)/3) is the largest root x ∈ [½, 1] of 4x³ − 3x = r: Newton's method from
-  // ½ + ½√((1+r)/2) (exact at r = ±1, within 0.02 between), four steps, instead of libm's acos and
-  // cos (a sixth of the starts' cost).
-  double x = 0.5 + 0.5 * std::sqrt(0.5 * (1.0 + r));
-  for (int it = 0; it < 4; ++it) {
+// two of its rows), in three parts so that several texels' can run stage by stage (each part's
+// divisions and square roots wait on each other; other texels' fill the wait):
+//   AxisSolve s; if (s.begin(A)) { while (s.newton_step()) {}  if (s.end(A, v)) … }
+// begin is false when A is (nearly) a multiple of I: no axis stands out; end is false when no
+// eigenvector could be formed.
+struct AxisSolve {
+  double q, p, r, x;
+  int it;
+
+  bool begin(const double A[3][3]) {
+    const double p1 = A[0][1] * A[0][1] + A[0][2] * A[0][2] + A[1][2] * A[1][2];
+    q = (A[0][0] + A[1][1] + A[2][2]) / 3.0;
+    const double a = A[0][0] - q, b = A[1][1] - q, c = A[2][2] - q;
+    p = std::sqrt((a * a + b * b + c * c + 2.0 * p1) / 6.0);
+    const double scale = std::fabs(A[0][0]) + std::fabs(A[1][1]) + std::fabs(A[2][2]) + std::sqrt(p1);
+    if (!(p > 1e-9 * scale)) return false;
+    // det((A − qI)/p)/2 = cos 3φ; the largest eigenvalue is q + 2p cos φ.
+    const double ip = 1.0 / p;
+    const double B00 = a * ip, B11 = b * ip, B22 = c * ip, B01 = A[0][1] * ip, B02 = A[0][2] * ip, B12 = A[1][2] * ip;
+    const double det = B00 * (B11 * B22 - B12 * B12) - B01 * (B01 * B22 - B12 * B02) + B02 * (B01 * B12 - B11 * B02);
+    r = std::clamp(det / 2.0, -1.0, 1.0);
+    // cos(acos(r)/3) is the largest root x ∈ [½, 1] of 4x³ − 3x = r: Newton's method from
+    // ½ + ½√((1+r)/2) (exact at r = ±1, within 0.02 between), four steps, instead of libm's acos and
+    // cos (a sixth of the starts' cost).
+    x = 0.5 + 0.5 * std::sqrt(0.5 * (1.0 + r));
+    it = 0;
+    return true;
+  }
+  // One Newton step; false (and x unchanged) once the four are done or the slope vanishes.
+  bool newton_step() {
+    if (it >= 4) return false;
     const double dh = 12.0 * x * x - 3.0;
-    if (!(dh > 1e-12)) break;
+    if (!(dh > 1e-12)) return it = 4, false;
     x -= (4.0 * x * x * x - 3.0 * x - r) / dh;
+    ++it;
+    return true;
   }
-  const double lambda = q + 2.0 * p * x;
-  const double M[3][3] = {{A[0][0] - lambda, A[0][1], A[0][2]},
-                          {A[0][1], A[1][1] - lambda, A[1][2]},
-                          {A[0][2], A[1][2], A[2][2] - lambda}};
-  double best = 0;
-  for (int i = 0; i < 3; ++i) {
-    const double* x = M[i];
-    const double* y = M[(i + 1) % 3];
-    const double w[3] = {x[1] * y[2] - x[2] * y[1], x[2] * y[0] - x[0] * y[2], x[0] * y[1] - x[1] * y[0]};
-    const double n2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
-    if (n2 > best) best = n2, v[0] = w[0], v[1] = w[1], v[2] = w[2];
+  bool end(const double A[3][3], double v[3]) const {
+    const double lambda = q + 2.0 * p * x;
+    const double M[3][3] = {{A[0][0] - lambda, A[0][1], A[0][2]},
+                            {A[0][1], A[1][1] - lambda, A[1][2]},
+                            {A[0][2], A[1][2], A[2][2] - lambda}};
+    double best = 0;
+    for (int i = 0; i < 3; ++i) {
+      const double* x = M[i];
+      const double* y = M[(i + 1) % 3];
+      const double w[3] = {x[1] * y[2] - x[2] * y[1], x[2] * y[0] - x[0] * y[2], x[0] * y[1] - x[1] * y[0]};
+      const double n2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+      if (n2 > best) best = n2, v[0] = w[0], v[1] = w[1], v[2] = w[2];
+    }
+    if (!(best > 0) || !std::isfinite(best)) return false;
+    const double inv = 1.0 / std::sqrt(best);
+    for (int i = 0; i < 3; ++i) v[i] *= inv;
+    return true;
   }
-  if (!(best > 0) || !std::isfinite(best)) return false;
-  const double inv = 1.0 / std::sqrt(best);
-  for (int i = 0; i < 3; ++i) v[i] *= inv;
-  return true;
-}
+};
 
 }  // namespace
 
@@ -106,9 +129,23 @@ void refine_direction(const IrradiancePoly p[3], const double iz[3], const FitOp
   refine_direction(p, iz, opt, d, RefineSearch{});
 }
 
-void refine_direction(const IrradiancePoly p[3], const double iz[3], const FitOptions& opt, double d[3],
-                      const RefineSearch& search, int* winner, LuneMoments* moments) {
-  const RefineObjective f(p, iz, opt.ratio_form);
+namespace {
+
+// The starts of refine_direction for one texel into cand[0..n), n returned; ids[i] says which
+// start cand[i] is (RefineSearch's `winner` numbering). cand[0] is d itself.
+// The luminance L2 band's quadratic form Σ_c luma_c Q_c, whose principal axis is a start.
+void luminance_l2_form(const IrradiancePoly p[3], const FitOptions& opt, double Q[3][3]) {
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) Q[i][j] = 0;
+  for (int c = 0; c < 3; ++c)
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) Q[i][j] += opt.luma[c] * p[c].q[i][j];
+}
+
+// `axis`: the principal axis of luminance_l2_form (AxisSolve), null when there is none or the L2
+// starts are off.
+int collect_starts(const IrradiancePoly p[3], const FitOptions& opt, const RefineSearch& search, const double d[3],
+                   const double* axis, double cand[6][3], int ids[6]) {
   // Cheap global starts: the local search from the linear d misses the better basin on varied
   // lighting (the L1 band averages the lights' directions; the best lobe follows the strongest).
   // Candidates: each channel's own L1 direction and the axis of the luminance L2 band's quadratic
@@ -117,8 +154,7 @@ void refine_direction(const IrradiancePoly p[3], const double iz[3], const FitOp
   // (RefineObjective::values) and the first smallest kept, as trying them one by one would. A
   // start within search.same_start_cos of one already listed is dropped (it would land in the same
   // basin; on near-grey lighting the channels' L1 directions are the linear d).
-  double cand[6][3];
-  int ids[6], n = 0;
+  int n = 0;
   auto add_start = [&](const double s[3], int id) {
     for (int i = 0; i < 3; ++i) cand[n][i] = s[i];
     if (id) {
@@ -138,12 +174,7 @@ void refine_direction(const IrradiancePoly p[3], const double iz[3], const FitOp
       add_start(s, 1 + c);
     }
   if (search.starts & (kStartL2Axis | kStartL2AxisBoth)) {
-    double Q[3][3] = {};
-    for (int c = 0; c < 3; ++c)
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) Q[i][j] += opt.luma[c] * p[c].q[i][j];
-    double axis[3] = {0, 0, 1};
-    if (principal_axis(Q, axis)) {
+    if (axis) {
       // The axis has no sign; the lobe should face the light, which the luminance L1 band points
       // toward (with kStartL2AxisBoth both signs are tried).
       double l1 = 0;
@@ -157,73 +188,221 @@ void refine_direction(const IrradiancePoly p[3], const double iz[3], const FitOp
       }
     }
   }
-  const double* ptr[6];
-  double fs[6];
-  LuneMoments ms[6];
-  for (int i = 0; i < n; ++i) ptr[i] = cand[i];
-  f.values(ptr, n, fs, ms);
-  double best[3] = {d[0], d[1], d[2]};
-  double fbest = fs[0];
-  int ib = 0;
-  if (winner) *winner = 0;
-  if (!std::isfinite(fbest)) {
-    if (moments) *moments = ms[0];
-    return;
-  }
-  for (int i = 1; i < n; ++i)
-    if (fs[i] < fbest) {
-      fbest = fs[i], best[0] = cand[i][0], best[1] = cand[i][1], best[2] = cand[i][2], ib = i;
-      if (winner) *winner = ids[i];
-    }
-  LuneMoments mbest = ms[ib];
-  // Polish: Newton steps along the descent direction with the analytic gradient
-  // (refine_objective.h): the curvature along −∇f from the value at a small step h there (a
-  // parabola through f and its slope −|∇f| at the centre: one value, half the cost of a second
-  // gradient), then the 1-D Newton step (a fixed 0.1 rad where the curvature is not positive), at
-  // most 0.5 rad. The best point seen is kept, so this never loses what the starts found. The
-  // gradient at the best start comes from its moments of the batch. A further step is taken only
-  // when the last one lowered f by more than search.next_step_gain of the objective's scale
-  // Σ_c 2π I_c² (the error of a black lobe): most texels are converged after one.
-  if (search.line) {
-    const double h = 0.05;
-    const double scale = 2 * kPi * (iz[0] * iz[0] + iz[1] * iz[1] + iz[2] * iz[2]);
-    double g[3];
-    double centre[3] = {best[0], best[1], best[2]};
-    double fcentre = fbest;
-    f.gradient_at(centre, mbest, g);
-    for (int step = 0; step < search.steps; ++step) {
-      const double gl = std::sqrt(dot3(g, g));
-      if (!(gl > 0) || !std::isfinite(gl)) break;
-      double u[3] = {-g[0] / gl, -g[1] / gl, -g[2] / gl}, v[3] = {0, 0, 0};
-      double xh[3];
-      offset_dir(centre, u, v, h, 0, opt.dz_min, xh);
-      const double* px = xh;
-      double fh;
-      LuneMoments mh;
-      f.values(&px, 1, &fh, &mh);
-      if (fh < fbest) fbest = fh, best[0] = xh[0], best[1] = xh[1], best[2] = xh[2], mbest = mh;
-      const double kappa = 2.0 * (fh - fcentre + gl * h) / (h * h);
-      double t = kappa > 0 ? gl / kappa : 0.1;
-      t = std::min(t, 0.5);
-      double cn[3];
-      offset_dir(centre, u, v, t, 0, opt.dz_min, cn);
-      double fc;
-      LuneMoments mc;
-      const double* pc = cn;
-      f.values(&pc, 1, &fc, &mc);
-      if (!(fc < fbest)) break;
-      const double gain = fcentre - fc;
-      fbest = fc, best[0] = cn[0], best[1] = cn[1], best[2] = cn[2], mbest = mc;
-      fcentre = fc;
-      for (int i = 0; i < 3; ++i) centre[i] = cn[i];
-      // The next step's gradient only when there is one (most texels stop after the first).
-      if (step + 1 == search.steps || !(gain > search.next_step_gain * scale)) break;
-      f.gradient_at(centre, mbest, g);
-    }
+  return n;
+}
+
+// One texel's state in the lockstep search below.
+struct Lane {
+  const IrradiancePoly* p;
+  RefineObjective f;
+  double* d;
+  int* winner;
+  LuneMoments* moments;
+  double cand[6][3];
+  int ids[6], n;
+  double best[3], fbest;
+  LuneMoments mbest;
+  double centre[3], fcentre, g[3], u[3], v[3], xh[3], cn[3], gl, scale;
+  int step;
+  bool active;
+
+  void finish() {
     for (int i = 0; i < 3; ++i) d[i] = best[i];
     if (moments) *moments = mbest;
+    active = false;
+  }
+};
+
+constexpr int kMaxStarts = 6;
+
+// The starts of n lanes, all evaluated in one batch (lune_moments_lanes), then each lane's best
+// (the first smallest, as trying them one by one would): best, fbest, mbest. A lane whose given d
+// has no finite objective is finished there (d unchanged, its moments handed on) and not active.
+void pick_starts(Lane* lanes, int n, const FitOptions& opt, const RefineSearch& search) {
+  const IrradiancePoly* pp[kRefineLanes * kMaxStarts] = {};
+  const double* dd[kRefineLanes * kMaxStarts] = {};
+  LuneMoments ms[kRefineLanes * kMaxStarts];
+  // The L2 axes of all lanes first, stage by stage (AxisSolve).
+  const bool l2 = (search.starts & (kStartL2Axis | kStartL2AxisBoth)) != 0;
+  double Q[kRefineLanes][3][3], axis[kRefineLanes][3];
+  AxisSolve solve[kRefineLanes];
+  bool has_axis[kRefineLanes] = {};
+  if (l2) {
+    for (int k = 0; k < n; ++k) {
+      luminance_l2_form(lanes[k].p, opt, Q[k]);
+      axis[k][0] = 0, axis[k][1] = 0, axis[k][2] = 1;
+      has_axis[k] = solve[k].begin(Q[k]);
+    }
+    for (bool more = true; more;) {
+      more = false;
+      for (int k = 0; k < n; ++k)
+        if (has_axis[k]) more |= solve[k].newton_step();
+    }
+    for (int k = 0; k < n; ++k)
+      if (has_axis[k]) has_axis[k] = solve[k].end(Q[k], axis[k]);
+  }
+  int total = 0;
+  for (int k = 0; k < n; ++k) {
+    Lane& l = lanes[k];
+    l.n = collect_starts(l.p, opt, search, l.d, has_axis[k] ? axis[k] : nullptr, l.cand, l.ids);
+    for (int i = 0; i < l.n; ++i) pp[total] = l.p, dd[total] = l.cand[i], ++total;
+  }
+  lune_moments_lanes(pp, dd, total, ms);
+  const RefineObjective* fo[kRefineLanes * kMaxStarts];
+  double dz[kRefineLanes * kMaxStarts], fall[kRefineLanes * kMaxStarts];
+  for (int k = 0, t = 0; k < n; ++k)
+    for (int i = 0; i < lanes[k].n; ++i, ++t) fo[t] = &lanes[k].f, dz[t] = lanes[k].cand[i][2];
+  values_at_lanes(fo, ms, dz, total, fall);
+  int at = 0;
+  for (int k = 0; k < n; ++k) {
+    Lane& l = lanes[k];
+    const LuneMoments* m = ms + at;
+    const double* fs = fall + at;
+    at += l.n;
+    for (int i = 0; i < 3; ++i) l.best[i] = l.d[i];
+    l.fbest = fs[0];
+    int ib = 0;
+    if (l.winner) *l.winner = 0;
+    l.active = true;
+    if (!std::isfinite(l.fbest)) {
+      if (l.moments) *l.moments = m[0];
+      l.active = false;
+      continue;
+    }
+    // The first smallest, without branches (which start wins is random on varied lighting).
+    for (int i = 1; i < l.n; ++i) {
+      ib = fs[i] < l.fbest ? i : ib;
+      l.fbest = less_or_second(fs[i], l.fbest);
+    }
+    for (int i = 0; i < 3; ++i) l.best[i] = l.cand[ib][i];
+    if (l.winner) *l.winner = l.ids[ib];
+    l.mbest = m[ib];
+  }
+}
+
+// Polish: Newton steps along the descent direction with the analytic gradient
+// (refine_objective.h): the curvature along −∇f from the value at a small step h there (a
+// parabola through f and its slope −|∇f| at the centre: one value, half the cost of a second
+// gradient), then the 1-D Newton step (a fixed 0.1 rad where the curvature is not positive), at
+// most 0.5 rad. The best point seen is kept, so this never loses what the starts found. The
+// gradient at the best start comes from its moments of the batch. A further step is taken only
+// when the last one lowered f by more than search.next_step_gain of the objective's scale
+// Σ_c 2π I_c² (the error of a black lobe): most texels are converged after one.
+// The active lanes run in lockstep, their lune moments in one batch per stage: one texel's steps
+// are a chain of square roots and divisions waiting on each other, and the other lanes' fill the
+// wait. Each lane's arithmetic is the one-lane search's, in the same order (the same bytes).
+void line_search(Lane* lanes, int n, const FitOptions& opt, const RefineSearch& search) {
+  const double h = 0.05;
+  for (int k = 0; k < n; ++k) {
+    Lane& l = lanes[k];
+    if (!l.active) continue;
+    const double* iz = l.f.iz;
+    l.scale = 2 * kPi * (iz[0] * iz[0] + iz[1] * iz[1] + iz[2] * iz[2]);
+    for (int i = 0; i < 3; ++i) l.centre[i] = l.best[i];
+    l.fcentre = l.fbest;
+    l.step = 0;
+    l.f.gradient_at(l.centre, l.mbest, l.g);
+  }
+  for (;;) {
+    const IrradiancePoly* pp[kRefineLanes];
+    const double* dd[kRefineLanes];
+    Lane* on[kRefineLanes];
+    int na = 0;
+    for (int k = 0; k < n; ++k) {
+      Lane& l = lanes[k];
+      if (!l.active) continue;
+      if (l.step >= search.steps) {
+        l.finish();
+        continue;
+      }
+      l.gl = std::sqrt(dot3(l.g, l.g));
+      if (!(l.gl > 0) || !std::isfinite(l.gl)) {
+        l.finish();
+        continue;
+      }
+      for (int i = 0; i < 3; ++i) l.u[i] = -l.g[i] / l.gl, l.v[i] = 0;
+      offset_dir(l.centre, l.u, l.v, h, 0, opt.dz_min, l.xh);
+      pp[na] = l.p, dd[na] = l.xh, on[na++] = &l;
+    }
+    if (!na) return;
+    LuneMoments mh[kRefineLanes], mc[kRefineLanes];
+    const RefineObjective* fo[kRefineLanes];
+    double dz[kRefineLanes], fv[kRefineLanes];
+    lune_moments_lanes(pp, dd, na, mh);
+    for (int j = 0; j < na; ++j) fo[j] = &on[j]->f, dz[j] = on[j]->xh[2];
+    values_at_lanes(fo, mh, dz, na, fv);
+    for (int j = 0; j < na; ++j) {
+      Lane& l = *on[j];
+      const double fh = fv[j];
+      if (fh < l.fbest) l.fbest = fh, l.best[0] = l.xh[0], l.best[1] = l.xh[1], l.best[2] = l.xh[2], l.mbest = mh[j];
+      const double kappa = 2.0 * (fh - l.fcentre + l.gl * h) / (h * h);
+      // kappa > 0 ? gl / kappa : 0.1, then std::min(t, 0.5), without branches (fit/branchless.h).
+      const double t = less_or_second(0.5, select_greater(kappa, 0.0, l.gl / kappa, 0.1));
+      offset_dir(l.centre, l.u, l.v, t, 0, opt.dz_min, l.cn);
+      dd[j] = l.cn;
+    }
+    lune_moments_lanes(pp, dd, na, mc);
+    for (int j = 0; j < na; ++j) dz[j] = on[j]->cn[2];
+    values_at_lanes(fo, mc, dz, na, fv);
+    for (int j = 0; j < na; ++j) {
+      Lane& l = *on[j];
+      const double fc = fv[j];
+      if (!(fc < l.fbest)) {
+        l.finish();
+        continue;
+      }
+      const double gain = l.fcentre - fc;
+      l.fbest = fc, l.best[0] = l.cn[0], l.best[1] = l.cn[1], l.best[2] = l.cn[2], l.mbest = mc[j];
+      l.fcentre = fc;
+      for (int i = 0; i < 3; ++i) l.centre[i] = l.cn[i];
+      // The next step's gradient only when there is one (most texels stop after the first).
+      if (l.step + 1 == search.steps || !(gain > search.next_step_gain * l.scale)) {
+        l.finish();
+        continue;
+      }
+      l.f.gradient_at(l.centre, l.mbest, l.g);
+      ++l.step;
+    }
+  }
+}
+
+}  // namespace
+
+void refine_direction_lanes(int n, const IrradiancePoly* const* p, const double* const* iz, const FitOptions& opt,
+                            double* const* d, LuneMoments* moments) {
+  const RefineSearch search;
+  Lane lanes[kRefineLanes];
+  for (int k = 0; k < n; ++k) {
+    lanes[k].p = p[k];
+    lanes[k].f = RefineObjective(p[k], iz[k], opt.ratio_form);
+    lanes[k].d = d[k];
+    lanes[k].winner = nullptr;
+    lanes[k].moments = moments ? &moments[k] : nullptr;
+  }
+  pick_starts(lanes, n, opt, search);
+  line_search(lanes, n, opt, search);
+}
+
+void refine_direction(const IrradiancePoly p[3], const double iz[3], const FitOptions& opt, double d[3],
+                      const RefineSearch& search, int* winner, LuneMoments* moments) {
+  // Cheap global starts: the local search from the linear d misses the better basin on varied
+  // lighting (the L1 band averages the lights' directions; the best lobe follows the strongest).
+  // (collect_starts; which pay: README "Choosing the direction".)
+  Lane l;
+  l.p = p;
+  l.f = RefineObjective(p, iz, opt.ratio_form);
+  l.d = d;
+  l.winner = winner;
+  l.moments = moments;
+  pick_starts(&l, 1, opt, search);
+  if (!l.active) return;
+  if (search.line) {
+    line_search(&l, 1, opt, search);
     return;
   }
+  const RefineObjective& f = l.f;
+  double best[3] = {l.best[0], l.best[1], l.best[2]};
+  double fbest = l.fbest;
   // Polish: Newton steps in the tangent plane with the analytic gradient (refine_objective.h); the
   // 2×2 Hessian from differences of that gradient over a step h along the two tangents, then
   // reused for the following steps (a quasi-Newton step from the new point's gradient). The best

@@ -27,6 +27,9 @@ LuneMoments lune_moments(const IrradiancePoly p[3], const double d[3]);
 // lune_moments for the n directions d[i] into out[i], stage by stage (their latencies overlap); the
 // same bytes as n single calls.
 void lune_moments(const IrradiancePoly p[3], const double* const* d, int n, LuneMoments* out);
+// The same with each direction's own polynomials: out[i] = lune_moments(p[i], d[i]) (p[i] points
+// to three channels), for several texels' directions in one batch (refine_direction_lanes).
+void lune_moments_lanes(const IrradiancePoly* const* p, const double* const* d, int n, LuneMoments* out);
 
 // ∫_{Ω+} E for one channel (HemisphereMoments::f0; independent of d).
 double hemisphere_integral(const IrradiancePoly& p);
@@ -37,6 +40,8 @@ double hemisphere_square_integral(const IrradiancePoly& p);
 // hemisphere error summed over the three channels (a clamped 1-D least squares). f0[c] = ∫ E_c.
 // Returns 1 when every iz[c] is 0.
 double least_squares_ratio(const LuneMoments& m, const double f0[3], const double iz[3], double dz);
+// The same with k = 1.0 / dz already at hand (the same bytes).
+double least_squares_ratio_k(const LuneMoments& m, const double f0[3], const double iz[3], double k);
 
 // Σ_c ∫_{Ω+} (C_a + C_d max(0,ω·d) − E_c)² minus the d-independent Σ_c ∫ E_c², for the colours the
 // fit of `opt`'s ratio form chooses at the unit direction d (d_z > 0) with irradiance iz along z:
@@ -71,5 +76,13 @@ struct RefineSearch {
 // on those it computed; the 2-D search recomputes them).
 void refine_direction(const IrradiancePoly p[3], const double iz[3], const FitOptions& opt, double d[3],
                       const RefineSearch& search, int* winner = nullptr, LuneMoments* moments = nullptr);
+
+// refine_direction with the default RefineSearch for n ≤ kRefineLanes texels at once, in lockstep
+// (one texel's steps wait on each other's square roots and divisions; several texels' overlap):
+// lane k (polynomials p[k], irradiance iz[k], direction d[k] in/out, and with `moments` their
+// moments into moments[k]) gets the same bytes as refine_direction alone.
+constexpr int kRefineLanes = 4;
+void refine_direction_lanes(int n, const IrradiancePoly* const* p, const double* const* iz, const FitOptions& opt,
+                            double* const* d, LuneMoments* moments);
 
 }  // namespace ahd

@@ -1,5 +1,6 @@
 #include "fit/fit_image.h"
 
+#include <algorithm>
 #include <cstring>
 
 #include "core/error.h"
@@ -48,10 +49,18 @@ AhdImage fit_image(const ShImage& sh, const FitOptions& opt, int threads, FitSta
   // The pair guard compares against the linear d, which the fit computes on the way (its first
   // start); the linear colours are refitted only where the guard reverts.
   std::vector<float> linear_d(guard ? sh.texels() * 3 : 0);
-  parallel_for(sh.texels(), threads, 1024, [&](size_t i) {
-    IrradiancePoly p[3];
-    local_polys(sh, i, p);
-    out.set_texel(i, fit_texel(p, opt, guard ? &linear_d[i * 3] : nullptr));
+  // Texels in groups of kGroup: fit_texels runs a group's refinements in lockstep (the same bytes
+  // as one at a time, so the grouping and the threads' chunks do not change the output).
+  constexpr size_t kGroup = 4;
+  const size_t groups = (sh.texels() + kGroup - 1) / kGroup;
+  parallel_for(groups, threads, 1024 / kGroup, [&](size_t g) {
+    const size_t i0 = g * kGroup;
+    const int n = int(std::min(kGroup, sh.texels() - i0));
+    IrradiancePoly p[3 * kGroup];
+    for (int k = 0; k < n; ++k) local_polys(sh, i0 + k, &p[3 * k]);
+    AhdFit f[kGroup];
+    fit_texels(p, n, opt, f, guard ? &linear_d[i0 * 3] : nullptr);
+    for (int k = 0; k < n; ++k) out.set_texel(i0 + k, f[k]);
   });
   if (refined && opt.coherence_tolerance > 0) smooth_directions(sh, opt, threads, &out);
   size_t reverted = 0;

@@ -162,7 +162,12 @@ LuneMoments lune_moments(const IrradiancePoly p[3], const double d[3]) {
   return m;
 }
 
-void lune_moments(const IrradiancePoly p[3], const double* const* d, int n, LuneMoments* out) {
+namespace {
+
+// lune_moments' body; poly(i) gives direction i's three channel polynomials (one texel's for the
+// plain batch, each lane's own for lune_moments_lanes): the same arithmetic either way.
+template <class Polys>
+void lune_moments_impl(const Polys& poly, const double* const* d, int n, LuneMoments* out) {
   // The same lune integrals as hemisphere_moments(), shared by the three channels, each reduced to
   // its closed form for a unit d = (s, 0, c) (B = π − θ the lune's width; s² + c² = 1):
   //   ∫g = π/2 (1+c), ∫g² = 2/3 (B + sc), ∫x g = 2/3 sB, ∫z g = 2/3 (cB + s), ∫y² g = π/8 (1+c),
@@ -192,6 +197,7 @@ void lune_moments(const IrradiancePoly p[3], const double* const* d, int n, Lune
     const double lzz = 3 * kPi / 8 * (2 * c / 3 + c * c - c4 / 3 + s4 / 3);
     const double kx = 2.0 / 3 * B, kq = kPi / 8, kxz = kPi / 4 * (1 + c);
     const double dxx = dx * dx, dyy = dy * dy, dxy2 = 2.0 * dx * dy;
+    const IrradiancePoly* p = poly(i);
     for (int k = 0; k < 3; ++k) {
       const IrradiancePoly& q = p[k];
       const double ed = q.e[0] * dx + q.e[1] * dy;
@@ -201,6 +207,16 @@ void lune_moments(const IrradiancePoly p[3], const double* const* d, int n, Lune
                 kxz * qzd;
     }
   }
+}
+
+}  // namespace
+
+void lune_moments(const IrradiancePoly p[3], const double* const* d, int n, LuneMoments* out) {
+  lune_moments_impl([p](int) { return p; }, d, n, out);
+}
+
+void lune_moments_lanes(const IrradiancePoly* const* p, const double* const* d, int n, LuneMoments* out) {
+  lune_moments_impl([p](int i) { return p[i]; }, d, n, out);
 }
 
 double hemisphere_square_integral(const IrradiancePoly& p) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "fit/branchless.h"
 #include "fit/direction_refine.h"
 
 namespace ahd {
@@ -14,11 +15,26 @@ RefineObjective::RefineObjective(const IrradiancePoly p3[3], const double iz3[3]
 
 namespace {
 
-// The colours the fit chooses at d (d_z = dz) from the moments: a = C_a, b = C_d.
-void choose_colours(const RefineObjective& o, const LuneMoments& m, double dz, double a[3], double b[3]) {
+// choose_colours in stages, so that a batch's divisions overlap (values_at_lanes): first the
+// division (luminance: k = 1/d_z; RGB: one division for 1/(d_z² + 1), 1/hh and 1/d_z), then the
+// luminance ratio (its own division), then the colours.
+double colour_divisor(const RefineObjective& o, const LuneMoments& m, double dz) {
+  if (o.luminance) return 1.0 / dz;
+  const double g0 = 2.0 * kPi;
+  const double hh = m.g2 - 2.0 * dz * m.g1 + dz * dz * g0;
+  const double dz1 = dz * dz + 1.0;
+  return 1.0 / (dz * dz1 * (hh > 0 ? hh : 1.0));
+}
+
+double colour_ratio(const RefineObjective& o, const LuneMoments& m, double k) {
+  return o.luminance ? least_squares_ratio_k(m, o.f0, o.iz, k) : 0.0;
+}
+
+void colours_from(const RefineObjective& o, const LuneMoments& m, double dz, double k, double r, double a[3],
+                  double b[3]) {
   const double g0 = 2.0 * kPi;
   if (o.luminance) {
-    const double r = least_squares_ratio(m, o.f0, o.iz, dz), inv_dz = 1.0 / dz;
+    const double inv_dz = k;
     for (int c = 0; c < 3; ++c) {
       const double I = o.iz[c] > 0.0 ? o.iz[c] : 0.0;
       a[c] = r * I, b[c] = (I - a[c]) * inv_dz;
@@ -26,10 +42,9 @@ void choose_colours(const RefineObjective& o, const LuneMoments& m, double dz, d
     return;
   }
   // fit_channel's arithmetic with the channel-independent divisions hoisted out.
-  // One division for 1/(d_z² + 1), 1/hh and 1/d_z.
   const double hh = m.g2 - 2.0 * dz * m.g1 + dz * dz * g0;
   const double dz1 = dz * dz + 1.0;
-  const double inv_all = 1.0 / (dz * dz1 * (hh > 0 ? hh : 1.0));
+  const double inv_all = k;
   const double kk = inv_all * dz * (hh > 0 ? hh : 1.0);
   const double inv_hh = hh > 0 ? inv_all * dz * dz1 : 0.0;
   const double inv_dz = inv_all * dz1 * (hh > 0 ? hh : 1.0);
@@ -40,9 +55,19 @@ void choose_colours(const RefineObjective& o, const LuneMoments& m, double dz, d
     }
     const double a0 = o.iz[c] * kk, b0 = a0 * dz;
     const double rh = a0 * m.g1 + b0 * m.g2 - m.f1[c] - dz * (a0 * g0 + b0 * m.g1 - o.f0[c]);
-    const double t = std::clamp(-rh * inv_hh, -b0, a0 * inv_dz);
-    a[c] = std::max(0.0, a0 - dz * t), b[c] = std::max(0.0, b0 + t);
+    // std::clamp(v, lo, hi) as a max then a min (maxsd/minsd, no branch to mispredict on random
+    // lighting): the same value whenever lo ≤ hi, which holds (a0 ≥ 0 or NaN, d_z > 0), NaNs included.
+    const double v = -rh * inv_hh, lo = -b0, hi = a0 * inv_dz;
+    const double t1 = v < lo ? lo : v;
+    const double t = hi < t1 ? hi : t1;
+    a[c] = positive_part(a0 - dz * t), b[c] = positive_part(b0 + t);
   }
+}
+
+// The colours the fit chooses at d (d_z = dz) from the moments: a = C_a, b = C_d.
+void choose_colours(const RefineObjective& o, const LuneMoments& m, double dz, double a[3], double b[3]) {
+  const double k = colour_divisor(o, m, dz);
+  colours_from(o, m, dz, k, colour_ratio(o, m, k), a, b);
 }
 
 double error_sum(const RefineObjective& o, const LuneMoments& m, const double a[3], const double b[3]) {
@@ -73,6 +98,27 @@ void RefineObjective::values(const double* const* d, int n, double* out, LuneMom
       double a[3], b[3];
       colours(m[i], d[i0 + i][2], a, b);
       out[i0 + i] = error_sum(*this, m[i], a, b);
+    }
+  }
+}
+
+double RefineObjective::value_at(const LuneMoments& m, double dz) const {
+  double a[3], b[3];
+  colours(m, dz, a, b);
+  return error_sum(*this, m, a, b);
+}
+
+void values_at_lanes(const RefineObjective* const* f, const LuneMoments* m, const double* dz, int n, double* out) {
+  constexpr int kBlock = 8;
+  for (int i0 = 0; i0 < n; i0 += kBlock) {
+    const int nb = std::min(kBlock, n - i0);
+    double k[kBlock], r[kBlock];
+    for (int i = 0; i < nb; ++i) k[i] = colour_divisor(*f[i0 + i], m[i0 + i], dz[i0 + i]);
+    for (int i = 0; i < nb; ++i) r[i] = colour_ratio(*f[i0 + i], m[i0 + i], k[i]);
+    for (int i = 0; i < nb; ++i) {
+      double a[3], b[3];
+      colours_from(*f[i0 + i], m[i0 + i], dz[i0 + i], k[i], r[i], a, b);
+      out[i0 + i] = error_sum(*f[i0 + i], m[i0 + i], a, b);
     }
   }
 }

@@ -20,12 +20,15 @@ struct RefineObjective {
   bool luminance;           // ratio form: luminance (least_squares_ratio) or RGB (per channel)
 
   RefineObjective(const IrradiancePoly p3[3], const double iz3[3], RatioForm form);
+  RefineObjective() : p(nullptr), iz{}, f0{}, luminance(false) {}  // to be assigned before use
 
   // f(d) for a unit d with d_z > 0.
   double value(const double d[3]) const;
   // value(d[i]) into out[i] for n directions at once (lune_moments' batch form): the same bytes.
   // With `moments` (n entries) also each direction's lune moments, for gradient_at / fit_colours.
   void values(const double* const* d, int n, double* out, LuneMoments* moments = nullptr) const;
+  // f(d) from d's lune moments m (d_z = dz): what values() computes after lune_moments, the same bytes.
+  double value_at(const LuneMoments& m, double dz) const;
   // f(d) and its gradient on the unit sphere (a tangent vector at d, world/local frame).
   // With `moments`, also d's lune moments.
   double value_grad(const double d[3], double grad[3], LuneMoments* moments = nullptr) const;
@@ -39,5 +42,9 @@ struct RefineObjective {
  private:
   void gradient(const double d[3], const LuneMoments& m, const double a[3], const double b[3], double grad[3]) const;
 };
+
+// out[i] = f[i]->value_at(m[i], dz[i]) for n evaluations (each with its own objective, e.g.
+// several texels'), stage by stage so that their divisions overlap: the same bytes.
+void values_at_lanes(const RefineObjective* const* f, const LuneMoments* m, const double* dz, int n, double* out);
 
 }  // namespace ahd

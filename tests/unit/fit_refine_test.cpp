@@ -11,6 +11,7 @@
 #include <cstring>
 #include <filesystem>
 #include <random>
+#include <vector>
 
 #include "fit_bits.h"
 #include "fit/ahd_decode.h"
@@ -472,5 +473,80 @@ TEST(FitRefine, HandedOverMomentsGiveTheSameBytesAsRecomputedOnes) {
       ASSERT_EQ(std::memcmp(g1, g2, sizeof g1), 0) << "texel " << i;
     }
     EXPECT_GT(moved, 2000);
+  }
+}
+
+TEST(FitRefine, LockstepLanesGiveTheSameBytesAsOneTexelAtATime) {
+  // fit_texels runs up to kRefineLanes texels' refinements in lockstep (refine_direction_lanes:
+  // their lune moments in one batch per stage, lanes finishing at different steps); each texel
+  // must get fit_texel's bytes alone (the lanes' directions, moments and colours kept apart). A
+  // random mix of texels: random lighting, constant irradiance (no refinement), no direction (L1
+  // cancelled), in groups of 1–4, both ratio forms, L1 and L2; also refine_direction_lanes against
+  // refine_direction with the moments it hands on.
+  const ShImage sh = random_lighting_set(2000, 23);
+  std::mt19937 rng(5);
+  std::vector<IrradiancePoly> polys(sh.texels() * 3);
+  for (size_t i = 0; i < sh.texels(); ++i) {
+    IrradiancePoly* p = &polys[i * 3];
+    local_polys(sh, i, p);
+    const int kind = int(rng() % 8);
+    if (kind == 0)
+      for (int c = 0; c < 3; ++c) p[c] = IrradiancePoly{}, p[c].e0 = 0.5 + c;  // constant
+    if (kind == 1)
+      for (int c = 0; c < 3; ++c) p[c].e[0] = p[c].e[1] = p[c].e[2] = 0;  // no direction, L2 left
+  }
+  auto constant = [](const IrradiancePoly* p) {
+    for (int c = 0; c < 3; ++c)
+      for (int i = 0; i < 3; ++i) {
+        if (p[c].e[i] != 0.0) return false;
+        for (int j = 0; j < 3; ++j)
+          if (p[c].q[i][j] != 0.0) return false;
+      }
+    return true;
+  };
+  for (RatioForm form : {RatioForm::Rgb, RatioForm::Luminance})
+    for (DirectionFit dir : {DirectionFit::Refined, DirectionFit::Linear}) {
+      const FitOptions opt = options(form, dir);
+      int groups_with_several_refined = 0;
+      for (size_t i0 = 0; i0 < sh.texels();) {
+        const int n = std::min<int>(1 + int(rng() % kRefineLanes), int(sh.texels() - i0));
+        AhdFit group[kRefineLanes];
+        float lin[3 * kRefineLanes];
+        fit_texels(&polys[i0 * 3], n, opt, group, lin);
+        int refined = 0;
+        for (int k = 0; k < n; ++k) {
+          float lin1[3];
+          const AhdFit one = fit_texel(&polys[(i0 + k) * 3], opt, lin1);
+          ASSERT_EQ(std::memcmp(&one, &group[k], offsetof(AhdFit, flags) + 1), 0) << "texel " << i0 + k;
+          ASSERT_EQ(std::memcmp(lin1, &lin[3 * k], sizeof lin1), 0) << "texel " << i0 + k;
+          refined += !(one.flags & kFitNoDirection) && !constant(&polys[(i0 + k) * 3]);
+        }
+        groups_with_several_refined += refined >= 2;
+        i0 += size_t(n);
+      }
+      EXPECT_GT(groups_with_several_refined, 300);  // the lockstep path was exercised
+    }
+  // The lanes API itself: four texels against refine_direction one by one, d and moments.
+  const FitOptions opt = options(RatioForm::Rgb, DirectionFit::Refined);
+  for (size_t i0 = 0; i0 + 4 <= 400; i0 += 4) {
+    double iz[4][3], d[4][3], d1[4][3];
+    const IrradiancePoly* lp[4];
+    const double* liz[4];
+    double* ld[4];
+    LuneMoments m[4];
+    for (int k = 0; k < 4; ++k) {
+      lp[k] = &polys[(i0 + k) * 3], liz[k] = iz[k], ld[k] = d[k];
+      for (int c = 0; c < 3; ++c) iz[k][c] = std::max(0.0, lp[k][c].e0 + lp[k][c].e[2] + lp[k][c].q[2][2]);
+      optimal_direction(lp[k], opt, d[k]);
+      tilt_above_horizon(d[k], opt.dz_min);
+      std::memcpy(d1[k], d[k], sizeof d1[k]);
+    }
+    refine_direction_lanes(4, lp, liz, opt, ld, m);
+    for (int k = 0; k < 4; ++k) {
+      LuneMoments m1;
+      refine_direction(lp[k], iz[k], opt, d1[k], RefineSearch{}, nullptr, &m1);
+      ASSERT_EQ(std::memcmp(d1[k], d[k], sizeof d1[k]), 0) << "texel " << i0 + k;
+      ASSERT_EQ(std::memcmp(&m1, &m[k], sizeof m1), 0) << "texel " << i0 + k;
+    }
   }
 }
