@@ -306,37 +306,6 @@ namespace ahd::bc6h {
 void fit_blocks_fast_x16n(int, const uint16_t* const*, const float* const*, const uint8_t* const*, OneRegionFit* const*) {}
 void encode_blocks_fast_x16n(int, const uint16_t* const*, const float* const*, const uint8_t* const*, uint8_t* const*,
                              float* const*) {}
-}  // namespace
-
-AVX512_FN void fit_blocks_fast_x16n(int batches, const uint16_t* const h[], const float* const x[],
-                                    const uint8_t* const valid[], OneRegionFit* const out[]) {
-  unsigned real[kMaxBatches];
-  for (int g = 0; g < batches; ++g) {
-    real[g] = 0;
-    for (int l = 0; l < 16; ++l) real[g] |= unsigned(out[16 * g + l] != nullptr) << l;
-  }
-  struct {
-    OneRegionFit* const* out;
-    LANE_INLINE void operator()(const Batch& B, int g) const { finish(B, out + 16 * g); }
-  } fin{out};
-  fit_gathered(batches, h, x, valid, real, fin);
-}
-
-AVX512_FN void encode_blocks_fast_x16n(int batches, const uint16_t* const h[], const float* const x[],
-                                       const uint8_t* const valid[], uint8_t* const blocks[], float* const err[]) {
-  unsigned real[kMaxBatches];
-  for (int g = 0; g < batches; ++g) {
-    real[g] = 0;
-    for (int l = 0; l < 16; ++l) real[g] |= unsigned(blocks[16 * g + l] != nullptr) << l;
-  }
-  struct {
-    uint8_t* const* blocks;
-    float* const* err;
-    LANE_INLINE void operator()(const Batch& B, int g) const { finish_packed(B, blocks + 16 * g, err + 16 * g); }
-  } fin{blocks, err};
-  fit_gathered(batches, h, x, valid, real, fin);
-}
-
 bool cpu_has_avx512() { return false; }
 }  // namespace ahd::bc6h
 
