@@ -253,15 +253,21 @@ LANE_INLINE void finish_packed(const Batch& B, uint8_t* const blocks[16], float*
   }
 }
 
+// Per batch of sixteen, the lanes that hold a real block (a non-null destination).
+template <class T>
+void real_lanes(int batches, T* const dst[], unsigned real[]) {
+  for (int g = 0; g < batches; ++g) {
+    real[g] = 0;
+    for (int l = 0; l < 16; ++l) real[g] |= unsigned(dst[16 * g + l] != nullptr) << l;
+  }
+}
+
 }  // namespace
 
 AVX512_FN void fit_blocks_fast_x16n(int batches, const uint16_t* const h[], const float* const x[],
                                     const uint8_t* const valid[], OneRegionFit* const out[]) {
   unsigned real[kMaxBatches];
-  for (int g = 0; g < batches; ++g) {
-    real[g] = 0;
-    for (int l = 0; l < 16; ++l) real[g] |= unsigned(out[16 * g + l] != nullptr) << l;
-  }
+  real_lanes(batches, out, real);
   struct {
     OneRegionFit* const* out;
     LANE_INLINE void operator()(const Batch& B, int g) const { finish(B, out + 16 * g); }
@@ -272,10 +278,7 @@ AVX512_FN void fit_blocks_fast_x16n(int batches, const uint16_t* const h[], cons
 AVX512_FN void encode_blocks_fast_x16n(int batches, const uint16_t* const h[], const float* const x[],
                                        const uint8_t* const valid[], uint8_t* const blocks[], float* const err[]) {
   unsigned real[kMaxBatches];
-  for (int g = 0; g < batches; ++g) {
-    real[g] = 0;
-    for (int l = 0; l < 16; ++l) real[g] |= unsigned(blocks[16 * g + l] != nullptr) << l;
-  }
+  real_lanes(batches, blocks, real);
   struct {
     uint8_t* const* blocks;
     float* const* err;
