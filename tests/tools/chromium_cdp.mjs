@@ -5,7 +5,7 @@
 // (default 60), then everything is stopped and the exit code is 2. Nothing is fetched from outside.
 //
 //   node chromium_cdp.mjs --chromium /usr/bin/chromium --url 'URL' --script S.js --out R.json
-//        [--serve ROOT] [--user-data-dir DIR] [--timeout 60]
+//        [--serve ROOT] [--user-data-dir DIR] [--timeout 60] [--screenshot SHOT.png]
 // In --url, "{origin}" is replaced with the local server's http://127.0.0.1:PORT.
 import { spawn } from 'node:child_process';
 import { createServer } from 'node:http';
@@ -109,6 +109,10 @@ try {
   await loaded;
   const script = args.script ? readFileSync(args.script, 'utf8') : 'return null;';
   const r = await send('Runtime.evaluate', { expression: `(async () => {\n${script}\n})()`, awaitPromise: true, returnByValue: true }, sessionId);
+  if (args.screenshot) {
+    const shot = await send('Page.captureScreenshot', { format: 'png' }, sessionId);
+    writeFileSync(args.screenshot, Buffer.from(shot.data, 'base64'));
+  }
   clearTimeout(timer);
   if (r.exceptionDetails) finish(1, { error: r.exceptionDetails.exception?.description || r.exceptionDetails.text, console: consoleLines, exceptions });
   else finish(0, { result: r.result.value, console: consoleLines, exceptions });
