@@ -1,6 +1,7 @@
 // The 3D view of `ahdpack preview` (src/cli/preview_3d.h). A classic script (the page works from
 // file://): window.THREE from three_classic.js, window.AHD_VIEW from view3d_data.js. Everything
 // is drawn on demand; <body data-status> is "ok" after the first frame, "error: …" otherwise.
+// No MSAA: on a software rasteriser (SwiftShader, the tests') it costs seconds per frame.
 (function () {
 'use strict';
 const $ = (id) => document.getElementById(id);
@@ -41,7 +42,7 @@ function hemiOct(d) {
 
 let renderer = null, gl = null;
 try {
-  renderer = new T.WebGLRenderer({ canvas: $('view'), antialias: true, preserveDrawingBuffer: true });
+  renderer = new T.WebGLRenderer({ canvas: $('view'), antialias: false, preserveDrawingBuffer: true });
   gl = renderer.getContext();
 } catch (e) { renderer = null; }
 const notes = [];

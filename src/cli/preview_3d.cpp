@@ -97,9 +97,12 @@ nlohmann::json planes_json(const DecodedPlanes& p) {
 
 std::string find_three(std::string* searched) {
   std::vector<fs::path> where;
-  if (const char* e = std::getenv("AHD_THREE_DIR"); e && *e) where.push_back(e);
-  where.push_back(fs::path(formats_dir()) / ".." / "three");
-  where.push_back(fs::path(formats_dir()) / ".." / "tests" / "tools" / "node_modules" / "three");
+  if (const char* e = std::getenv("AHD_THREE_DIR"); e && *e) {
+    where.push_back(e);  // set: the only place looked at
+  } else {
+    where.push_back(fs::path(formats_dir()) / ".." / "three");
+    where.push_back(fs::path(formats_dir()) / ".." / "tests" / "tools" / "node_modules" / "three");
+  }
   std::error_code ec;
   for (const auto& w : where) {
     if (searched) *searched += (searched->empty() ? "" : ", ") + w.lexically_normal().string();

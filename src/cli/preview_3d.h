@@ -13,7 +13,7 @@
 namespace ahd::cli {
 
 // The folder of the three npm package (holding build/three.core.js and build/three.module.js):
-// $AHD_THREE_DIR, else <formats>/../three (the installed share/ahdpack/three), else the source
+// $AHD_THREE_DIR when set (then only there), else <formats>/../three (the installed share/ahdpack/three), else the source
 // tree's tests/tools/node_modules/three. "" when none exists; `searched` lists where it looked.
 std::string find_three(std::string* searched);
 
