@@ -4,8 +4,8 @@
 // a quad in headless Chromium (WebGL2 on SwiftShader), and docs/examples/three/render_check.html
 // reads the float render target back. Every pixel must equal the reference decoder
 // (decode_planes + decode_irradiance) for the same normal — flat (0,0,1) and the built-in detail
-// normal — at mip levels 0 and 1, for `uncompressed` (RGBA16F/RG8/R8), `packed-float`
-// (B10G11R11 + RGBA8) and, where the renderer exposes BPTC and RGTC, `pc-bc` (BC6H/BC5/BC4).
+// normal — at mip levels 0 and 1, for `uncompressed` (RGBA16F/RG8/R8), `packed-float`, `packed-rgb9e5`
+// (B10G11R11 or E5B9G9R9 + RGBA8) and, where the renderer exposes BPTC and RGTC, `pc-bc` (BC6H/BC5/BC4).
 // Skipped with the reason when chromium or the node modules are missing (scripts/setup.sh).
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -64,7 +64,7 @@ TEST(ThreeRender, KtxPlanesLitInChromiumMatchTheReferenceDecoder) {
   const fs::path dir = ahd_test::temp_dir("three_render");
   const fs::path src = dir / "s.exr";
   ASSERT_EQ(run_cli({"sample", "-o", src.string(), "--size", "32"}).exit_code, 0);
-  const std::vector<std::string> profiles = {"uncompressed", "packed-float", "pc-bc"};
+  const std::vector<std::string> profiles = {"uncompressed", "packed-float", "packed-rgb9e5", "pc-bc"};
   // The folder the local server shows (the layout render_check.html documents).
   const fs::path site = dir / "site";
   fs::create_directories(site / "ahd");
