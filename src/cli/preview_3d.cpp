@@ -28,7 +28,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr size_t kMaxTexels = size_t(1) << 20;
+// The page holds float32 copies of every level plus the source SH (about 230 bytes per texel of
+// level 0 in base64): 512² is ~60 MB, the most a browser tab loads comfortably.
+constexpr size_t kMaxTexels = size_t(512) * 512;
 
 std::string base64(const void* data, size_t n) {
   static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";

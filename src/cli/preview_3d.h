@@ -26,7 +26,7 @@ struct Preview3dInput {
 
 // Writes view3d.html, view3d.js, view3d_data.js and three_classic.js into `dir` and returns the
 // HTML (escaped) that index.html shows: a link to the view, or — when three.js cannot be found or
-// the lightmap is too large for the page (more than 1 M texels per page) — a note saying why, and
+// the lightmap is too large for the page (more than 512² texels per page) — a note saying why, and
 // nothing else is written. Throws ahd::Error("<file>: <cause>") for an unreadable mesh.
 std::string write_preview_3d(const std::filesystem::path& dir, const Preview3dInput& in);
 
