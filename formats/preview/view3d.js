@@ -84,6 +84,7 @@ precision highp float;
 precision highp sampler2DArray;
 uniform sampler2D izTex, dirTex, ratioTex;
 uniform sampler2DArray shTex;
+uniform sampler2D covTex;   // coverage of level 0 (1 = covered); all 1 when unknown
 uniform int mode, useNm;
 uniform float expo, lod, dzMin;
 in vec2 vSt;
@@ -117,6 +118,8 @@ void main() {
   else if (mode == 1) c = shE(n) * expo;
   else if (mode == 2) c = plainE() * expo;
   else {
+    // Gutters (dilated texels, no source value) are shown grey rather than as a huge difference.
+    if (mode == 3 && texture(covTex, vSt).r < 0.5) { gl_FragColor = vec4(vec3(0.18), 1.0); return; }
     vec3 a = ahdE(n), b = mode == 3 ? shE(n) : plainE();
     gl_FragColor = vec4(heat(abs(L(a) - L(b)) / max(L(b), 1e-6) / 0.25), 1.0);
     return;
@@ -148,10 +151,16 @@ function setup3d() {
     shTex = new T.DataArrayTexture(new Float32Array(32), 1, 1, 8);
     shTex.format = T.RGBAFormat; shTex.type = T.FloatType; shTex.needsUpdate = true;
   }
+  const covData = new Uint8Array(W * H * 4).fill(255);
+  if (coverage) for (let i = 0; i < W * H; ++i) covData[i * 4] = coverage[i] ? 255 : 0;
+  const covTex = new T.DataTexture(covData, W, H, T.RGBAFormat, T.UnsignedByteType);
+  covTex.magFilter = covTex.minFilter = T.NearestFilter;
+  covTex.flipY = false;
+  covTex.needsUpdate = true;
   buildTextures();
   material = new T.ShaderMaterial({
     vertexShader: VERT, fragmentShader: FRAG, side: T.DoubleSide,
-    uniforms: { izTex: { value: textures[0] }, dirTex: { value: textures[1] }, ratioTex: { value: textures[2] }, shTex: { value: shTex },
+    uniforms: { izTex: { value: textures[0] }, dirTex: { value: textures[1] }, ratioTex: { value: textures[2] }, shTex: { value: shTex }, covTex: { value: covTex },
                 mode: { value: 0 }, useNm: { value: 0 }, expo: { value: 1 }, lod: { value: -1 }, dzMin: { value: V.dz_min } } });
   scene = new T.Scene();
   scene.add(new T.Mesh(g, material));
