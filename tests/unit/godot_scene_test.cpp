@@ -18,6 +18,7 @@
 #include "io/godot_scene.h"
 #include "io/godot_tscn.h"
 #include "io/godot_unwrap_cache.h"
+#include "io/placement_io.h"
 #include "mesh/coverage_check.h"
 #include "mesh/lightmap_raster.h"
 
@@ -177,5 +178,26 @@ TEST(GodotScene, WorldSpaceWithoutNormalsNamesEveryWayToGiveThem) {
   const auto r = ahd_test::run_cli({"convert", (dir / "world.exr").string(), "-o", (dir / "w.ktx2").string()});
   EXPECT_EQ(r.exit_code, 1);
   for (const char* way : {"--godot-scene", "--mesh", "--placement", "--normals"}) EXPECT_TRUE(contains(r.output, way)) << r.output;
+  fs::remove_all(dir);
+}
+
+// Unity: a DOTS sub-scene's Lightmaps.unity has renderers but no m_LightmapIndex.
+TEST(GodotScene, UnitySceneWithoutLightmapIndexSaysWhyAndWhatToGive) {
+  const fs::path dir = ahd_test::temp_dir("unity_dots");
+  const fs::path p = dir / "Lightmaps.unity";
+  {
+    std::ofstream f(p);
+    f << "%YAML 1.1\n%TAG !u! tag:unity3d.com,2011:\n--- !u!1 &100\nGameObject:\n  m_Name: Wall\n"
+         "--- !u!23 &200\nMeshRenderer:\n  m_GameObject: {fileID: 100}\n  m_Enabled: 1\n";
+  }
+  try {
+    read_placements(p.string());
+    ADD_FAILURE() << "accepted";
+  } catch (const Error& e) {
+    const std::string m = e.what();
+    EXPECT_TRUE(contains(m, p.string() + ": 1 MeshRenderer(s) and none records m_LightmapIndex")) << m;
+    EXPECT_TRUE(contains(m, "DOTS")) << m;
+    EXPECT_TRUE(contains(m, "placement JSON")) << m;
+  }
   fs::remove_all(dir);
 }
