@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -47,7 +49,8 @@ struct ConvertArgs {
   int pages = 0;        // atlas pages of a paged layout (0 = as recorded by the baker)
   std::string placement;  // per-instance atlas placement of the mesh (JSON or Unity scene)
   std::string godot_scene;  // or: a Godot scene (.tscn) whose LightmapGI baked the input
-  bool allow_mismatch = false;  // convert even when the mesh's coverage disagrees with the lightmap
+  bool allow_mismatch = false;
+  std::string iz_scale = "E";  // stored I_z: E, E/pi, or a factor times E  // convert even when the mesh's coverage disagrees with the lightmap
   mutable std::shared_ptr<const GodotSceneMeshes> godot;  // the scene, loaded once for every page
   // What reading found (detection, pages, overlaps), printed once the input has been read, so that
   // a failure prints its one error line and nothing else.
@@ -74,6 +77,17 @@ void resolve_auto_layout(ConvertArgs* a) {
   a->notes += "layout auto: " + d->preset + " (base " + d->base + ")\n";
   for (const std::string& r : d->reasons) a->notes += "  because " + r + "\n";
   for (const std::string& n : d->notes) a->notes += "  note: " + n + "\n";
+}
+
+// --iz-scale: "E" (1), "E/pi" (1/π) or a positive factor.
+double iz_scale_factor(const std::string& s) {
+  if (s == "E" || s == "e") return 1.0;
+  if (s == "E/pi" || s == "e/pi" || s == "E/π") return 1.0 / 3.14159265358979323846;
+  char* end = nullptr;
+  const double v = std::strtod(s.c_str(), &end);
+  if (end == s.c_str() || *end != '\0' || !(v > 0) || !std::isfinite(v))
+    throw Error("--iz-scale takes E, E/pi or a positive factor, not '" + s + "'");
+  return v;
 }
 
 // A Godot world-space bake without normals: the scene that baked it, when it lies beside the EXR.
@@ -245,6 +259,7 @@ BatchRow run_convert(ConvertArgs a, const BatchJob* job = nullptr) {
   // Checked before anything is read or written: one clear line, no output.
   const ResolvedOptions ro = resolve_options(co, out.name, load_profile(a.conv.profile));
   if (!a.mesh.empty() && !a.normals.empty()) throw Error("--mesh and --normals both give the normals: use one");
+  const double iz_scale = iz_scale_factor(a.iz_scale);
   if (!a.godot_scene.empty() && (!a.mesh.empty() || !a.normals.empty() || !a.placement.empty()))
     throw Error("--godot-scene gives the meshes, normals and placement: not with --mesh, --normals or --placement");
   if (!a.mesh.empty() && a.layout.empty()) throw Error("--mesh needs --layout (a baker's files to pair it with)");
@@ -267,6 +282,10 @@ BatchRow run_convert(ConvertArgs a, const BatchJob* job = nullptr) {
 
   PackageOptions pkg = ro.package;
   pkg.world_frame = !pages[0].normals.empty();
+  pkg.iz_scale = iz_scale;
+  if (pkg.iz_scale != 1.0)  // the SH is linear in the light: scaling it scales I_z and keeps d and the ratio
+    for (ShImage& p : pages)
+      for (float& v : p.data) v = float(double(v) * pkg.iz_scale);
   pkg.report_extra = {{"source", source},
                       {"working_space", kWorkingSpace},
                       {"read", {{"non_finite_texels", rs.non_finite_texels}, {"coverage_derived", rs.coverage_derived}}}};
@@ -464,6 +483,9 @@ void add_convert_command(CLI::App& app) {
                 "A Godot project's scene (.tscn) holding the LightmapGI that baked the input: every lightmap user's "
                 "mesh (.glb + its .unwrap_cache UV2, or TEXCOORD_1), transform and atlas rectangle (.lmbake); "
                 "found by itself when the .tscn lies beside the EXR");
+  c->add_option("--iz-scale", a->iz_scale,
+                "What the iz plane stores: E (irradiance, the default), E/pi (what most engines' lightmaps hold: "
+                "multiply by albedo), or a factor times E; recorded in the manifest and the planes (iz_scale)");
   c->add_flag("--allow-mismatch", a->allow_mismatch,
               "Convert even when the mesh's coverage disagrees with the lightmap (lit texels outside it, covered "
               "texels black, overlapping instances without placement)");

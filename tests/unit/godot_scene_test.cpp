@@ -18,7 +18,9 @@
 #include "io/godot_scene.h"
 #include "io/godot_tscn.h"
 #include "io/godot_unwrap_cache.h"
+#include "io/manifest_file.h"
 #include "io/placement_io.h"
+#include "pipeline/plane_decode.h"
 #include "mesh/coverage_check.h"
 #include "mesh/lightmap_raster.h"
 
@@ -199,5 +201,46 @@ TEST(GodotScene, UnitySceneWithoutLightmapIndexSaysWhyAndWhatToGive) {
     EXPECT_TRUE(contains(m, "DOTS")) << m;
     EXPECT_TRUE(contains(m, "placement JSON")) << m;
   }
+  fs::remove_all(dir);
+}
+
+// --iz-scale: the iz plane stores iz_scale × E, recorded in the manifest and the plane metadata;
+// the direction and ratio do not change (the SH is linear in the light).
+TEST(IzScale, StoredScaleIsAppliedAndRecorded) {
+  const fs::path dir = ahd_test::temp_dir("iz_scale");
+  const auto run = [&](const std::vector<std::string>& extra, const std::string& out) {
+    std::vector<std::string> args = {"convert", "--sample-size", "16", "--profile", "uncompressed", "--levels", "1", "-o",
+                                     (dir / out / "s.ktx2").string()};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return ahd_test::run_cli(args);
+  };
+  ASSERT_EQ(run({}, "e").exit_code, 0);
+  ASSERT_EQ(run({"--iz-scale", "0.25"}, "q").exit_code, 0);
+  const auto bad = run({"--iz-scale", "-1"}, "bad");
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_TRUE(contains(bad.output, "ahdpack: error: --iz-scale takes E, E/pi or a positive factor")) << bad.output;
+  EXPECT_FALSE(fs::exists(dir / "bad"));
+  const auto decode = [&](const std::string& sub, Manifest* m) {
+    const std::string path = (dir / sub / "s.json").string();
+    *m = read_manifest_file(path);
+    std::vector<Plane> planes;
+    for (const auto& mp : m->planes) planes.push_back({mp.name, read_manifest_plane(path, mp)});
+    for (const Plane& p : planes)
+      if (p.name == "iz") {
+        bool found = false;
+        for (const auto& kv : p.texture.metadata) found = found || (kv.first == "ahd.iz_scale" && kv.second == (sub == "e" ? "1" : "0.25"));
+        EXPECT_TRUE(found) << sub;
+      }
+    return decode_planes(planes, m->ratio_form == RatioForm::Rgb, 0);
+  };
+  Manifest me, mq;
+  const DecodedPlanes e = decode("e", &me), q = decode("q", &mq);
+  EXPECT_EQ(me.iz_scale, 1.0);
+  EXPECT_EQ(mq.iz_scale, 0.25);
+  ASSERT_EQ(e.iz.size(), q.iz.size());
+  double worst = 0;
+  for (size_t i = 0; i < e.iz.size(); ++i)
+    worst = std::max(worst, std::fabs(double(q.iz[i]) - 0.25 * double(e.iz[i])) / std::max(1e-3, 0.25 * std::fabs(double(e.iz[i]))));
+  EXPECT_LT(worst, 2e-3);  // half-float rounding of two different values
   fs::remove_all(dir);
 }
