@@ -27,7 +27,7 @@ typedef struct ahd_options {
   const char* profile;      /* standard profile name, default "uncompressed" */
   const char* profile_json; /* or a profile definition (JSON text); NULL = use `profile` */
   int ratio;                /* -1 the profile's form (default), 0 luminance, 1 rgb */
-  int direction_fit;        /* 0 linear (default), 1 refined */
+  int direction_fit;        /* 0 linear, 1 refined (default) */
   int bc6h_quality;         /* 0 fast, 1 default, 2 high, 3 max */
   int threads;              /* 0 = all hardware threads */
   double eps;               /* horizon rule, default 0.05 */

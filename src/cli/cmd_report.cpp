@@ -131,6 +131,7 @@ void report_direction(int size, const std::string& profile_name) {
 void add_report_command(CLI::App& app) {
   CLI::App* r = app.add_subcommand("report", "Accuracy reports");
   add_report_fit_command(r);
+  add_report_truth_command(r);
   CLI::App* h = r->add_subcommand("hard-cases", "Fit and quantise the hard-case set; print the error table");
   auto profile = std::make_shared<std::string>("uncompressed");
   h->add_option("--profile", *profile, "Output profile");

@@ -15,6 +15,7 @@ void add_bench_convert_command(CLI::App& bench);  // cmd_bench_convert.cpp: `ben
 void add_sample_command(CLI::App& app);      // cmd_sample.cpp
 void add_report_command(CLI::App& app);      // cmd_report.cpp: hard-cases, eps, profiles
 void add_report_fit_command(CLI::App* report);  // cmd_report_fit.cpp: `report fit`, linear vs refined d
+void add_report_truth_command(CLI::App* report);  // cmd_report_truth.cpp: `report truth`, against path-traced lighting
 void add_transcode_command(CLI::App& app);   // cmd_transcode.cpp
 void add_preview_command(CLI::App& app);     // cmd_preview.cpp: HTML page of a conversion
 void add_verify_command(CLI::App& app);      // cmd_verify.cpp: a conversion within bounds (users' CI)

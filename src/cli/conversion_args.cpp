@@ -13,7 +13,7 @@ void add_conversion_options(CLI::App* c, ConversionArgs* a, bool fit) {
     c->add_option("--ratio", a->ratio, "Ratio form: luminance (one channel) or rgb (default: the profile's)");
     c->add_option("--eps", o.eps, "Smallest stored d_z (the horizon rule)");
     c->add_option("--direction-fit", a->direction_fit,
-                  "d and luminance ratio: linear (the paper's) or refined (lowest hemisphere error)")
+                  "d and luminance ratio: refined (default: lowest hemisphere error on a 3x3 window) or linear (the paper's)")
         ->check(CLI::IsMember({"linear", "refined"}));
     c->add_option("--levels", o.levels, "Mip levels to write (0 = full chain)")->check(CLI::NonNegativeNumber);
     c->add_flag("--coverage-plane", o.coverage_plane,

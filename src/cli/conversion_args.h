@@ -12,7 +12,7 @@ struct ConversionArgs {
   ConversionOptions options;  // library defaults, overwritten by the flags
   std::string profile = "uncompressed";  // a name (formats/profiles) or a .json path
   std::string ratio;                     // "" = the profile's
-  std::string direction_fit = "linear";
+  std::string direction_fit = "refined";
   std::string direction = "auto";
   std::string quality = "default";
   std::string measure = "estimate";      // the CLI prints an error estimate by default

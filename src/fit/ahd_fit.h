@@ -38,6 +38,11 @@ struct FitOptions {
   // to the linear fit, until no pair does (direction_guard.h; 0 = off). Chosen by measurement
   // (README "Choosing the direction", the pair guard).
   double pair_guard_deg = 4.0;
+  // Refined only, over an image (fit_image): d is chosen on the mean SH of the texel's covered
+  // (2r+1)² window of this radius r and the colours on the texel's own SH (direction_filter.h; 0 =
+  // each texel's own SH, with the coherence pass). Chosen on path-traced scenes (docs/accuracy.md,
+  // "Against real lighting").
+  int direction_window = 1;
 };
 
 // Why a texel needed a rule (bits of AhdFit::flags; counted in FitStats).

@@ -18,20 +18,23 @@ namespace {
 // True when the pair (i, j) breaks the bound: its stored angle exceeds max(T, its linear angle).
 // Most pairs turn far less than T: their dot product alone clears them (cos_t is cos T less a
 // margin far above acos's rounding, so no pair the exact test would flag is cleared).
-bool violates(const AhdImage& fit, const std::vector<float>& lin, size_t i, size_t j, double t_deg, double cos_t) {
+bool violates(const AhdImage& fit, const std::vector<float>& lin, const std::vector<float>* also, size_t i, size_t j,
+              double t_deg, double cos_t) {
   const float* u = &fit.d[i * 3];
   const float* v = &fit.d[j * 3];
   const double dot = double(u[0]) * v[0] + double(u[1]) * v[1] + double(u[2]) * v[2];
   if (dot > cos_t) return false;
   const double a = neighbour_angle_deg(u, v);
   if (!(a > t_deg)) return false;
-  return a > neighbour_angle_deg(&lin[i * 3], &lin[j * 3]);
+  return a > neighbour_angle_deg(&lin[i * 3], &lin[j * 3]) &&
+         (!also || a > neighbour_angle_deg(&(*also)[i * 3], &(*also)[j * 3]));
 }
 
 }  // namespace
 
 size_t guard_direction_pairs(const ShImage& sh, const FitOptions& opt, const std::vector<float>& linear_d,
-                             int threads, AhdImage* fit) {
+                             int threads, AhdImage* fit, const std::function<AhdFit(size_t)>& revert,
+                             const std::vector<float>* also_d) {
   const size_t w = size_t(fit->width), h = size_t(fit->height), n = w * h;
   const double t_deg = opt.pair_guard_deg;
   const double cos_t = std::cos(t_deg * 3.14159265358979323846 / 180.0) + 1e-9;
@@ -42,10 +45,10 @@ size_t guard_direction_pairs(const ShImage& sh, const FitOptions& opt, const std
   auto breaks = [&](size_t i) {
     if (!sh.coverage[i]) return false;
     const size_t x = i % w, y = i / w;
-    return (x > 0 && sh.coverage[i - 1] && violates(*fit, linear_d, i, i - 1, t_deg, cos_t)) ||
-           (x + 1 < w && sh.coverage[i + 1] && violates(*fit, linear_d, i, i + 1, t_deg, cos_t)) ||
-           (y > 0 && sh.coverage[i - w] && violates(*fit, linear_d, i, i - w, t_deg, cos_t)) ||
-           (y + 1 < h && sh.coverage[i + w] && violates(*fit, linear_d, i, i + w, t_deg, cos_t));
+    return (x > 0 && sh.coverage[i - 1] && violates(*fit, linear_d, also_d, i, i - 1, t_deg, cos_t)) ||
+           (x + 1 < w && sh.coverage[i + 1] && violates(*fit, linear_d, also_d, i, i + 1, t_deg, cos_t)) ||
+           (y > 0 && sh.coverage[i - w] && violates(*fit, linear_d, also_d, i, i - w, t_deg, cos_t)) ||
+           (y + 1 < h && sh.coverage[i + w] && violates(*fit, linear_d, also_d, i, i + w, t_deg, cos_t));
   };
   // Sweep 0 checks every texel; later sweeps only the unreverted neighbours of the texels the sweep
   // before reverted (no other pair changed). The candidates of a sweep are decided against one
@@ -56,8 +59,8 @@ size_t guard_direction_pairs(const ShImage& sh, const FitOptions& opt, const std
   parallel_for(n, threads, 4096, [&](size_t i) {
     if (!sh.coverage[i]) return;
     const size_t x = i % w, y = i / w;
-    mark[i] = uint8_t((x + 1 < w && sh.coverage[i + 1] && violates(*fit, linear_d, i, i + 1, t_deg, cos_t) ? 1 : 0) |
-                      (y + 1 < h && sh.coverage[i + w] && violates(*fit, linear_d, i, i + w, t_deg, cos_t) ? 2 : 0));
+    mark[i] = uint8_t((x + 1 < w && sh.coverage[i + 1] && violates(*fit, linear_d, also_d, i, i + 1, t_deg, cos_t) ? 1 : 0) |
+                      (y + 1 < h && sh.coverage[i + w] && violates(*fit, linear_d, also_d, i, i + w, t_deg, cos_t) ? 2 : 0));
   });
   for (size_t y = 0, i = 0; y < h; ++y)
     for (size_t x = 0; x < w; ++x, ++i)
@@ -67,6 +70,7 @@ size_t guard_direction_pairs(const ShImage& sh, const FitOptions& opt, const std
   while (!fresh.empty()) {
     parallel_for(fresh.size(), threads, 64, [&](size_t k) {
       const size_t i = fresh[k];
+      if (revert) return fit->set_texel(i, revert(i));
       IrradiancePoly p[3];
       local_polys(sh, i, p);
       fit->set_texel(i, fit_texel(p, lin_opt));

@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cstring>
+#include <functional>
 
 #include "core/error.h"
 #include "core/large_buffer.h"
 #include "core/parallel.h"
 #include "fit/direction_coherence.h"
+#include "fit/direction_filter.h"
 #include "fit/direction_guard.h"
 
 namespace ahd {
@@ -39,6 +41,22 @@ AhdImage make_ahd_image(int width, int height, bool one_ratio) {
   return a;
 }
 
+namespace {
+
+// A texel of the windowed refined fit: the direction `win` chose on the window's mean SH, the
+// colours solved on the texel's own SH at that d with the texel's own I_z (exact), its own rules
+// for I_z. `own` is the texel's linear fit; a texel with no direction in either stays that fit.
+AhdFit windowed_texel(const IrradiancePoly own_p[3], const AhdFit& win, const AhdFit& own, const FitOptions& opt) {
+  if ((win.flags & kFitNoDirection) && (own.flags & kFitNoDirection)) return own;
+  const double d[3] = {win.d[0], win.d[1], win.d[2]};
+  const double iz[3] = {own.iz[0], own.iz[1], own.iz[2]};
+  AhdFit f = fit_colours(own_p, d, iz, opt);
+  f.flags |= (own.flags & (kFitNegativeIz | kFitNonFinite)) | (win.flags & (kFitNoDirection | kFitDirClamped));
+  return f;
+}
+
+}  // namespace
+
 AhdImage fit_image(const ShImage& sh, const FitOptions& opt, int threads, FitStats* stats) {
   AhdImage out = make_ahd_image(sh.width, sh.height, opt.ratio_form == RatioForm::Luminance);
   out.coverage = sh.coverage;
@@ -49,22 +67,46 @@ AhdImage fit_image(const ShImage& sh, const FitOptions& opt, int threads, FitSta
   // The pair guard compares against the linear d, which the fit computes on the way (its first
   // start); the linear colours are refitted only where the guard reverts.
   std::vector<float> linear_d(guard ? sh.texels() * 3 : 0);
+  const bool windowed = refined && opt.direction_window > 0 && sh.width > 1 && sh.height > 1;
+  std::vector<float> own_linear_d(guard && windowed ? sh.texels() * 3 : 0);  // the windowed guard's second field
   // Texels in groups of kGroup: fit_texels runs a group's refinements in lockstep (the same bytes
   // as one at a time, so the grouping and the threads' chunks do not change the output).
   constexpr size_t kGroup = 4;
   const size_t groups = (sh.texels() + kGroup - 1) / kGroup;
+  FitOptions linear = opt;
+  linear.direction_fit = DirectionFit::Linear;
   parallel_for(groups, threads, 1024 / kGroup, [&](size_t g) {
     const size_t i0 = g * kGroup;
     const int n = int(std::min(kGroup, sh.texels() - i0));
     IrradiancePoly p[3 * kGroup];
     for (int k = 0; k < n; ++k) local_polys(sh, i0 + k, &p[3 * k]);
     AhdFit f[kGroup];
-    fit_texels(p, n, opt, f, guard ? &linear_d[i0 * 3] : nullptr);
-    for (int k = 0; k < n; ++k) out.set_texel(i0 + k, f[k]);
+    if (!windowed) {
+      fit_texels(p, n, opt, f, guard ? &linear_d[i0 * 3] : nullptr);
+      for (int k = 0; k < n; ++k) out.set_texel(i0 + k, f[k]);
+      return;
+    }
+    IrradiancePoly w[3 * kGroup];
+    for (int k = 0; k < n; ++k) window_local_polys(sh, i0 + k, opt.direction_window, &w[3 * k]);
+    AhdFit fw[kGroup];
+    fit_texels(w, n, opt, fw, guard ? &linear_d[i0 * 3] : nullptr);  // the guard's field: the window's linear d
+    fit_texels(p, n, linear, f, guard ? &own_linear_d[i0 * 3] : nullptr);
+    for (int k = 0; k < n; ++k) out.set_texel(i0 + k, windowed_texel(&p[3 * k], fw[k], f[k], opt));
   });
-  if (refined && opt.coherence_tolerance > 0) smooth_directions(sh, opt, threads, &out);
+  if (refined && !windowed && opt.coherence_tolerance > 0) smooth_directions(sh, opt, threads, &out);
   size_t reverted = 0;
-  if (guard) reverted = guard_direction_pairs(sh, opt, linear_d, threads, &out);
+  // Windowed: a reverted texel takes the window's linear d (the field linear_d holds) with its own
+  // colours; a pair may turn as far as either linear field does (the window's, or the texels' own:
+  // on a noisy bake that one turns fast, and reverting to follow the window's alone would undo the
+  // window's gain).
+  const auto windowed_linear = [&](size_t i) {
+    IrradiancePoly p[3], w[3];
+    local_polys(sh, i, p);
+    window_local_polys(sh, i, opt.direction_window, w);
+    return windowed_texel(p, fit_texel(w, linear), fit_texel(p, linear), opt);
+  };
+  if (guard) reverted = guard_direction_pairs(sh, opt, linear_d, threads, &out, windowed ? std::function<AhdFit(size_t)>(windowed_linear) : nullptr,
+                                              windowed ? &own_linear_d : nullptr);
   if (stats) {
     *stats = FitStats{};
     stats->texels = sh.texels();

@@ -2,6 +2,8 @@
 // and every bad input giving one clear line, a non-zero exit and no output files.
 #include <gtest/gtest.h>
 
+#include <ahd/convert.h>
+
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -60,7 +62,9 @@ TEST(Cli, ConvertBuiltInSampleWritesPlanesManifestAndReport) {
     // Re-read by our own reader: the same planes, bit for bit, as the library produces in memory.
     ahd::BakerOptions bo;
     bo.width = bo.height = 48;
-    const ahd::ConvertResult mem = ahd::convert(ahd::bake_analytic_scene(bo), ahd::load_profile("uncompressed"), {});
+    ahd::ConvertOptions defaults;  // the CLI's defaults are the public ones (<ahd/convert.h>)
+    defaults.fit.direction_fit = ahd::ConversionOptions{}.direction_fit;
+    const ahd::ConvertResult mem = ahd::convert(ahd::bake_analytic_scene(bo), ahd::load_profile("uncompressed"), defaults);
     for (const auto& p : mem.planes) {
       const ahd::Texture t = ahd::read_container_file(ahd_test::plane_file((d / "s.json").string(), p.name));
       ASSERT_EQ(t.format, p.texture.format);
@@ -228,6 +232,7 @@ TEST(Cli, EveryProfileAndContainerRoundTrips) {
       bo.width = bo.height = 24;
       const ahd::Profile p = ahd::load_profile(profile);
       ahd::ConvertOptions opt;
+      opt.fit.direction_fit = ahd::ConversionOptions{}.direction_fit;
       if (p.ratio_rgb) opt.fit.ratio_form = ahd::RatioForm::Rgb;
       const ahd::ConvertResult mem = ahd::convert(ahd::bake_analytic_scene(bo), p, opt);
       for (const auto& plane : mem.planes) {

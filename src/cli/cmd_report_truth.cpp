@@ -1,0 +1,141 @@
+// ahdpack report truth DIR…: every representation against path-traced lighting (truth_set.h). The
+// training normals make a baker-like L2 SH lightmap; each representation is decoded at the held-out
+// normals (and at a bumpy normal-mapped normal field) and compared with what Cycles computed there.
+// Error: relative L1, Σ|I − E| / Σ|E| over covered texels, normals and RGB.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "cli/commands.h"
+#include "fit/truth_reference.h"
+#include "io/truth_file.h"
+#include "fit/ahd_decode.h"
+#include "fit/ahd_fit.h"
+#include "fit/fit_image.h"
+#include "fit/fit_quality.h"
+#include "io/profile_file.h"
+#include "pipeline/convert.h"
+#include "sh/sh_image.h"
+
+namespace ahd::cli {
+
+namespace {
+
+// A representation: its irradiance for texel i and tangent-space normal n.
+using Eval = TruthEval;
+
+Eval sh_eval(const ShImage& sh) {
+  return [&sh](size_t i, const double n[3], double out[3]) {
+    IrradiancePoly p[3];
+    local_polys(sh, i, p);
+    for (int c = 0; c < 3; ++c) out[c] = eval_irradiance(p[c], n);
+  };
+}
+
+Eval plain_eval(const ShImage& sh) {
+  return [&sh](size_t i, const double*, double out[3]) {
+    IrradiancePoly p[3];
+    local_polys(sh, i, p);
+    const double z[3] = {0, 0, 1};
+    for (int c = 0; c < 3; ++c) out[c] = std::max(0.0, eval_irradiance(p[c], z));
+  };
+}
+
+Eval ahd_eval(const AhdImage& a, double dz_min) {
+  return [&a, dz_min](size_t i, const double n[3], double out[3]) {
+    const AhdFit f = a.texel(i);
+    decode_irradiance(f.iz, f.d, f.ratio, n, dz_min, out);
+  };
+}
+
+Eval planes_eval(const DecodedPlanes& p, double dz_min) {
+  return [&p, dz_min](size_t i, const double n[3], double out[3]) {
+    decode_irradiance(&p.iz[i * 3], &p.d[i * 3], &p.ratio[i * 3], n, dz_min, out);
+  };
+}
+
+double level0_bytes_per_texel(const ConvertResult& r) {
+  double bytes = 0;
+  for (const Plane& p : r.planes) bytes += double(p.texture.levels[0].data.size());
+  return bytes / double(r.planes[0].texture.levels[0].width * r.planes[0].texture.levels[0].height);
+}
+
+struct Row {
+  std::string name;
+  double bytes;
+  TruthErrors err;
+  double p99 = -1;
+};
+
+void print_rows(const TruthSet& t, const std::vector<Row>& rows) {
+  std::printf("\n%s (%d² texels, %zu held-out normals):\n\n", t.name.c_str(), t.width,
+              size_t(std::count(t.held_out.begin(), t.held_out.end(), 1)));
+  std::printf("| representation | bytes/texel (level 0) | held-out normals | normal-mapped | neighbour angle p99 (°) |\n|---|---|---|---|---|\n");
+  for (const Row& r : rows) {
+    std::printf("| %s | %s | %.4f | %.4f | %s |\n", r.name.c_str(), r.bytes > 0 ? std::to_string(r.bytes).substr(0, 5).c_str() : "—",
+                r.err.held_out, r.err.bumped, r.p99 >= 0 ? std::to_string(r.p99).substr(0, 5).c_str() : "–");
+  }
+}
+
+void report_truth(const std::vector<std::string>& dirs, const std::vector<std::string>& profiles, int search, double guard) {
+  for (const std::string& dir : dirs) {
+    const TruthSet t = load_truth_set(dir);
+    const ShImage l2 = baker_sh(t, 9, 0);
+    ShImage l1 = make_sh_image(t.width, t.height, 4);
+    l1.coverage = l2.coverage;
+    for (size_t i = 0; i < t.texels(); ++i)
+      for (int k = 0; k < 12; ++k) l1.texel(i)[k] = l2.texel(i)[k];
+    std::vector<Row> rows;
+    rows.push_back({"L2 SH, float", 108, truth_errors(t, sh_eval(l2))});
+    rows.push_back({"L1 SH (the same SH truncated), float", 48, truth_errors(t, sh_eval(l1))});
+    rows.push_back({"plain lightmap (I_z only), float", 0, truth_errors(t, plain_eval(l2))});
+    FitOptions lum;
+    lum.pair_guard_deg = guard;
+    for (DirectionFit df : {DirectionFit::Linear, DirectionFit::Refined}) {
+      FitOptions o = lum;
+      o.direction_fit = df;
+      const AhdImage a = fit_image(l2, o, 0);
+      rows.push_back({std::string("AHD float, ") + (df == DirectionFit::Linear ? "linear d" : "refined d"), 0,
+                      truth_errors(t, ahd_eval(a, o.dz_min)), direction_p99_angle_deg(a)});
+    }
+    const AhdImage bf = searched_direction_fit(l2, lum, search);
+    rows.push_back({"constrained AHD float, d searched per texel (" + std::to_string(search) + " directions)", 0,
+                    truth_errors(t, ahd_eval(bf, lum.dz_min)), direction_p99_angle_deg(bf)});
+    for (const std::string& name : profiles) {
+      for (DirectionFit df : {DirectionFit::Linear, DirectionFit::Refined}) {
+        const Profile prof = load_profile(name);
+        ConvertOptions opt;
+        opt.fit.direction_fit = df;
+        opt.fit.pair_guard_deg = guard;
+        opt.fit.ratio_form = prof.ratio_rgb ? RatioForm::Rgb : RatioForm::Luminance;
+        opt.max_levels = 1;
+        opt.direction = DirectionPlanes::Keep;
+        const ConvertResult r = convert(l2, prof, opt);
+        const DecodedPlanes p = decode_planes(r.planes, prof.ratio_rgb, 0);
+        rows.push_back({"ahdpack " + name + ", " + (df == DirectionFit::Linear ? "linear d" : "refined d"),
+                        level0_bytes_per_texel(r), truth_errors(t, planes_eval(p, opt.fit.dz_min))});
+      }
+    }
+    print_rows(t, rows);
+  }
+}
+
+}  // namespace
+
+void add_report_truth_command(CLI::App* report) {
+  CLI::App* c = report->add_subcommand("truth", "Every representation against path-traced lighting (tests/data/truth/*)");
+  auto dirs = std::make_shared<std::vector<std::string>>();
+  auto profiles = std::make_shared<std::vector<std::string>>(std::vector<std::string>{"pc-bc", "uncompressed"});
+  auto search = std::make_shared<int>(300);
+  auto guard = std::make_shared<double>(FitOptions{}.pair_guard_deg);
+  c->add_option("DIR", *dirs, "Reference folders (truth.json + truth.bin, scripts/truth/bake_truth.py)")->required();
+  c->add_option("--profiles", *profiles, "Profiles to convert with");
+  c->add_option("--search", *search, "Directions of the per-texel brute-force search")->check(CLI::Range(1, 100000));
+  c->add_option("--guard", *guard, "Refined: pair guard angle T in degrees (0 = off)")->check(CLI::Range(0.0, 90.0));
+  c->callback([dirs, profiles, search, guard]() { report_truth(*dirs, *profiles, *search, *guard); });
+}
+
+}  // namespace ahd::cli

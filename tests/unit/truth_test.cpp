@@ -1,0 +1,100 @@
+// The direction choice against path-traced lighting (issue 27): the scenes in tests/data/truth
+// (scripts/truth/bake_truth.py, Blender Cycles) made into baker-like SH, converted with the
+// defaults, decoded at the held-out normals and compared with what Cycles computed there.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "api/options.h"
+#include "fit/ahd_decode.h"
+#include "fit/fit_quality.h"
+#include "fit/truth_reference.h"
+#include "io/truth_file.h"
+#include "pipeline/convert.h"
+#include "pipeline/plane_decode.h"
+#include "sh/sh_image.h"
+
+namespace ahd {
+namespace {
+
+const char* const kScenes[] = {"area", "sun"};
+
+std::string scene_dir(const char* name) { return std::string(AHD_SOURCE_DIR) + "/tests/data/truth/" + name; }
+
+TruthEval fit_eval(const AhdImage& a) {
+  return [&a](size_t i, const double n[3], double out[3]) {
+    const AhdFit f = a.texel(i);
+    decode_irradiance(f.iz, f.d, f.ratio, n, FitOptions{}.dz_min, out);
+  };
+}
+
+TEST(Truth, TheBakerSHReproducesTheTrainingNormals) {
+  // The SH is what a baker would store: its irradiance at the normals it was made from is close
+  // to Cycles' (not exact: L2 cannot hold every detail, and radiance is kept non-negative).
+  for (const char* name : kScenes) {
+    const TruthSet t = load_truth_set(scene_dir(name));
+    const ShImage sh = baker_sh(t, 9, 0);
+    double num = 0, den = 0;
+    for (size_t i = 0; i < t.texels(); ++i) {
+      if (!t.coverage[i]) continue;
+      IrradiancePoly p[3];
+      local_polys(sh, i, p);
+      for (size_t k = 0; k < t.normals.size(); ++k) {
+        if (t.held_out[k]) continue;
+        for (int c = 0; c < 3; ++c)
+          num += std::fabs(eval_irradiance(p[c], t.normals[k].data()) - t.e[k][i * 3 + c]), den += t.e[k][i * 3 + c];
+      }
+    }
+    EXPECT_LT(num / den, 0.15) << name;
+    EXPECT_GT(num / den, 0.0) << name;
+  }
+}
+
+TEST(Truth, DefaultConversionIsWithinFivePercentOfTheSearchedDirection) {
+  for (const char* name : kScenes) {
+    const TruthSet t = load_truth_set(scene_dir(name));
+    const ShImage sh = baker_sh(t, 9, 0);
+    ConversionOptions co;
+    co.profile = "pc-bc";
+    const ResolvedOptions defaults_all = resolve_options(co, "truth");
+    const FitOptions defaults = defaults_all.convert.fit;
+    const AhdImage searched = searched_direction_fit(sh, defaults, 300);
+    const double reference = truth_errors(t, fit_eval(searched)).held_out;
+
+    ConvertOptions opt = defaults_all.convert;
+    opt.max_levels = 1;
+    opt.direction = DirectionPlanes::Keep;
+    const Profile& prof = defaults_all.profile;
+    const ConvertResult r = convert(sh, prof, opt);
+    const DecodedPlanes p = decode_planes(r.planes, prof.ratio_rgb, 0);
+    const double ours = truth_errors(t, [&p](size_t i, const double n[3], double out[3]) {
+                          decode_irradiance(&p.iz[i * 3], &p.d[i * 3], &p.ratio[i * 3], n, FitOptions{}.dz_min, out);
+                        }).held_out;
+    EXPECT_LE(ours, 1.05 * reference) << name << ": default pc-bc " << ours << ", searched d " << reference;
+
+    // The fitted planes before quantisation: I_z exact, and neighbour directions no less coherent
+    // than the linear fit's.
+    const AhdImage fit = fit_image(sh, defaults, 0);
+    FitOptions linear = defaults;
+    linear.direction_fit = DirectionFit::Linear;
+    const AhdImage lin = fit_image(sh, linear, 0);
+    EXPECT_LE(direction_p99_angle_deg(fit), direction_p99_angle_deg(lin)) << name;
+    double worst = 0;
+    for (size_t i = 0; i < t.texels(); ++i) {
+      if (!sh.coverage[i]) continue;
+      IrradiancePoly q[3];
+      local_polys(sh, i, q);
+      const double z[3] = {0, 0, 1};
+      for (int c = 0; c < 3; ++c) {
+        const double ez = std::max(0.0, eval_irradiance(q[c], z));
+        worst = std::max(worst, std::fabs(double(fit.iz[i * 3 + c]) - ez) / std::max(ez, 1e-3));
+      }
+    }
+    EXPECT_LT(worst, 1e-6) << name;
+  }
+}
+
+}  // namespace
+}  // namespace ahd
