@@ -414,7 +414,8 @@ TEST(BadInputRound2, ProfilePlaneFormatsDecodeWouldRefuseAreRefused) {
            {"r8", "r8", "luminance"}, {"bc4", "r8", "luminance"}, {"bc6h", "r8", "luminance"},
            {"rg8", "rgba16f", "luminance"}, {"rg8", "r8", "rgb"}}) {
     SCOPED_TRACE(dir + " " + ratio + " " + form);
-    expect_file_error([&] { profile_from_json(profile(dir, ratio, form), "p.json"); }, "p.json", "cannot be");
+    const std::string text = profile(dir, ratio, form);  // clang 14 cannot capture structured bindings
+    expect_file_error([&] { profile_from_json(text, "p.json"); }, "p.json", "cannot be");
   }
   EXPECT_NO_THROW(profile_from_json(profile("rg8", "r8"), "p.json"));
   EXPECT_NO_THROW(profile_from_json(profile("bc5", "bc4"), "p.json"));
