@@ -35,16 +35,39 @@ seed intermediate "$tmp/x.ahd.exr"
 mkdir -p "$corpus/mesh"
 printf '\000v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvt 1 1\nvn 0 0 1\nf 1/1/1 2/2/1 3/3/1\nf 2/2/1 4/4/1 3/3/1\n' >"$corpus/mesh/quad.obj"
 printf '\000o a\nv 0 0 0\nv 2 0 0\nv 0 2 1\nvt 0 0\nvt 1 0\nvt 0 1\nvt 0.5 0.5\nf 1/1 2/2 3/3\ng b\nf 1/4 2/2 3/1\n' >"$corpus/mesh/two.obj"
+# Issue 26's readers: images (byte 0: 0 .png, 1 .tga, 2 .hdr, 3 .exr), Godot side files (byte 0:
+# 0 .exr.import, 1 .lmbake, 2 version string), placements (Unity YAML / JSON), profiles.
+mkdir -p "$corpus/image" "$corpus/godot" "$corpus/placement"
+# TGA: uncompressed 2x2 RGB; HDR: flat 2x2 RGBE.
+{ printf '\001'; printf '\000\000\002\000\000\000\000\000\000\000\000\000\002\000\002\000\030\000'; printf '\377\000\000\000\377\000\000\000\377\177\177\177'; } >"$corpus/image/rgb.tga"
+{ printf '\002'; printf '#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 2 +X 2\n'; printf '\200\200\200\201\100\100\100\202\200\000\000\201\000\200\000\201'; } >"$corpus/image/flat.hdr"
+for f in golden/inputs/*.exr; do [ -f "$f" ] && { printf '\003'; cat "$f"; } >"$corpus/image/$(basename "$f")" && break; done
+if command -v python3 >/dev/null; then  # PNG: 2x2 RGBA, zlib-compressed
+  python3 -c 'import struct,zlib,sys
+def ch(t,d): return struct.pack(">I",len(d))+t+d+struct.pack(">I",zlib.crc32(t+d)&0xffffffff)
+raw=b"".join(b"\x00"+b"\x80\x40\x20\xff"*2 for _ in range(2))
+sys.stdout.buffer.write(b"\x00\x89PNG\r\n\x1a\n"+ch(b"IHDR",struct.pack(">IIBBBBB",2,2,8,6,0,0,0))+ch(b"IDAT",zlib.compress(raw))+ch(b"IEND",b""))' >"$corpus/image/rgba.png"
+fi
+printf '\000[remap]\nimporter="2d_array_texture"\n\n[params]\nslices/vertical=4\nslices/horizontal=1\n' >"$corpus/godot/lm.exr.import"
+printf '\001RSRC\000\000\000\000\030\000\000\000_uses_packed_directional\000light_texture\000' >"$corpus/godot/lm.lmbake"
+printf '\0024.4' >"$corpus/godot/version"
+printf '%%YAML 1.1\n--- !u!1 &100\nGameObject:\n  m_Name: Cube\n--- !u!23 &200\nMeshRenderer:\n  m_GameObject: {fileID: 100}\n  m_LightmapIndex: 0\n  m_LightmapTilingOffset: {x: 0.5, y: 0.5, z: 0.25, w: 0}\n' >"$corpus/placement/scene.unity"
+printf '{"placements": [{"node": "Cube", "page": 0, "scale": [0.5, 0.5], "offset": [0.25, 0]}]}' >"$corpus/placement/p.json"
+seed profile formats/profiles/*.json
 failed=0
 # A fixed number of runs per target with a fixed seed: the same inputs are tried on every machine,
 # so a run that passed here passes in CI (FUZZ_SECONDS only caps the time on a slow machine, which
 # then tries a prefix of the same sequence). About 30 s each on this 2-core machine.
-declare -A RUNS=([ktx2]=600000 [dds]=1000000 [manifest]=100000 [layout]=60000 [intermediate]=500 [blocks]=60000 [mesh]=300)
-for t in ${@:-ktx2 dds manifest layout intermediate blocks mesh}; do
+declare -A RUNS=([ktx2]=600000 [dds]=1000000 [manifest]=100000 [layout]=60000 [intermediate]=500 [blocks]=60000 [mesh]=300
+                [image]=3000 [godot]=100000 [placement]=50000 [profile]=50000)
+# The issue-26 targets are capped at 20 s each (4 x 20 s: the fuzz run grows by at most 80 s).
+declare -A SECONDS_CAP=([image]=20 [godot]=20 [placement]=20 [profile]=20)
+for t in ${@:-ktx2 dds manifest layout intermediate blocks mesh image godot placement profile}; do
   extra=(-runs="${FUZZ_RUNS:-${RUNS[$t]}}")
+  cap="${SECONDS_CAP[$t]:-$T}"; [ "$cap" -gt "$T" ] && cap="$T"
   # OpenEXR and Assimp are not instrumented and keep caches of their own: leaks are only ours to find elsewhere.
-  case $t in intermediate|mesh) extra+=(-detect_leaks=0) ;; esac
-  if ! "$B/fuzz/fuzz_$t" "$corpus/$t" -max_total_time="$T" -seed=1 -timeout=10 -rss_limit_mb=2048 \
+  case $t in intermediate|mesh|image) extra+=(-detect_leaks=0) ;; esac
+  if ! "$B/fuzz/fuzz_$t" "$corpus/$t" -max_total_time="$cap" -seed=1 -timeout=10 -rss_limit_mb=2048 \
       -malloc_limit_mb=1024 -artifact_prefix="$B/fuzz-artifacts/$t-" -print_final_stats=1 "${extra[@]}" \
       >"$B/fuzz-artifacts/$t.log" 2>&1; then
     echo "fuzz: $t FAILED (see $B/fuzz-artifacts/$t.log)"; tail -30 "$B/fuzz-artifacts/$t.log"; failed=1

@@ -1,8 +1,10 @@
 #include "cli/environment.h"
 
 #include <cstdlib>
+#include <string>
 
 #include "containers/limits.h"
+#include "core/error.h"
 
 namespace ahd::cli {
 
@@ -11,7 +13,10 @@ void apply_size_limit_from_environment() {
   if (!s || !*s) return;
   char* end = nullptr;
   const unsigned long long v = std::strtoull(s, &end, 10);
-  if (*end != '\0' || v == 0 || v > 0xFFFFFFFFull) return;
+  // A typo must not pass unnoticed (the user meant to change the limit): one error line.
+  if (*end != '\0' || !(*s >= '0' && *s <= '9') || v == 0 || v > 0xFFFFFFFFull)
+    throw Error(std::string("AHDPACK_MAX_SIZE is '") + printable_path(s) +
+                "', not a whole number from 1 to 4294967295 (the largest width and height of a level)");
   set_max_image_size(uint32_t(v));
 }
 

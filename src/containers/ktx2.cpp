@@ -162,6 +162,13 @@ Texture read_ktx2(const uint8_t* data, size_t size, const std::string& path) {
   const uint32_t model_word = r.u32(dfd_at + 12), dims = r.u32(dfd_at + 16), planes = r.u32(dfd_at + 20);
   if ((model_word & 0xFF) != (want[3] & 0xFF) || dims != want[4] || (planes & 0xFF) != (want[5] & 0xFF))
     r.fail("Data Format Descriptor does not match vkFormat");
+  // The samples too (issue 26: garbage samples were accepted): the same count, and each sample's
+  // bit offset, bit length, channel type and position as the format's own descriptor; only the
+  // sample bounds (lower/upper) may differ between writers.
+  if (dfd_len != want.size() * 4) r.fail("Data Format Descriptor has the wrong number of samples for vkFormat");
+  for (size_t w7 = 7; w7 + 1 < want.size(); w7 += 4)
+    if (r.u32(dfd_at + 4 * w7) != want[w7] || r.u32(dfd_at + 4 * (w7 + 1)) != want[w7 + 1])
+      r.fail("Data Format Descriptor sample " + std::to_string((w7 - 7) / 4) + " does not match vkFormat");
 
   // Key/value data.
   const uint32_t kvd_at = r.u32(56), kvd_len = r.u32(60);
@@ -179,7 +186,20 @@ Texture read_ktx2(const uint8_t* data, size_t size, const std::string& path) {
     p = (p + 3) & ~uint64_t(3);
   }
 
-  // Levels.
+  // Levels: after the header, level index, DFD and key/value data, and not overlapping each other
+  // (issue 26: levels inside the header and overlapping levels were accepted).
+  const uint64_t data_start = std::max({uint64_t(kHeaderBytes) + uint64_t(kLevelIndexEntry) * levels,
+                                        uint64_t(dfd_at) + dfd_len, uint64_t(kvd_at) + kvd_len});
+  std::vector<std::pair<uint64_t, uint64_t>> spans;
+  for (uint32_t l = 0; l < levels; ++l) {
+    const uint64_t e = kHeaderBytes + kLevelIndexEntry * uint64_t(l);
+    const uint64_t off = r.u64(e), len = r.u64(e + 8);
+    if (off < data_start) r.fail("level " + std::to_string(l) + " data lies inside the header or metadata");
+    spans.emplace_back(off, len);
+  }
+  std::sort(spans.begin(), spans.end());
+  for (size_t i = 1; i < spans.size(); ++i)
+    if (spans[i].first - spans[i - 1].first < spans[i - 1].second) r.fail("level data ranges overlap");
   tex.levels.resize(levels);
   for (uint32_t l = 0; l < levels; ++l) {
     const uint64_t e = kHeaderBytes + kLevelIndexEntry * uint64_t(l);

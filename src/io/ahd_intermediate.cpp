@@ -2,6 +2,7 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -11,7 +12,9 @@
 #include "core/error.h"
 #include "fit/ahd_decode.h"
 #include "fit/direction_refine.h"
+#include "io/image_file.h"
 #include "io/image_io.h"
+#include "pipeline/manifest.h"
 
 namespace ahd {
 namespace fs = std::filesystem;
@@ -106,9 +109,10 @@ void write_intermediate(const std::string& path, const std::vector<FittedLevel>&
 
 std::vector<FittedLevel> read_intermediate(const std::string& path, FitOptions* fit) {
   if (!fs::exists(path)) throw file_error(path, "file not found");
-  auto in = OIIO::ImageInput::open(path);
-  if (!in) throw file_error(path, "not a readable EXR");
-  const OIIO::ImageSpec& spec0 = in->spec();
+  // Read once into memory (a file replaced while it is read cannot mix two headers).
+  OpenedImage file = open_image_file(path);
+  auto& in = file.in;
+  const OIIO::ImageSpec spec0 = in->spec();
   if (spec0.get_int_attribute("ahd:intermediate_version", -1) != kIntermediateVersion)
     throw file_error(path, "not an ahdpack intermediate of version " + std::to_string(kIntermediateVersion));
   std::map<std::string, int> index;
@@ -131,16 +135,19 @@ std::vector<FittedLevel> read_intermediate(const std::string& path, FitOptions* 
     if (!parse_direction_fit(dir_fit, &fit->direction_fit))
       throw file_error(path, "invalid ahd:direction_fit '" + dir_fit + "'");
     const std::string luma = spec0.get_string_attribute("ahd:luma");
-    if (std::sscanf(luma.c_str(), "%lf %lf %lf", &fit->luma[0], &fit->luma[1], &fit->luma[2]) != 3)
+    char end = 0;
+    if (std::sscanf(luma.c_str(), "%lf %lf %lf %c", &fit->luma[0], &fit->luma[1], &fit->luma[2], &end) != 3)
       throw file_error(path, "invalid ahd:luma '" + luma + "'");
+    // The manifest's rule (fit_parameters_problem): transcode must not write a set decode refuses.
+    const std::string why = fit_parameters_problem(fit->dz_min, fit->luma);
+    if (!why.empty()) throw file_error(path, "ahd:dz_min/ahd:luma: " + why);
   }
   std::vector<FittedLevel> levels;
   for (int mip = 0; in->seek_subimage(0, mip); ++mip) {
     const OIIO::ImageSpec& spec = in->spec();
-    if (levels.empty()) {  // the size limit before anything is allocated (issue 15)
-      if (spec.width <= 0 || spec.height <= 0) throw file_error(path, "empty or inverted data window");
-      check_image_size(path, uint64_t(spec.width), uint64_t(spec.height));
-    }
+    // The size limit and the file's real size before anything is allocated (issues 15, 26); later
+    // levels are checked smaller than this one below.
+    if (levels.empty()) check_image_spec(file, spec);
     const int expect_w = levels.empty() ? spec.width : std::max(1, levels.back().sh.width / 2);
     const int expect_h = levels.empty() ? spec.height : std::max(1, levels.back().sh.height / 2);
     if (spec.width != expect_w || spec.height != expect_h || spec.nchannels != spec0.nchannels)
@@ -166,7 +173,12 @@ std::vector<FittedLevel> read_intermediate(const std::string& path, FitOptions* 
       for (int c = 0; c < 3; ++c) f.iz[c] = next();
       for (int c = 0; c < 3; ++c) f.d[c] = next();
       for (int c = 0; c < 3; ++c) f.ratio[c] = next();
-      f.flags = uint8_t(next());
+      const float flags = next();  // a float in the file: a whole number of FitFlag bits, or refused
+      if (!(flags >= 0 && flags <= 31 && flags == std::floor(flags)))
+        throw file_error(path, "ahd.flags of texel (" + std::to_string(i % size_t(spec.width)) + ", " +
+                                   std::to_string(i / size_t(spec.width)) + ") in mip level " + std::to_string(mip) +
+                                   " is " + std::to_string(flags) + ", not a whole number 0..31");
+      f.flags = uint8_t(flags);
       l.ahd.set_texel(i, f);
     }
     l.ahd.coverage = l.sh.coverage;

@@ -175,6 +175,7 @@ struct SetImage {
   int part = 0;
   std::map<std::string, int> channel;
   int width = 0, slice_height = 0;
+  int height = 0;  // the whole image's rows (slice_height x layers)
   ImageF img;
 };
 
@@ -211,6 +212,7 @@ SetImage open_image(const LayoutFile& lf, const std::string& base, const std::st
     throw file_error(s.path, "height " + std::to_string(info.height) + " does not divide into " +
                                  std::to_string(lf.slices) + " stacked layers");
   s.width = info.width;
+  s.height = info.height;
   s.slice_height = info.height / lf.slices;
   for (size_t c = 0; c < info.channel_names.size(); ++c) s.channel[info.channel_names[c]] = int(c);
   return s;
@@ -410,14 +412,28 @@ ShImage read_layout(const LayoutPreset& layout, const std::string& base, const L
   }
   std::vector<SetImage> set = open_set(layout, layout_base(layout, base));
   if (layout.world_space) check_normals(layout, base, normals, set[0]);
-  for (SetImage& s : set) s.img = read_image(s.path, nullptr, s.part);
+  for (SetImage& s : set) {
+    ImageFileInfo now;
+    s.img = read_image(s.path, &now, s.part);
+    // The set was sized and its channels mapped from the headers read above: a file replaced since
+    // must not be indexed by them (issue 26).
+    if (now.width != s.width || now.height != s.height || s.img.width != s.width || s.img.height != s.height)
+      throw file_error(s.path, "changed while it was read (its header differs from a moment ago)");
+    for (const auto& [name, index] : s.channel)
+      if (size_t(index) >= now.channel_names.size() || now.channel_names[size_t(index)] != name)
+        throw file_error(s.path, "changed while it was read (its channels differ from a moment ago)");
+  }
   ShImage sh = to_canonical(layout, set);
   if (layout.world_space) attach_world_normals(sh, *normals);
   ReadStats local;
+  ReadStats& st = stats ? *stats : local;
+  const size_t before = st.non_finite_texels;
   const bool given_cov = normals && !normals->coverage.empty() && normals->coverage.size() == sh.texels();
-  sanitise_sh(sh, /*derive_coverage=*/!given_cov, stats ? stats : &local);
+  sanitise_sh(sh, /*derive_coverage=*/!given_cov, &st);
   if (given_cov)
     for (size_t i = 0; i < sh.texels(); ++i) sh.coverage[i] = sh.coverage[i] && normals->coverage[i];
+  // The canonical reader's rule (issue 26: an all-NaN or 3e38 set gave exit 0 and a black map).
+  check_not_flooded(set[0].path, sh, st.non_finite_texels - before);
   return sh;
 }
 

@@ -11,28 +11,50 @@
 #include <unistd.h>
 
 #include "containers/limits.h"
+#include "io/image_file.h"
 #include "core/error.h"
 
 namespace ahd {
 namespace fs = std::filesystem;
 
-namespace {
-
-std::unique_ptr<OIIO::ImageInput> open_input(const std::string& path) {
-  if (!fs::exists(path)) throw file_error(path, "file not found");
-  // Alpha in lightmap data is a number of its own (Unity's rebalancing factor), not opacity: keep
-  // the stored colours instead of OIIO's default of multiplying them by alpha.
-  OIIO::ImageSpec config;
-  config.attribute("oiio:UnassociatedAlpha", 1);
-  auto in = OIIO::ImageInput::open(path, &config);
-  if (!in) {
+OpenedImage open_image_file(const std::string& path, const OIIO::ImageSpec* config) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw file_error(path, "file not found");
+  OpenedImage f;
+  f.path = path;
+  f.bytes = read_file_bytes(path);
+  f.proxy = std::make_unique<OIIO::Filesystem::IOMemReader>(f.bytes.data(), f.bytes.size());
+  f.in = OIIO::ImageInput::open(path, config, f.proxy.get());
+  if (!f.in) {
     std::string why = OIIO::geterror();
     if (why.empty()) why = "not a readable image";
     // OIIO messages can span lines; keep the first.
     why = why.substr(0, why.find('\n'));
     throw file_error(path, "cannot read image (" + why + ")");
   }
-  return in;
+  return f;
+}
+
+void check_image_spec(const OpenedImage& f, const OIIO::ImageSpec& spec, uint64_t layers) {
+  if (spec.deep) throw file_error(f.path, "a deep (multi-sample per texel) image: lightmaps are flat images");
+  if (spec.depth > 1) throw file_error(f.path, "volume images are not supported");
+  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
+    throw file_error(f.path, "empty or inverted data window (" + std::to_string(spec.width) + "x" +
+                                 std::to_string(spec.height) + ", " + std::to_string(spec.nchannels) + " channels)");
+  if (spec.nchannels > 64) throw file_error(f.path, std::to_string(spec.nchannels) + " channels (at most 64 are read)");
+  check_declared_image(f.path, uint64_t(spec.width), uint64_t(spec.height), layers, spec.pixel_bytes(true),
+                       f.bytes.size(), spec.get_string_attribute("compression", f.in->format_name()));
+}
+
+namespace {
+
+// The memory proxy keeps one snapshot of the file for both the header and the pixels.
+OpenedImage open_input(const std::string& path) {
+  // Alpha in lightmap data is a number of its own (Unity's rebalancing factor), not opacity: keep
+  // the stored colours instead of OIIO's default of multiplying them by alpha.
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);
+  return open_image_file(path, &config);
 }
 
 }  // namespace
@@ -87,18 +109,18 @@ void seek_part(OIIO::ImageInput& in, const std::string& path, int part, size_t p
 
 }  // namespace
 
-ImageFileInfo read_image_info(const std::string& path, int part) {
-  auto in = open_input(path);
+namespace {
+
+// The header of `part` of an opened file, checked (check_image_spec) before anything is sized by it.
+ImageFileInfo info_of(OpenedImage& f, int part) {
   ImageFileInfo info;
-  info.parts = part_names(*in);
-  seek_part(*in, path, part, info.parts.size());
-  const OIIO::ImageSpec& spec = in->spec();
+  info.parts = part_names(*f.in);
+  seek_part(*f.in, f.path, part, info.parts.size());
+  const OIIO::ImageSpec& spec = f.in->spec();
   // Refuse at the header, before any pixel is read or the pipeline runs (a 100000x1 EXR used to be
-  // fitted for 18 s and then refused by the container writer without a file name).
-  if (spec.width <= 0 || spec.height <= 0)
-    throw file_error(path, "empty or inverted data window (" + std::to_string(spec.width) + "x" +
-                               std::to_string(spec.height) + ")");
-  check_image_size(path, uint64_t(spec.width), uint64_t(spec.height));
+  // fitted for 18 s and then refused by the container writer without a file name; a 13.9 KB EXR
+  // claiming 11000² L2 texels asked for 13 GB).
+  check_image_spec(f, spec);
   info.width = spec.width;
   info.height = spec.height;
   info.channel_names = spec.channelnames;
@@ -119,20 +141,22 @@ ImageFileInfo read_image_info(const std::string& path, int part) {
   return info;
 }
 
+}  // namespace
+
+ImageFileInfo read_image_info(const std::string& path, int part) {
+  OpenedImage f = open_input(path);
+  return info_of(f, part);
+}
+
 ImageF read_image(const std::string& path, ImageFileInfo* info_out, int part) {
-  if (info_out) *info_out = read_image_info(path, part);
-  auto in = open_input(path);
-  if (part != 0) seek_part(*in, path, part, part_names(*in).size());
-  const OIIO::ImageSpec& spec = in->spec();
-  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
-    throw file_error(path, "image has no pixels");
-  if (spec.depth > 1) throw file_error(path, "volume images are not supported");
-  check_image_size(path, uint64_t(spec.width), uint64_t(spec.height));
-  if (spec.nchannels > 64) throw file_error(path, std::to_string(spec.nchannels) + " channels (at most 64 are read)");
+  OpenedImage f = open_input(path);
+  const ImageFileInfo info = info_of(f, part);  // leaves f.in on `part`
+  if (info_out) *info_out = info;
+  const OIIO::ImageSpec spec = f.in->spec();
   try {
     ImageF img(spec.width, spec.height, spec.nchannels);
-    if (!in->read_image(part, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, img.data.data())) {
-      std::string why = in->geterror();
+    if (!f.in->read_image(part, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, img.data.data())) {
+      std::string why = f.in->geterror();
       throw file_error(path, "cannot read pixels (" + why.substr(0, why.find('\n')) + ")");
     }
     return img;
@@ -142,14 +166,14 @@ ImageF read_image(const std::string& path, ImageFileInfo* info_out, int part) {
 }
 
 void read_image_rows(const std::string& path, int part, ImageFileInfo* info_out,
-                     const std::function<void(int y0, int y1, const float* rows)>& fn) {
-  if (info_out) *info_out = read_image_info(path, part);
-  auto in = open_input(path);
-  if (part != 0) seek_part(*in, path, part, part_names(*in).size());
-  const OIIO::ImageSpec spec = in->spec();
-  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) throw file_error(path, "image has no pixels");
-  if (spec.depth > 1) throw file_error(path, "volume images are not supported");
-  if (size_t(spec.width) * spec.height * spec.nchannels > (size_t(1) << 32)) throw file_error(path, "image too large");
+                     const std::function<void(int y0, int y1, const float* rows)>& fn,
+                     const std::function<void(const ImageFileInfo&)>& on_header) {
+  OpenedImage f = open_input(path);
+  const ImageFileInfo info = info_of(f, part);
+  if (info_out) *info_out = info;
+  if (on_header) on_header(info);
+  const OIIO::ImageSpec spec = f.in->spec();
+  auto& in = f.in;
   const int band = spec.tile_height > 0 ? spec.tile_height : 64;
   const size_t row = size_t(spec.width) * spec.nchannels;
   std::vector<float> buf(row * size_t(std::min(band, spec.height)));
@@ -221,16 +245,28 @@ void write_file_atomic(const std::string& path, const std::string& text) {
 
 std::vector<uint8_t> read_file_bytes(const std::string& path, size_t max_bytes) {
   std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) throw file_error(path, "file not found");
+  if (!fs::exists(path, ec)) throw file_error(path, "file not found");
+  // A device or pipe (/dev/zero) has no size to bound the read by: refused, not read forever.
+  if (!fs::is_regular_file(path, ec)) throw file_error(path, "not a regular file");
   const auto size = fs::file_size(path, ec);
   if (ec) throw file_error(path, "cannot read size (" + ec.message() + ")");
-  if (size > max_bytes) throw file_error(path, "file too large");
+  if (size > max_bytes)
+    throw file_error(path, "file too large (" + std::to_string(size) + " bytes, at most " + std::to_string(max_bytes) + " are read)");
   std::ifstream f(path, std::ios::binary);
   if (!f) throw file_error(path, "cannot open");
   std::vector<uint8_t> bytes(size);
   f.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(size));
   if (!f) throw file_error(path, "read failed");
   return bytes;
+}
+
+}  // namespace ahd
+
+namespace ahd {
+
+std::string read_text_file(const std::string& path, size_t max_bytes) {
+  const std::vector<uint8_t> b = read_file_bytes(path, max_bytes);
+  return std::string(b.begin(), b.end());
 }
 
 }  // namespace ahd

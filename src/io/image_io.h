@@ -21,8 +21,11 @@ struct ImageFileInfo {
 };
 
 // Reads the header of one part (subimage; multi-part EXR) of an image file. Throws
-// ahd::Error("<path>: <cause>") when the file is missing or unreadable or has no such part. Safe on
-// untrusted files (OpenImageIO validates the header).
+// ahd::Error("<path>: <cause>") when the file is missing or unreadable or has no such part, or
+// when the header claims more than the file can hold or the size limit allows
+// (check_declared_image). Safe on untrusted files. Every reader below reads the file once into
+// memory, so a file replaced while it is read gives an error or the old or new file, never a
+// header from one and pixels from the other.
 ImageFileInfo read_image_info(const std::string& path, int part = 0);
 
 // Reads every channel of one part (subimage) / mip 0 as floats (8-bit data is scaled to [0,1]; no
@@ -33,8 +36,12 @@ ImageF read_image(const std::string& path, ImageFileInfo* info = nullptr, int pa
 // fn(y0, y1, rows) receives rows y0..y1−1 (0 = the top row of the data window), (y1−y0)·width·
 // channels floats. Bands follow the file's tiles (tiled files) or 64-row chunks (scanline files),
 // so memory is the caller's destination plus one band. Same values and errors as read_image.
+// The file is read once: `on_header` (optional) sees the header the rows will have, before the
+// first band, so a caller sizes its destination from it (never from an earlier read_image_info,
+// which a file replaced in between would contradict).
 void read_image_rows(const std::string& path, int part, ImageFileInfo* info,
-                     const std::function<void(int y0, int y1, const float* rows)>& fn);
+                     const std::function<void(int y0, int y1, const float* rows)>& fn,
+                     const std::function<void(const ImageFileInfo&)>& on_header = {});
 
 // Writes a float image as EXR (half when `half_float`, else float), or PNG/TGA/HDR by extension
 // (8-bit formats clamp to [0,1] and round). Channel names default to R,G,B,A / Y. The file is
@@ -51,7 +58,14 @@ void write_file_atomic(const std::string& path, const std::string& text);
 std::string temp_path_for(const std::string& path);
 void publish_temp_file(const std::string& tmp, const std::string& path);
 
-// Reads a whole file. Throws ahd::Error("<path>: cannot open") and refuses files over max_bytes.
+// Reads a whole file once. Throws ahd::Error("<path>: <cause>"): missing, not a regular file (a
+// device such as /dev/zero would never end), over max_bytes, or shorter than its size said.
 std::vector<uint8_t> read_file_bytes(const std::string& path, size_t max_bytes = size_t(1) << 34);
+
+// The bound on text inputs (profiles, placements, layouts, .import files): far above any real one.
+constexpr size_t kMaxTextFileBytes = size_t(64) << 20;
+
+// read_file_bytes for text inputs, bounded by kMaxTextFileBytes.
+std::string read_text_file(const std::string& path, size_t max_bytes = kMaxTextFileBytes);
 
 }  // namespace ahd

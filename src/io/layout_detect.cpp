@@ -37,6 +37,10 @@ using Found = std::vector<LayoutDetection>;
 // values are t = L1/(8·L0) + ½ clamped to [0, 1]). Returns the smallest and largest value.
 void godot_l1_range(const std::string& exr, int slices, double* lo, double* hi) {
   const ImageF img = read_image(exr);
+  // slices/vertical comes from the .import file: more layers than rows divided by zero (issue 26).
+  if (slices <= 0 || img.height % slices != 0)
+    throw file_error(exr + ".import", "slices/vertical=" + std::to_string(slices) + " does not divide the " +
+                                          std::to_string(img.height) + " rows of " + file_name(exr) + " into layers");
   const int layer_rows = img.height / slices;
   *lo = 1e300, *hi = -1e300;
   for (int y = 0; y < img.height; ++y) {

@@ -1,5 +1,6 @@
 #include "io/layout_pages.h"
 
+#include <cstdint>
 #include <filesystem>
 
 #include "core/error.h"
@@ -32,8 +33,10 @@ std::string paged_path(const LayoutPreset& layout, const std::string& base, cons
   return "";
 }
 
-void check_divides(const std::string& path, int rows, int pages, int slices, const std::string& source) {
-  if (rows % (pages * slices) != 0)
+// 64-bit: pages and slices come from flags and files (--pages 1073741824 x 4 layers wrapped to 0
+// in int and divided by it); more layers than rows is refused before the remainder is taken.
+void check_divides(const std::string& path, int64_t rows, int64_t pages, int64_t slices, const std::string& source) {
+  if (pages <= 0 || slices <= 0 || pages * slices > rows || rows % (pages * slices) != 0)
     throw file_error(path, n_str(rows) + " rows do not divide into " + n_str(pages) + " page(s) x " + n_str(slices) +
                                " layers (" + source + ")");
 }

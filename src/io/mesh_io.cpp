@@ -1,14 +1,19 @@
 #include "io/mesh_io.h"
 
 #include <algorithm>
+#include <assimp/DefaultLogger.hpp>
 #include <assimp/Importer.hpp>
+#include <assimp/LogStream.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <cctype>
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
+#include <mutex>
 
 #include "core/error.h"
+#include "io/gltf_precheck.h"
 
 namespace ahd {
 namespace fs = std::filesystem;
@@ -26,6 +31,18 @@ std::string mesh_name(const aiMesh* m, unsigned index) {
   return m->mName.length ? "'" + std::string(m->mName.C_Str()) + "'" : "#" + std::to_string(index);
 }
 
+// Assimp's glTF importer drops faces whose indices are out of range with only a warning; OBJ's
+// are an error. This stream catches that warning so both formats refuse such a file.
+struct DroppedFacesStream : Assimp::LogStream {
+  bool dropped = false;
+  void write(const char* message) override {
+    if (std::strstr(message, "out-of-range indices")) dropped = true;
+  }
+};
+
+// Assimp's logger is process-wide: one import at a time listens to it.
+std::mutex g_logger_mutex;
+
 bool has_triangles(const aiMesh* m) { return (m->mPrimitiveTypes & aiPrimitiveType_TRIANGLE) != 0; }
 
 }  // namespace
@@ -39,11 +56,23 @@ MeshTriangles read_mesh_lightmap(const std::string& path, int uv_set, MeshReadIn
     throw file_error(path, "unsupported mesh format '" + ext + "' (.gltf, .glb, .obj)");
   if (uv_set < -1) throw file_error(path, "UV set must be ≥ 0");
 
+  // Node depth, buffer sizes: refused before Assimp recurses through them (issue 26).
+  check_gltf_structure(path);
   Assimp::Importer importer;
   // No aiProcess_FlipUVs: Assimp already stores glTF's v as 1 − v, so both formats arrive v-up.
   // PreTransformVertices bakes node matrices into the vertices (normals by the inverse transpose).
-  const aiScene* scene = importer.ReadFile(
-      path, aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_ValidateDataStructure);
+  const aiScene* scene = nullptr;
+  bool dropped_faces = false;
+  {
+    std::lock_guard<std::mutex> lock(g_logger_mutex);
+    Assimp::DefaultLogger::create("", Assimp::Logger::NORMAL, 0);
+    auto* stream = new DroppedFacesStream;  // owned by the logger once attached
+    Assimp::DefaultLogger::get()->attachStream(stream, Assimp::Logger::Warn | Assimp::Logger::Err);
+    scene = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_ValidateDataStructure);
+    dropped_faces = stream->dropped;
+    Assimp::DefaultLogger::kill();
+  }
+  if (dropped_faces) throw file_error(path, "a vertex index is out of range (faces using it would be dropped)");
   if (!scene) throw file_error(path, "cannot read mesh (" + one_line(importer.GetErrorString()) + ")");
 
   // The scene's UV sets: the fewest and most any triangle mesh has.

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "io/image_io.h"
 #include "core/json_number.h"
 
 namespace ahd {
@@ -103,7 +104,9 @@ std::vector<Placement> read_unity(const std::string& path, std::istream& in) {
                                "placement JSON ({\"placements\": [{\"node\", \"page\", \"scale\", \"offset\"}]}) from the "
                                "renderers' lightmapScaleOffset, or meshes whose UV2 is already in atlas space (no --placement)");
   for (const Renderer& r : renderers) {
-    if (r.index < 0 || r.index >= 65534 || !r.has_st) continue;  // 65535 / −1: not lightmapped
+    // Unity reserves 65533..65535 (0xFFFD..0xFFFF) and −1 for renderers without a baked lightmap
+    // (65534: realtime only, 65535: none); they are no page to place on.
+    if (r.index < 0 || r.index >= 65533 || !r.has_st) continue;
     const auto it = names.find(r.game_object);
     if (it == names.end()) throw file_error(path, "MeshRenderer's GameObject " + r.game_object + " is not in the scene file");
     Placement p;
@@ -118,11 +121,8 @@ std::vector<Placement> read_unity(const std::string& path, std::istream& in) {
 }  // namespace
 
 std::vector<Placement> read_placements(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) throw file_error(path, "file not found");
-  std::stringstream ss;
-  ss << f.rdbuf();
-  const std::string text = ss.str();
+  // Bounded, regular files only: --placement /dev/zero read 2.2 GB before (issue 26).
+  const std::string text = read_text_file(path);
   std::vector<Placement> out;
   if (text.rfind("%YAML", 0) == 0) {
     std::istringstream in(text);
@@ -134,7 +134,8 @@ std::vector<Placement> read_placements(const std::string& path) {
   } else {
     out = read_json(path, text);
   }
-  if (out.empty()) throw file_error(path, "no lightmapped instance placed");
+  if (out.empty())
+    throw file_error(path, "no lightmapped instance placed (m_LightmapIndex -1 and 65533..65535 mean not lightmapped)");
   return out;
 }
 

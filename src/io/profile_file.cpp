@@ -5,14 +5,15 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "io/image_io.h"
 #include "io/paths.h"
 
 namespace ahd {
 
 Profile load_profile(const std::string& name_or_path) {
   const std::string path = data_file_path("profiles", name_or_path);
-  std::ifstream f(path);
-  if (!f) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) {
     const bool is_path = std::filesystem::path(name_or_path).extension() == ".json";
     if (!is_path) {
       for (const std::string& n : builtin_profile_names())
@@ -22,9 +23,8 @@ Profile load_profile(const std::string& name_or_path) {
     for (const auto& n : list_profiles()) known += (known.empty() ? "" : ", ") + n;
     throw file_error(path, "unknown profile '" + name_or_path + "' (known: " + known + ")");
   }
-  std::stringstream text;
-  text << f.rdbuf();
-  return profile_from_json(text.str(), path);
+  // Bounded, regular files only (--profile /dev/zero read without end before, issue 26).
+  return profile_from_json(read_text_file(path), path);
 }
 
 std::vector<std::string> list_profiles() {

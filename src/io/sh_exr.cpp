@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "core/parallel.h"
+#include "io/colour_space.h"
 #include "io/image_io.h"
 
 namespace ahd {
@@ -24,7 +25,7 @@ void sanitise_sh(ShImage& img, bool derive_coverage, ReadStats* stats) {
       float* t = img.texel(i);
       bool finite = true, zero = true;
       for (size_t k = 0; k < per; ++k) {
-        finite &= std::isfinite(t[k]);
+        finite &= std::isfinite(t[k]) && std::fabs(t[k]) <= kMaxShMagnitude;
         zero &= t[k] == 0.0f;
       }
       if (!finite) {
@@ -42,39 +43,51 @@ void sanitise_sh(ShImage& img, bool derive_coverage, ReadStats* stats) {
   }
 }
 
-ShImage read_canonical_sh(const std::string& path, ReadStats* stats) {
-  ImageFileInfo info = read_image_info(path);
-  if (!info.is_float) throw file_error(path, "SH lightmaps must be half or float EXR data (found 8-bit or integer channels)");
-  std::map<std::string, int> index;
-  for (size_t c = 0; c < info.channel_names.size(); ++c) index[info.channel_names[c]] = int(c);
-  int coeffs = 0;
-  if (index.count(sh_channel(8, 2))) coeffs = 9;
-  else if (index.count(sh_channel(3, 2))) coeffs = 4;
-  else if (index.count(sh_channel(0, 2)) && !index.count(sh_channel(1, 0))) coeffs = 1;
-  else throw file_error(path, "no SH channels: expected sh0.R sh0.G sh0.B (L0), … sh3.B (L1) or … sh8.B (L2)");
-  for (int k = 0; k < coeffs; ++k)
-    for (int c = 0; c < 3; ++c)
-      if (!index.count(sh_channel(k, c))) throw file_error(path, "missing channel " + sh_channel(k, c));
-  if (coeffs < 9 && index.count(sh_channel(coeffs, 0)))
-    throw file_error(path, coeffs == 4 ? "incomplete L2 channel set (sh4..sh8 partly present)" : "incomplete L1 channel set (sh1..sh3 partly present)");
+void check_not_flooded(const std::string& path, const ShImage& img, size_t non_finite) {
+  if (non_finite == 0) return;
+  for (uint8_t c : img.coverage)
+    if (c) return;
+  // A NaN/Inf flood is a broken file, not a lightmap to convert to black (issues 15, 26).
+  throw file_error(path, "no finite texel (NaN, Inf or beyond 1e18 everywhere a chart covers)");
+}
 
-  // Rows arrive in bands straight from OpenImageIO into the SH image: the file is never held
-  // whole in a second buffer (or precision) beside it.
-  if (size_t(info.width) * size_t(info.height) * info.channel_names.size() > (size_t(1) << 32))
-    throw file_error(path, "image too large");
-  ShImage img = make_sh_image(info.width, info.height, coeffs);
-  int src_of[kShCoeffsL2 * 3];
-  for (int k = 0; k < coeffs; ++k)
-    for (int c = 0; c < 3; ++c) src_of[k * 3 + c] = index[sh_channel(k, c)];
-  const bool has_coverage = index.count("coverage") != 0;
-  const int ci = has_coverage ? index["coverage"] : -1;
-  const bool has_normals = index.count("normal.X") && index.count("normal.Y") && index.count("normal.Z");
-  const int nx = has_normals ? index["normal.X"] : 0, ny = has_normals ? index["normal.Y"] : 0,
-            nz = has_normals ? index["normal.Z"] : 0;
-  if (has_normals) img.normals.resize(img.texels() * 3);
-  const int nv = coeffs * 3, w = img.width;
+ShImage read_canonical_sh(const std::string& path, ReadStats* stats) {
+  // One read of the file: the header that sizes the SH image is the header of the rows written
+  // into it (issue 26: a file replaced between two opens overflowed the heap).
+  ShImage img;
+  int coeffs = 0, src_of[kShCoeffsL2 * 3] = {}, channels = 0, ci = -1, nx = 0, ny = 0, nz = 0;
+  bool has_coverage = false, has_normals = false;
+  auto on_header = [&](const ImageFileInfo& info) {
+    if (!info.is_float) throw file_error(path, "SH lightmaps must be half or float EXR data (found 8-bit or integer channels)");
+    // The layout path's rule too: float data must be linear Rec.709 as declared (issue 26: a
+    // canonical EXR declaring Rec.2020 was taken for Rec.709).
+    check_working_space(info, path);
+    std::map<std::string, int> index;
+    for (size_t c = 0; c < info.channel_names.size(); ++c) index[info.channel_names[c]] = int(c);
+    if (index.count(sh_channel(8, 2))) coeffs = 9;
+    else if (index.count(sh_channel(3, 2))) coeffs = 4;
+    else if (index.count(sh_channel(0, 2)) && !index.count(sh_channel(1, 0))) coeffs = 1;
+    else throw file_error(path, "no SH channels: expected sh0.R sh0.G sh0.B (L0), … sh3.B (L1) or … sh8.B (L2)");
+    for (int k = 0; k < coeffs; ++k)
+      for (int c = 0; c < 3; ++c)
+        if (!index.count(sh_channel(k, c))) throw file_error(path, "missing channel " + sh_channel(k, c));
+    if (coeffs < 9 && index.count(sh_channel(coeffs, 0)))
+      throw file_error(path, coeffs == 4 ? "incomplete L2 channel set (sh4..sh8 partly present)" : "incomplete L1 channel set (sh1..sh3 partly present)");
+    // Rows arrive in bands straight from OpenImageIO into the SH image: the file is never held
+    // whole in a second buffer (or precision) beside it.
+    img = make_sh_image(info.width, info.height, coeffs);
+    for (int k = 0; k < coeffs; ++k)
+      for (int c = 0; c < 3; ++c) src_of[k * 3 + c] = index[sh_channel(k, c)];
+    channels = int(info.channel_names.size());
+    has_coverage = index.count("coverage") != 0;
+    ci = has_coverage ? index["coverage"] : -1;
+    has_normals = index.count("normal.X") && index.count("normal.Y") && index.count("normal.Z");
+    nx = has_normals ? index["normal.X"] : 0, ny = has_normals ? index["normal.Y"] : 0,
+    nz = has_normals ? index["normal.Z"] : 0;
+    if (has_normals) img.normals.resize(img.texels() * 3);
+  };
   read_image_rows(path, 0, nullptr, [&](int y0, int y1, const float* rows) {
-    const int channels = int(info.channel_names.size());
+    const int nv = coeffs * 3, w = img.width;
     parallel_for(size_t(y1 - y0), 0, 4, [&](size_t r) {
       const size_t first = (size_t(y0) + r) * w;
       const float* row = rows + r * size_t(w) * channels;
@@ -100,13 +113,12 @@ ShImage read_canonical_sh(const std::string& path, ReadStats* stats) {
       }
       for (int a = 0; a < 3; ++a) img.normals[i * 3 + a] = float(n[a]);
     }
-  });
+  }, on_header);
   ReadStats local;
   ReadStats& st = stats ? *stats : local;
   const size_t before = st.non_finite_texels;
   sanitise_sh(img, !has_coverage, &st);
-  // A NaN/Inf flood is a broken file, not a lightmap to convert to black (issue 15).
-  if (st.non_finite_texels - before == img.texels()) throw file_error(path, "no finite texel (NaN or Inf everywhere)");
+  check_not_flooded(path, img, st.non_finite_texels - before);
   return img;
 }
 

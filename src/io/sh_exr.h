@@ -26,4 +26,13 @@ void write_canonical_sh(const std::string& path, const ShImage& img);
 // Applies the read-time rules (non-finite → zero + uncovered; derived coverage) in place.
 void sanitise_sh(ShImage& img, bool derive_coverage, ReadStats* stats);
 
+// Coefficients beyond this magnitude count as non-finite in sanitise_sh: no radiance is near it,
+// and the fit's squares of such values overflow (3e38 everywhere fitted to a black map).
+constexpr float kMaxShMagnitude = 1e18f;
+
+// The one rule of every SH reader (canonical EXR and baker layouts alike): when sanitise_sh found
+// non-finite texels (`non_finite` of them) and no covered texel is left, the file is a NaN/Inf
+// flood, not a lightmap to convert to black. Throws ahd::Error("<path>: no finite texel …").
+void check_not_flooded(const std::string& path, const ShImage& img, size_t non_finite);
+
 }  // namespace ahd

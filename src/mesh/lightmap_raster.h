@@ -14,7 +14,9 @@
 //   texel centre would leave their border texels uncovered, yet bilinear filtering reads them.
 // - Per texel the triangle with the largest overlap area wins (each triangle is clipped exactly
 //   against the texel square, Sutherland–Hodgman); ties go to the lowest triangle index, so the
-//   result does not depend on anything but the input.
+//   result does not depend on anything but the input. A texel one triangle covers whole (overlap
+//   within 1e-9 of the texel) is that triangle's: later ones skip it, so the cost is each
+//   triangle's columns plus the texels it does not close, not N x texels for N large triangles.
 // - The normal is the winner's vertex normals interpolated (barycentric) at the centroid of the
 //   clipped polygon, then normalised: the point that best represents the part of the texel the
 //   triangle owns. Without vertex normals (or when one of the triangle's is zero or non-finite, or

@@ -142,11 +142,9 @@ Manifest manifest_from_json(const std::string& text, const std::string& path) {
     if (!m.directional && (has("dir") || has("ratio") || has("dirratio")))
       throw file_error(path, "a non-directional manifest has direction or ratio planes");
     m.dz_min = d.at("dz_min").get<double>();
-    if (!(m.dz_min > 0 && m.dz_min < 1)) throw file_error(path, "dz_min must be in (0, 1)");
-    for (int i = 0; i < 3; ++i) {
-      m.luma[i] = d.at("luma").at(size_t(i)).get<double>();
-      if (!(m.luma[i] >= 0 && m.luma[i] <= 1)) throw file_error(path, "luma weights must be in [0, 1]");
-    }
+    for (int i = 0; i < 3; ++i) m.luma[i] = d.at("luma").at(size_t(i)).get<double>();
+    const std::string why = fit_parameters_problem(m.dz_min, m.luma);
+    if (!why.empty()) throw file_error(path, why);
     m.direction_encoding = d.at("direction_encoding").get<std::string>();
     m.direction_frame = d.at("direction_frame").get<std::string>();
     m.iz_scale = d.value("iz_scale", 1.0);
@@ -155,6 +153,14 @@ Manifest manifest_from_json(const std::string& text, const std::string& path) {
     throw file_error(path, std::string("malformed manifest (") + e.what() + ")");
   }
   return m;
+}
+
+std::string fit_parameters_problem(double dz_min, const double luma[3]) {
+  if (!(dz_min > 0 && dz_min < 1)) return "dz_min must be in (0, 1)";
+  for (int i = 0; i < 3; ++i)
+    if (!(luma[i] >= 0 && luma[i] <= 1)) return "luma weights must be in [0, 1]";
+  if (!(luma[0] + luma[1] + luma[2] > 0)) return "luma weights must not all be 0";
+  return "";
 }
 
 std::string plane_format_problem(const std::string& role, PixelFormat f, RatioForm form) {

@@ -53,6 +53,11 @@ Manifest manifest_from_json(const std::string& text, const std::string& path);
 // bounds.
 std::string plane_format_problem(const std::string& role, PixelFormat f, RatioForm form);
 
+// Why these fit parameters cannot be written into a manifest that decode accepts (dz_min in
+// (0, 1), each luma weight in [0, 1], not all zero), or "" when they can. The one rule shared by
+// manifest_from_json, read_intermediate and the writers: ahdpack never writes what it refuses.
+std::string fit_parameters_problem(double dz_min, const double luma[3]);
+
 
 // The key/value pairs every plane texture carries (KTX2 key/value data), describing the encoding.
 std::vector<std::pair<std::string, std::string>> plane_metadata(const Manifest& m, const std::string& plane);

@@ -4,6 +4,7 @@
 
 #include "core/error.h"
 #include "pipeline/builtin_profiles.h"
+#include "pipeline/manifest.h"
 
 namespace ahd {
 
@@ -42,6 +43,16 @@ Profile profile_from_json(const std::string& text, const std::string& path) {
   }
   if (format_info(p.iz).channels < 3 || !format_info(p.iz).is_float)
     throw file_error(path, "the iz plane needs an HDR RGB format");
+  // decode's own rule for every plane (plane_format_problem): a profile that passes writes a set
+  // decode reads back (issue 26: "dir": "r8" read past the plane, "dir": "bc6h" wrote a set decode refused).
+  const RatioForm form = p.ratio_rgb ? RatioForm::Rgb : RatioForm::Luminance;
+  const std::vector<std::pair<const char*, PixelFormat>> planes =
+      p.packed_dir_ratio ? std::vector<std::pair<const char*, PixelFormat>>{{"iz", p.iz}, {"dirratio", p.dirratio}}
+                         : std::vector<std::pair<const char*, PixelFormat>>{{"iz", p.iz}, {"dir", p.dir}, {"ratio", p.ratio}};
+  for (const auto& [role, fmt] : planes) {
+    const std::string why = plane_format_problem(role, fmt, form);
+    if (!why.empty()) throw file_error(path, why);
+  }
   return p;
 }
 
