@@ -11,10 +11,10 @@
 #include <limits>
 #include <random>
 
-#include "codecs/bc6h_codec.h"
-#include "codecs/bc6h_fast.h"
-#include "codecs/bc6h_search_avx2.h"
-#include "codecs/bc6h_tables.h"
+#include "codecs/bc6h/bc6h_codec.h"
+#include "codecs/bc6h/bc6h_fast.h"
+#include "codecs/bc6h/bc6h_search_avx2.h"
+#include "codecs/bc6h/bc6h_tables.h"
 #include "io/image_io.h"
 
 using namespace ahd;

@@ -6,7 +6,7 @@
 // Built for plain x86-64 as bc6h_fast_avx2.cpp is: only the functions here carry the AVX-512
 // target attribute, and bc6h_fast.cpp calls them only when the CPU and the OS support AVX-512
 // F/VL/BW/DQ (cpu_has_avx512).
-#include "codecs/bc6h_fast.h"
+#include "codecs/bc6h/bc6h_fast.h"
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #include <cpuid.h>
@@ -79,9 +79,9 @@ LANE_INLINE F loadf(const float* p) { return _mm512_load_ps(p); }
 LANE_INLINE void storef(float* p, F v) { _mm512_store_ps(p, v); }
 LANE_INLINE void storei(int* p, I v) { _mm512_store_si512(p, v); }
 
-#include "codecs/bc6h_fast_lanes.inc"
+#include "codecs/bc6h/bc6h_fast_lanes.inc"
 
-#include "codecs/bc6h_transpose8.inc"
+#include "codecs/bc6h/bc6h_transpose8.inc"
 
 // dst with the lanes of `place` (in order) replaced by the lanes of src in `take` (in order).
 LANE_INLINE F move_lanes(F dst, M place, F src, M take) { return _mm512_mask_expand_ps(dst, place, _mm512_maskz_compress_ps(take, src)); }

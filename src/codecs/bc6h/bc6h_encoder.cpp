@@ -34,10 +34,10 @@
 #include <limits>
 #include <vector>
 
-#include "codecs/bc6h_codec.h"
-#include "codecs/bc6h_fast.h"
-#include "codecs/bc6h_search_avx2.h"
-#include "codecs/bc6h_tables.h"
+#include "codecs/bc6h/bc6h_codec.h"
+#include "codecs/bc6h/bc6h_fast.h"
+#include "codecs/bc6h/bc6h_search_avx2.h"
+#include "codecs/bc6h/bc6h_tables.h"
 #include "core/parallel.h"
 
 #ifdef __SSE2__

@@ -9,7 +9,7 @@
 // Built for plain x86-64: only the functions here are compiled for AVX2 (target attribute, no
 // per-file flags, so no inline function of a shared header is ever compiled with AVX2), and
 // bc6h_fast.cpp calls them only when the CPU reports AVX2 (cpu_has_avx2).
-#include "codecs/bc6h_fast.h"
+#include "codecs/bc6h/bc6h_fast.h"
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #include <cpuid.h>
@@ -83,9 +83,9 @@ LANE_INLINE F loadf(const float* p) { return _mm256_load_ps(p); }
 LANE_INLINE void storef(float* p, F v) { _mm256_store_ps(p, v); }
 LANE_INLINE void storei(int* p, I v) { _mm256_store_si256(reinterpret_cast<I*>(p), v); }
 
-#include "codecs/bc6h_fast_lanes.inc"
+#include "codecs/bc6h/bc6h_fast_lanes.inc"
 
-#include "codecs/bc6h_transpose8.inc"
+#include "codecs/bc6h/bc6h_transpose8.inc"
 
 }  // namespace
 

@@ -3,7 +3,7 @@
 // the entries is taken eight lanes at a time, and a minimum does not depend on its order, so the
 // indices and the error are the same. Built for plain x86-64: only this function is compiled for
 // AVX2 (target attribute), and evaluate calls it only when the CPU reports AVX2.
-#include "codecs/bc6h_search_avx2.h"
+#include "codecs/bc6h/bc6h_search_avx2.h"
 
 #include <atomic>
 

@@ -21,7 +21,7 @@
 // on AVX-512 CPUs and eight on AVX2 ones (bc6h_fast_lanes.inc, the same operations lane by lane).
 // In `fast`, blocks whose one-region error is high then get a two-region candidate
 // (bc6h_fast_two_region.cpp), kept when it is better. Bytes depend only on the block.
-#include "codecs/bc6h_fast.h"
+#include "codecs/bc6h/bc6h_fast.h"
 
 #include <Imath/half.h>
 

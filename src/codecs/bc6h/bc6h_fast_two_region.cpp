@@ -20,8 +20,8 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "codecs/bc6h_fast.h"
-#include "codecs/bc6h_tables.h"
+#include "codecs/bc6h/bc6h_fast.h"
+#include "codecs/bc6h/bc6h_tables.h"
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 // GCC 12's AVX-512 intrinsics start their unmasked forms from _mm512_undefined_*(), which its
