@@ -9,7 +9,7 @@
 #include "fit/fit_image.h"
 #include "pipeline/convert.h"
 #include "sample/analytic_baker.h"
-#include "sample/hard_cases.h"
+#include "lab/hard_cases.h"
 
 using namespace ahd;
 

@@ -12,7 +12,7 @@
 #include "io/profile_file.h"
 #include "cli/commands.h"
 #include "fit/direction_refine.h"
-#include "fit/fit_quality.h"
+#include "lab/fit_quality.h"
 #include "pipeline/convert.h"
 #include "sample/analytic_baker.h"
 

@@ -8,14 +8,14 @@
 
 #include "cli/commands.h"
 #include "cli/report.h"
-#include "cli/svg_plot.h"
+#include "cli/lab/svg_plot.h"
 #include "io/image_io.h"
 #include "io/profile_file.h"
 #include "fit/direction_refine.h"
 #include "io/sh_exr.h"
 #include "pipeline/convert.h"
 #include "sample/analytic_baker.h"
-#include "sample/hard_cases.h"
+#include "lab/hard_cases.h"
 
 namespace ahd::cli {
 
