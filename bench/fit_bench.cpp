@@ -9,7 +9,7 @@
 #include "fit/fit_image.h"
 #include "pipeline/convert.h"
 #include "sample/analytic_baker.h"
-#include "sample/hard_cases.h"
+#include "lab/hard_cases.h"
 
 using namespace ahd;
 
@@ -108,11 +108,11 @@ void BM_ConvertUncompressed(benchmark::State& state) {
   bo.width = bo.height = int(state.range(0));
   const ShImage sh = bake_analytic_scene(bo);
   const Profile p = load_profile("uncompressed");
-  ConvertOptions opt;
+  PipelineOptions opt;
   opt.threads = 1;
   opt.measure = Measure::Off;
   opt.direction = state.range(1) ? DirectionPlanes::Auto : DirectionPlanes::Keep;
-  for (auto _ : state) benchmark::DoNotOptimize(convert(sh, p, opt));
+  for (auto _ : state) benchmark::DoNotOptimize(run_conversion(sh, p, opt));
   state.SetItemsProcessed(int64_t(state.iterations()) * bo.width * bo.height);
 }
 BENCHMARK(BM_ConvertUncompressed)->Args({256, 0})->Args({256, 1})->ArgNames({"size", "auto_direction"})->Unit(benchmark::kMillisecond);

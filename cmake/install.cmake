@@ -1,11 +1,17 @@
-# install() and the exported package: find_package(ahdpack) → ahdpack::ahd, ahdpack::ahd_io,
-# ahdpack::ahd_sample (static libraries, public headers <ahd/…>), and the ahdpack command.
+# install() and the exported package: find_package(ahdpack) → ahdpack::ahd, ahdpack::ahd_sample
+# (static, or shared with BUILD_SHARED_LIBS; public headers <ahd/…>), the shared libahd.so and
+# libahd_sample.so for FFI callers (static builds install them too, not exported to CMake), and the
+# ahdpack command with its data (share/ahdpack/formats). ahd_io and ahd_lab are not installed.
 include(CMakePackageConfigHelpers)
 
-install(TARGETS ahd ahd_io ahd_sample EXPORT ahdpackTargets
-  ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+install(TARGETS ahd ahd_sample EXPORT ahdpackTargets
+  ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
   INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+if(NOT BUILD_SHARED_LIBS)
+  install(TARGETS ahd_shared ahd_sample_shared LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
+endif()
 install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/include/ahd DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+install(FILES ${CMAKE_CURRENT_BINARY_DIR}/generated/include/ahd/version.h DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/ahd)
 install(EXPORT ahdpackTargets NAMESPACE ahdpack:: DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/ahdpack)
 configure_package_config_file(${CMAKE_CURRENT_SOURCE_DIR}/cmake/ahdpackConfig.cmake.in
   ${CMAKE_CURRENT_BINARY_DIR}/ahdpackConfig.cmake INSTALL_DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/ahdpack)

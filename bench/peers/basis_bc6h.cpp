@@ -19,7 +19,7 @@
 
 #include <Imath/half.h>
 
-#include "codecs/bc6h_codec.h"
+#include "codecs/bc6h/bc6h_codec.h"
 #include "io/image_io.h"
 // basisu_transcoder.h first: basisu_astc_hdr_core.h uses what it declares.
 #include "transcoder/basisu_transcoder.h"

@@ -1,10 +1,21 @@
 /* ahdpack's C API, for cook steps that are not C++ (C#, Rust, Python through their FFI).
- * Link ahdpack::ahd (and a C++ runtime). Same contract as <ahd/convert.h>: pure, deterministic,
- * thread-safe on different inputs. Every function that can fail returns 0 on success and non-zero
- * on failure, writing one line (the cause) into `error` (NUL-terminated, truncated to error_size). */
+ * Same contract as <ahd/convert.h>: pure, deterministic, thread-safe on different inputs. Every
+ * function that can fail returns 0 on success and non-zero on failure, writing one line (the cause)
+ * into `error` (NUL-terminated, truncated to error_size).
+ *
+ * Linking: the shared library (lib/libahd.so, always installed) exports exactly these functions
+ * and the C++ API; load it from any FFI (ctypes, P/Invoke, Rust's libloading) — it brings its own
+ * C++ runtime dependency. A C-only program linking the STATIC library (libahd.a, ahdpack::ahd)
+ * needs the C++ runtime too: link with g++ (or LINKER_LANGUAGE CXX in CMake), or add
+ * -lstdc++ -lm -lpthread to a C link line. The built-in sample's C form is in <ahd/sample.h>
+ * (libahd_sample). AHD_VERSION_MAJOR/MINOR/PATCH (<ahd/version.h>) are the headers' version;
+ * ahd_version() the linked library's. */
 #ifndef AHD_AHD_H
 #define AHD_AHD_H
 #include <stddef.h>
+
+#include <ahd/export.h>
+#include <ahd/version.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -42,24 +53,24 @@ typedef struct ahd_options {
   int measure;              /* 0 off (default), 1 estimate, 2 full */
 } ahd_options;
 
-void ahd_options_init(ahd_options* options);
+AHD_API void ahd_options_init(ahd_options* options);
 
 /* The finished conversion: files (planes, then NAME.json, then NAME.report.json) owned by it. */
 typedef struct ahd_result ahd_result;
 
 /* Converts `input` into files named after `name` (a file stem, no folders). On success *result
  * holds the files (free with ahd_result_free); on failure *result is NULL. */
-int ahd_convert(const ahd_sh_input* input, const char* name, const ahd_options* options, ahd_result** result,
+AHD_API int ahd_convert(const ahd_sh_input* input, const char* name, const ahd_options* options, ahd_result** result,
                 char* error, size_t error_size);
 
-size_t ahd_result_file_count(const ahd_result* result);
+AHD_API size_t ahd_result_file_count(const ahd_result* result);
 /* The i-th file's name (NUL-terminated) and bytes; valid until ahd_result_free. NULL when i is out of range. */
-const char* ahd_result_file_name(const ahd_result* result, size_t i);
-const unsigned char* ahd_result_file_data(const ahd_result* result, size_t i, size_t* size);
-void ahd_result_free(ahd_result* result);
+AHD_API const char* ahd_result_file_name(const ahd_result* result, size_t i);
+AHD_API const unsigned char* ahd_result_file_data(const ahd_result* result, size_t i, size_t* size);
+AHD_API void ahd_result_free(ahd_result* result);
 
 /* The library's version, "MAJOR.MINOR.PATCH". */
-const char* ahd_version(void);
+AHD_API const char* ahd_version(void);
 
 #ifdef __cplusplus
 }

@@ -72,9 +72,9 @@ struct Conversion {
 
 // Converts `sh` into planes named after `name` (a file stem such as "room": no folder, no dots
 // needed). See the contract above.
-Conversion convert(const ShImage& sh, const std::string& name, const ConversionOptions& options = {});
+AHD_API Conversion convert(const ShImage& sh, const std::string& name, const ConversionOptions& options = {});
 // The same, taking the image over: it becomes mip level 0 without a copy (peak memory ≈ 2.4× the
 // SH instead of 3.4× for L2). `sh` is left empty.
-Conversion convert(ShImage&& sh, const std::string& name, const ConversionOptions& options = {});
+AHD_API Conversion convert(ShImage&& sh, const std::string& name, const ConversionOptions& options = {});
 
 }  // namespace ahd

@@ -11,16 +11,18 @@
 #include <string>
 #include <vector>
 
+#include <ahd/export.h>
+
 namespace ahd {
 
 // Every failure the library reports is an ahd::Error whose what() is one line fit for a terminal:
 // "<file>: <cause>" when a file is involved, otherwise the cause.
-struct Error : std::runtime_error {
+struct AHD_API Error : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
 // Thrown (an ahd::Error) when a conversion stops because its cancel flag was raised.
-struct Cancelled : Error {
+struct AHD_API Cancelled : Error {
   Cancelled() : Error("cancelled") {}
 };
 

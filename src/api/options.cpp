@@ -18,7 +18,7 @@ ResolvedOptions resolve_options(const ConversionOptions& o, const std::string& n
     throw Error("the output name must be a file stem without folders (got '" + name + "')");
   ResolvedOptions r;
   r.profile = profile;
-  ConvertOptions& c = r.convert;
+  PipelineOptions& c = r.convert;
   c.fit.dz_min = o.eps;
   c.fit.ratio_form = o.ratio ? *o.ratio : profile.ratio_rgb ? RatioForm::Rgb : RatioForm::Luminance;
   c.fit.direction_fit = o.direction_fit;

@@ -11,7 +11,7 @@ namespace ahd {
 
 struct ResolvedOptions {
   Profile profile;
-  ConvertOptions convert;
+  PipelineOptions convert;
   PackageOptions package;
 };
 

@@ -6,7 +6,7 @@
 #include <cstdio>
 
 #include "cli/commands.h"
-#include "codecs/bc6h_codec.h"
+#include "codecs/bc6h/bc6h_codec.h"
 #include "io/container_file.h"
 #include "core/error.h"
 #include "io/image_io.h"

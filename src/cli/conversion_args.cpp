@@ -1,6 +1,6 @@
 #include "cli/conversion_args.h"
 
-#include "codecs/bc6h_codec.h"
+#include "codecs/bc6h/bc6h_codec.h"
 #include "core/error.h"
 #include "fit/direction_refine.h"
 

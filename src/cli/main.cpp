@@ -15,12 +15,11 @@ int main(int argc, char** argv) {
   ahd::cli::add_decode_command(app);
   ahd::cli::add_inspect_command(app);
   ahd::cli::add_compress_commands(app);
-  ahd::cli::add_bench_command(app);
   ahd::cli::add_sample_command(app);
-  ahd::cli::add_report_command(app);
   ahd::cli::add_transcode_command(app);
   ahd::cli::add_preview_command(app);
   ahd::cli::add_verify_command(app);
+  ahd::cli::add_lab_commands(app);
   try {
     ahd::cli::apply_size_limit_from_environment();
     app.parse(argc, argv);

@@ -27,7 +27,7 @@ void publish_conversion(const OutputPaths& out, std::vector<OutputFile> files) {
 void print_conversion(const std::string& source, const OutputPaths& out, const ConversionRun& run, bool closed_loop,
                       size_t non_finite_inputs) {
   const Manifest& m = run.output.manifest;
-  const ConvertResult& r = run.result;
+  const PipelineResult& r = run.result;
   std::printf("ahdpack: %s\n", source.c_str());
   std::printf("profile %s, %u mip level(s) -> %s\n", m.profile.c_str(), m.levels, out.sibling(".json").c_str());
   for (const auto& p : m.planes)

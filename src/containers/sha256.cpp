@@ -2,9 +2,10 @@
 
 #include <cstring>
 
+#include "core/cpu.h"
+
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #define AHD_SHA_NI 1
-#include <cpuid.h>
 #include <immintrin.h>
 #endif
 
@@ -83,21 +84,13 @@ __attribute__((target("sha,sse4.1,ssse3"))) void compress_blocks_ni(uint32_t h[8
   _mm_storeu_si128(reinterpret_cast<__m128i*>(h), _mm_blend_epi16(feba, dchg, 0xF0));      // A B C D
   _mm_storeu_si128(reinterpret_cast<__m128i*>(h + 4), _mm_alignr_epi8(dchg, feba, 8));  // E F G H
 }
-
-bool cpu_has_sha_ni() {
-  unsigned a, b, c, d;
-  if (!__get_cpuid(1, &a, &b, &c, &d) || !(c & bit_SSE4_1) || !(c & bit_SSSE3)) return false;
-  if (!__get_cpuid_count(7, 0, &a, &b, &c, &d)) return false;
-  return (b & (1u << 29)) != 0;  // CPUID.(EAX=7,ECX=0):EBX.SHA[bit 29]
-}
 #endif
 
 }  // namespace
 
 bool sha256_hardware() {
 #ifdef AHD_SHA_NI
-  static const bool has = cpu_has_sha_ni();
-  return has;
+  return cpu::has(cpu::kShaNi);
 #else
   return false;
 #endif

@@ -5,7 +5,8 @@
 
 namespace ahd {
 
-// $AHD_FORMATS_DIR when set, else the source tree's formats/ folder.
+// $AHD_FORMATS_DIR when set, else the installed data beside the executable (<prefix>/bin/ahdpack
+// → <prefix>/share/ahdpack/formats) when it exists, else the source tree's formats/ folder.
 std::string formats_dir();
 
 // A named data file of formats/<folder>/ ("NAME" → formats/<folder>/NAME.json), or the path itself

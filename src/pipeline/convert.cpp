@@ -49,7 +49,7 @@ AhdLobe lobe_of_fit(const AhdFit& f, double dz_min) {
 
 }  // namespace
 
-void check_profile(const Profile& profile, const ConvertOptions& opt) {
+void check_profile(const Profile& profile, const PipelineOptions& opt) {
   const bool ratio_rgb = opt.fit.ratio_form == RatioForm::Rgb;
   if (profile.packed_dir_ratio && ratio_rgb)
     throw Error("profile " + profile.name + " packs one ratio channel; use the luminance ratio form");
@@ -106,7 +106,7 @@ struct LevelPlanes {
   TextureLevel ratio_open, dirratio_open;          // open loop, for the report
 };
 
-LevelPlanes quantise_level(const FittedLevel& lv, const Profile& profile, const ConvertOptions& opt, bool directional,
+LevelPlanes quantise_level(const FittedLevel& lv, const Profile& profile, const PipelineOptions& opt, bool directional,
                            PlaneCodecStats* stats) {
   const ShImage& sh = lv.sh;
   const int w = sh.width, h = sh.height;
@@ -230,13 +230,13 @@ CodedLevel coded_level(const Profile& profile, const LevelPlanes& p, bool direct
 }
 
 // Lobes against the SH as the options ask: every covered texel (Full) or the fixed sample (Estimate).
-ErrorReport measure_lobes(const ShImage& sh, const LobeAt& lobe, const ConvertOptions& opt) {
+ErrorReport measure_lobes(const ShImage& sh, const LobeAt& lobe, const PipelineOptions& opt) {
   return opt.measure == Measure::Full ? measure_error(sh, lobe, opt.threads) : estimate_error(sh, lobe, opt.threads);
 }
 
 // One level's coded planes against the level's SH. Full: the whole level decoded; Estimate: only
 // the blocks of the sampled texels (the same values: blocks decode on their own).
-ErrorReport measure_coded(const ShImage& sh, const CodedLevel& coded, const ConvertOptions& opt) {
+ErrorReport measure_coded(const ShImage& sh, const CodedLevel& coded, const PipelineOptions& opt) {
   const bool rgb = opt.fit.ratio_form == RatioForm::Rgb;
   if (opt.measure == Measure::Full) {
     const DecodedPlanes p = decode_level(coded, rgb);
@@ -256,7 +256,7 @@ ErrorReport measure_coded(const ShImage& sh, const CodedLevel& coded, const Conv
 }
 
 // Keep, drop, or (Auto) measure whether I_z alone is close enough to the SH.
-void decide_direction(const FittedLevel& level0, const ConvertOptions& opt, ConvertResult* r) {
+void decide_direction(const FittedLevel& level0, const PipelineOptions& opt, PipelineResult* r) {
   char why[160];
   switch (opt.direction) {
     case DirectionPlanes::Keep:
@@ -300,14 +300,14 @@ ErrorReport ambient_only_error(const FittedLevel& level, int threads) {
   return measure_error(level.sh, ambient_only_lobes(level), threads);
 }
 
-std::vector<FittedLevel> fit_levels(const ShImage& sh, const ConvertOptions& opt, ConvertResult* r) {
+std::vector<FittedLevel> fit_levels(const ShImage& sh, const PipelineOptions& opt, PipelineResult* r) {
   return fit_levels(ShImage(sh), opt, r);
 }
 
 namespace {
 
 // The fitted level 0 against its SH (and the unconstrained baseline), as the options ask.
-void measure_fit(const FittedLevel& level0, const ConvertOptions& opt, ConvertResult* r) {
+void measure_fit(const FittedLevel& level0, const PipelineOptions& opt, PipelineResult* r) {
   const ShImage& sh = level0.sh;
   // Lobes made texel by texel as they are measured: no image of them (72 bytes a texel).
   r->fit_error = measure_lobes(sh, [&](size_t i) { return lobe_of_fit(fitted_texel(level0, i), opt.fit.dz_min); }, opt);
@@ -331,7 +331,7 @@ void measure_fit(const FittedLevel& level0, const ConvertOptions& opt, ConvertRe
 // quantise_levels hands it a stored chain. Fills the direction decision, planes, errors, timings.
 class ChainEncoder {
  public:
-  ChainEncoder(const Profile& profile, const ConvertOptions& opt, ConvertResult* r, double chain_texels)
+  ChainEncoder(const Profile& profile, const PipelineOptions& opt, PipelineResult* r, double chain_texels)
       : profile_(profile), opt_(opt), r_(r), all_(chain_texels) {}
 
   void add(const FittedLevel& level) {
@@ -374,8 +374,8 @@ class ChainEncoder {
 
  private:
   const Profile& profile_;
-  const ConvertOptions& opt_;
-  ConvertResult* r_;
+  const PipelineOptions& opt_;
+  PipelineResult* r_;
   std::vector<LevelPlanes> levels_;
   Texture coverage_;
   double all_, done_ = 0;
@@ -390,7 +390,7 @@ double chain_texels(int width, int height, int levels) {
 
 }  // namespace
 
-std::vector<FittedLevel> fit_levels(ShImage&& input, const ConvertOptions& opt, ConvertResult* r) {
+std::vector<FittedLevel> fit_levels(ShImage&& input, const PipelineOptions& opt, PipelineResult* r) {
   opt.step("fit", 0);
   auto t0 = Clock::now();
   std::vector<FitStats> fit_stats;
@@ -406,8 +406,8 @@ std::vector<FittedLevel> fit_levels(ShImage&& input, const ConvertOptions& opt, 
   return levels;
 }
 
-void quantise_levels(const std::vector<FittedLevel>& levels, const Profile& profile, const ConvertOptions& opt,
-                     ConvertResult* r) {
+void quantise_levels(const std::vector<FittedLevel>& levels, const Profile& profile, const PipelineOptions& opt,
+                     PipelineResult* r) {
   check_profile(profile, opt);
   double texels = 0;
   for (const FittedLevel& l : levels) texels += double(l.sh.texels());
@@ -416,18 +416,18 @@ void quantise_levels(const std::vector<FittedLevel>& levels, const Profile& prof
   chain.finish();
 }
 
-void ConvertOptions::step(const char* stage, double fraction) const {
+void PipelineOptions::step(const char* stage, double fraction) const {
   if (cancel && cancel->load(std::memory_order_relaxed)) throw Cancelled();
   if (progress) progress(stage, fraction);
 }
 
-ConvertResult convert(const ShImage& sh, const Profile& profile, const ConvertOptions& opt) {
-  return convert(ShImage(sh), profile, opt);
+PipelineResult run_conversion(const ShImage& sh, const Profile& profile, const PipelineOptions& opt) {
+  return run_conversion(ShImage(sh), profile, opt);
 }
 
-ConvertResult convert(ShImage&& sh, const Profile& profile, const ConvertOptions& opt) {
+PipelineResult run_conversion(ShImage&& sh, const Profile& profile, const PipelineOptions& opt) {
   check_profile(profile, opt);
-  ConvertResult r;
+  PipelineResult r;
   const int levels = chain_level_count(sh.width, sh.height, opt.max_levels);
   ChainEncoder chain(profile, opt, &r, chain_texels(sh.width, sh.height, levels));
   double fit = 0, measure = 0;

@@ -25,7 +25,7 @@ namespace ahd {
 // quantisation error (measured by `ahdpack report direction`, README).
 constexpr double kDefaultAmbientThreshold = 0.01;
 
-struct ConvertOptions {
+struct PipelineOptions {
   FitOptions fit;
   bool closed_loop = true;
   // Off: no error measurement (the library's default: a cook step pays only for the conversion).
@@ -58,7 +58,7 @@ struct StageCost {
   double seconds = 0;
 };
 
-struct ConvertResult {
+struct PipelineResult {
   std::vector<Plane> planes;
   FitStats fit_stats;                   // level 0
   std::vector<DilateStats> dilate_stats;  // per level: guard texels, rings
@@ -76,27 +76,27 @@ struct ConvertResult {
 
 // Throws ahd::Error when `profile` cannot be written with these options (a format this build cannot
 // encode, the RGB ratio form with a one-channel ratio plane).
-void check_profile(const Profile& profile, const ConvertOptions& opt);
+void check_profile(const Profile& profile, const PipelineOptions& opt);
 
 // The whole conversion: the same bytes and figures as fit_levels then quantise_levels, but level by
 // level — each level is fitted, quantised and measured, and only its SH is kept to filter the next
 // — so the peak memory is level 0's SH and fit plus one level's encoder temporaries, not the chain's.
 // Progress: "fit" (level 0), then "encode" (level 0's planes, then the smaller levels, each fitted
 // and encoded in turn). The by-value overload takes the input over (no copy of level 0).
-ConvertResult convert(const ShImage& sh, const Profile& profile, const ConvertOptions& opt);
-ConvertResult convert(ShImage&& sh, const Profile& profile, const ConvertOptions& opt);
+PipelineResult run_conversion(const ShImage& sh, const Profile& profile, const PipelineOptions& opt);
+PipelineResult run_conversion(ShImage&& sh, const Profile& profile, const PipelineOptions& opt);
 
 // Fit stage: the SH mip chain, the AHD fit of every level, dilation of uncovered texels.
 // Fills r->fit_stats, r->fit_error and r->unconstrained_error (level 0) and timings.
-std::vector<FittedLevel> fit_levels(const ShImage& sh, const ConvertOptions& opt, ConvertResult* r);
+std::vector<FittedLevel> fit_levels(const ShImage& sh, const PipelineOptions& opt, PipelineResult* r);
 // The same, taking the input over (it becomes level 0): no copy of the largest image. Callers
 // that no longer need their ShImage pass std::move(sh).
-std::vector<FittedLevel> fit_levels(ShImage&& sh, const ConvertOptions& opt, ConvertResult* r);
+std::vector<FittedLevel> fit_levels(ShImage&& sh, const PipelineOptions& opt, PipelineResult* r);
 
 // Quantise stage: planes of every level for the profile (closed loop per level), measured against
 // each level's SH. Also what `transcode` runs on a stored intermediate.
-void quantise_levels(const std::vector<FittedLevel>& levels, const Profile& profile, const ConvertOptions& opt,
-                     ConvertResult* r);
+void quantise_levels(const std::vector<FittedLevel>& levels, const Profile& profile, const PipelineOptions& opt,
+                     PipelineResult* r);
 
 // What decoding I_z alone (d = z, ratio = 1) gives, per texel, and its error against the level's SH.
 std::vector<AhdLobe> ambient_only_lobes(const FittedLevel& level);

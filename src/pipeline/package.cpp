@@ -22,7 +22,7 @@ std::string plane_file_name(const std::string& name, const std::string& plane, c
 
 const char* container_extension(ContainerKind kind) { return kind == ContainerKind::KTX2 ? "ktx2" : "dds"; }
 
-PackagedConversion package_conversion(ConvertResult& r, const Profile& profile, const FitOptions& fit,
+PackagedConversion package_conversion(PipelineResult& r, const Profile& profile, const FitOptions& fit,
                                       const PackageOptions& opt, double total_seconds) {
   const std::string ext = container_extension(opt.container);
   PackagedConversion out;

@@ -29,7 +29,7 @@ struct PackagedConversion {
 
 // Encodes every plane of `r` (attaching the plane metadata to r's textures) and assembles the
 // manifest and the report. Throws ahd::Error on an invalid texture.
-PackagedConversion package_conversion(ConvertResult& r, const Profile& profile, const FitOptions& fit,
+PackagedConversion package_conversion(PipelineResult& r, const Profile& profile, const FitOptions& fit,
                                       const PackageOptions& opt, double total_seconds);
 
 // NAME.<plane>.<12 hex digits of the SHA-256 of bytes>.<ext>: a plane's file name in a set.

@@ -4,29 +4,29 @@
 
 namespace ahd {
 
-ConvertResult convert_pages(const std::vector<ShImage>& pages, const Profile& profile, const ConvertOptions& opt,
-                            std::vector<ConvertResult>* per_page) {
+PipelineResult convert_pages(const std::vector<ShImage>& pages, const Profile& profile, const PipelineOptions& opt,
+                            std::vector<PipelineResult>* per_page) {
   if (pages.empty()) throw Error("no atlas pages to convert");
   for (const ShImage& p : pages)
     if (p.width != pages[0].width || p.height != pages[0].height) throw Error("atlas pages differ in size");
-  std::vector<ConvertResult> results;
+  std::vector<PipelineResult> results;
   bool any_directional = false;
   for (const ShImage& p : pages) {
-    results.push_back(convert(p, profile, opt));
+    results.push_back(run_conversion(p, profile, opt));
     any_directional = any_directional || results.back().directional;
   }
   // One plane set for the whole array: a page whose lighting alone would drop the direction keeps
   // it when another page needs it.
   if (any_directional) {
-    ConvertOptions keep = opt;
+    PipelineOptions keep = opt;
     keep.direction = DirectionPlanes::Keep;
     for (size_t i = 0; i < pages.size(); ++i)
-      if (!results[i].directional) results[i] = convert(pages[i], profile, keep);
+      if (!results[i].directional) results[i] = run_conversion(pages[i], profile, keep);
   }
-  ConvertResult r = results[0];
+  PipelineResult r = results[0];
   for (size_t k = 0; k < r.planes.size(); ++k) {
     std::vector<Texture> layers;
-    for (const ConvertResult& pr : results) {
+    for (const PipelineResult& pr : results) {
       if (pr.planes.size() != r.planes.size() || pr.planes[k].name != r.planes[k].name)
         throw Error("atlas pages converted to different plane sets");
       layers.push_back(pr.planes[k].texture);

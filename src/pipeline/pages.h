@@ -14,7 +14,7 @@ namespace ahd {
 // per-page results go to *per_page when given); its planes are the stacked arrays, and every
 // layer's bytes equal that page's own conversion (with the common plane set). Throws ahd::Error
 // when pages is empty or the pages differ in size.
-ConvertResult convert_pages(const std::vector<ShImage>& pages, const Profile& profile, const ConvertOptions& opt,
-                            std::vector<ConvertResult>* per_page = nullptr);
+PipelineResult convert_pages(const std::vector<ShImage>& pages, const Profile& profile, const PipelineOptions& opt,
+                            std::vector<PipelineResult>* per_page = nullptr);
 
 }  // namespace ahd

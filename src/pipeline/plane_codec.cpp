@@ -8,7 +8,7 @@
 
 #include "codecs/bc4.h"
 #include "codecs/bc5.h"
-#include "codecs/bc6h_codec.h"
+#include "codecs/bc6h/bc6h_codec.h"
 #include "codecs/packed_float.h"
 #include "core/error.h"
 #include "core/large_buffer.h"

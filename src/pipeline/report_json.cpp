@@ -8,7 +8,7 @@ nlohmann::json error_json(const ErrorReport& e) {
           {"log2", stat(e.log2)},       {"iz_relative", stat(e.normal_rel)}, {"negative_texels", e.negative}};
 }
 
-nlohmann::json convert_report_json(const ConvertResult& r, double total_seconds) {
+nlohmann::json convert_report_json(const PipelineResult& r, double total_seconds) {
   nlohmann::json j;
   j["fit_rules"] = {{"texels", r.fit_stats.texels},           {"covered", r.fit_stats.covered},
                     {"no_direction", r.fit_stats.no_direction}, {"horizon_tilted", r.fit_stats.dir_clamped},

@@ -9,6 +9,6 @@
 namespace ahd {
 
 nlohmann::json error_json(const ErrorReport& e);
-nlohmann::json convert_report_json(const ConvertResult& r, double total_seconds);
+nlohmann::json convert_report_json(const PipelineResult& r, double total_seconds);
 
 }  // namespace ahd

@@ -10,7 +10,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 // Package run.result (its planes complete) and total the seconds.
-ConversionRun package(ConversionRun run, const Profile& profile, const ConvertOptions& opt, const PackageOptions& pkg,
+ConversionRun package(ConversionRun run, const Profile& profile, const PipelineOptions& opt, const PackageOptions& pkg,
                       double prior_seconds, Clock::time_point t0) {
   opt.step("write", 0);
   const auto t_pack = Clock::now();
@@ -25,7 +25,8 @@ ConversionRun package(ConversionRun run, const Profile& profile, const ConvertOp
 
 // Quantise the fitted levels and package the result; `run` already holds the earlier stages.
 ConversionRun finish(ConversionRun run, const std::vector<FittedLevel>& levels, const Profile& profile,
-                     const ConvertOptions& opt, const PackageOptions& pkg, double prior_seconds, Clock::time_point t0) {
+                     const PipelineOptions& opt, const PackageOptions& pkg, double prior_seconds,
+                     Clock::time_point t0) {
   quantise_levels(levels, profile, opt, &run.result);
   return package(std::move(run), profile, opt, pkg, prior_seconds, t0);
 }
@@ -38,7 +39,7 @@ double sum_seconds(const std::vector<StageCost>& stages) {
 
 }  // namespace
 
-ConversionRun run_conversion(ShImage sh, const Profile& profile, const ConvertOptions& opt,
+ConversionRun run_conversion(ShImage sh, const Profile& profile, const PipelineOptions& opt,
                              const PackageOptions& pkg, std::vector<StageCost> prior,
                              const std::function<void(const std::vector<FittedLevel>&)>& on_fitted) {
   check_profile(profile, opt);
@@ -46,7 +47,7 @@ ConversionRun run_conversion(ShImage sh, const Profile& profile, const ConvertOp
   const double prior_seconds = sum_seconds(prior);
   ConversionRun run;
   if (!on_fitted) {  // level by level: the chain of fitted levels never exists at once
-    run.result = convert(std::move(sh), profile, opt);
+    run.result = run_conversion(std::move(sh), profile, opt);
     run.result.timings.insert(run.result.timings.begin(), prior.begin(), prior.end());
     return package(std::move(run), profile, opt, pkg, prior_seconds, t0);
   }
@@ -58,7 +59,7 @@ ConversionRun run_conversion(ShImage sh, const Profile& profile, const ConvertOp
   return finish(std::move(run), levels, profile, opt, pkg, prior_seconds, t0);
 }
 
-ConversionRun run_pages(const std::vector<ShImage>& pages, const Profile& profile, const ConvertOptions& opt,
+ConversionRun run_pages(const std::vector<ShImage>& pages, const Profile& profile, const PipelineOptions& opt,
                         const PackageOptions& pkg, std::vector<StageCost> prior) {
   check_profile(profile, opt);
   const auto t0 = Clock::now();
@@ -69,7 +70,7 @@ ConversionRun run_pages(const std::vector<ShImage>& pages, const Profile& profil
   return package(std::move(run), profile, opt, pkg, prior_seconds, t0);
 }
 
-ConversionRun run_transcode(const std::vector<FittedLevel>& levels, const Profile& profile, const ConvertOptions& opt,
+ConversionRun run_transcode(const std::vector<FittedLevel>& levels, const Profile& profile, const PipelineOptions& opt,
                             const PackageOptions& pkg, std::vector<StageCost> prior) {
   const auto t0 = Clock::now();
   const double prior_seconds = sum_seconds(prior);

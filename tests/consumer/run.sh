@@ -7,6 +7,23 @@ set -euo pipefail
 build="$1"; cli="$2"; here="$(cd "$(dirname "$0")" && pwd)"
 tmp="$(mktemp -d)"; trap 'rm -rf "$tmp"' EXIT
 cmake --install "$build" --prefix "$tmp/prefix" >/dev/null
+# Layering: no symbol that lab or sample code defines (strong: T/D/B/R) is defined in, or needed by,
+# the installed libahd (static and shared); the lab itself is not installed.
+nm -g --defined-only "$build/libahd_lab.a" "$build/libahd_sample.a" 2>/dev/null | awk 'NF == 3 && $2 ~ /^[TDBR]$/ {print $3}' \
+  | sort -u > "$tmp/lab.syms"
+[ -s "$tmp/lab.syms" ] || { echo "FAIL: no lab/sample symbols read from $build"; exit 1; }
+if find "$tmp/prefix" -name 'libahd_lab*' | grep -q .; then echo "FAIL: the lab is installed"; exit 1; fi
+n_libs=0
+for lib in $(find "$tmp/prefix" -name 'libahd.a' -o -name 'libahd.so*' -type f); do
+  for kind in defined undefined; do
+    bad="$(nm -g $([ "${lib%.a}" = "$lib" ] && echo -D) --$kind-only "$lib" 2>/dev/null | awk '{print $NF}' | sort -u \
+      | comm -12 - "$tmp/lab.syms")"
+    [ -z "$bad" ] || { echo "FAIL: $lib has $kind lab/sample symbols:"; echo "$bad" | c++filt | head; exit 1; }
+  done
+  n_libs=$((n_libs + 1))
+done
+[ "$n_libs" -ge 1 ] || { echo "FAIL: no installed libahd found"; exit 1; }
+echo "layering: $n_libs installed libahd, no symbol of the lab or the sample ($(wc -l < "$tmp/lab.syms") checked)"
 cmake -S "$here" -B "$tmp/build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH="$tmp/prefix" >/dev/null
 cmake --build "$tmp/build" >/dev/null
 # ahd_io must not be needed by a program that only converts: check the link lines.

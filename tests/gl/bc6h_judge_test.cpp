@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <random>
 
-#include "codecs/bc6h_codec.h"
+#include "codecs/bc6h/bc6h_codec.h"
 #include "gl_fixture.h"
 #include "io/image_io.h"
 

@@ -178,9 +178,9 @@ RenderResult render_and_compare(Lang lang, const std::string& profile_name, cons
   bo.area_samples = 4;
   const ShImage sh = bake_analytic_scene(bo);
   const Profile profile = load_profile(profile_name);
-  ConvertOptions opt;
+  PipelineOptions opt;
   opt.threads = 1;
-  const ConvertResult r = convert(sh, profile, opt);
+  const PipelineResult r = run_conversion(sh, profile, opt);
 
   // GL program.
   const std::string fragment = fragment_source(lang);

@@ -83,7 +83,7 @@ std::map<std::string, std::vector<uint8_t>> snapshot(const fs::path& d) {
 Manifest write_previous_set(const fs::path& d, const std::string& name = "prev", const std::string& ext = "ktx2") {
   BakerOptions bo;
   bo.width = bo.height = 8;
-  ConvertResult r = convert(bake_analytic_scene(bo), load_profile("uncompressed"), {});
+  PipelineResult r = run_conversion(bake_analytic_scene(bo), load_profile("uncompressed"), {});
   Manifest m;
   m.profile = "uncompressed";
   m.container = ext;
@@ -366,7 +366,7 @@ std::vector<Case> catalogue() {
                  BakerOptions bo;
                  bo.width = bo.height = 8;
                  bo.seed = 7;
-                 ConvertResult r = convert(bake_analytic_scene(bo), load_profile("uncompressed"), {});
+                 PipelineResult r = run_conversion(bake_analytic_scene(bo), load_profile("uncompressed"), {});
                  fs::create_directories(d / "mixed");
                  for (const auto& p : m.planes) fs::copy_file(d / p.file, d / "mixed" / p.file);
                  fs::copy_file(d / "prev.json", d / "mixed" / "prev.json");

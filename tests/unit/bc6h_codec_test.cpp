@@ -13,10 +13,11 @@
 #include <limits>
 #include <random>
 
-#include "codecs/bc6h_codec.h"
-#include "codecs/bc6h_fast.h"
-#include "codecs/bc6h_search_avx2.h"
-#include "codecs/bc6h_tables.h"
+#include "codecs/bc6h/bc6h_codec.h"
+#include "codecs/bc6h/bc6h_fast.h"
+#include "codecs/bc6h/bc6h_search_avx2.h"
+#include "codecs/bc6h/bc6h_tables.h"
+#include "core/cpu.h"
 #include "io/image_io.h"
 
 using namespace ahd;
@@ -268,11 +269,11 @@ TEST(Bc6h, HalfConversionPathsGiveTheSameBits) {
   v.push_back(1e-30f);
   const int n = int(v.size());
   std::vector<uint16_t> portable(v.size()), dispatched(v.size());
-  bc6h::force_portable_half(true);
+  cpu::disable_for_tests(cpu::kF16c);
   bc6h::floats_to_half(v.data(), portable.data(), n);
-  bc6h::force_portable_half(false);
+  cpu::disable_for_tests(0);
   bc6h::floats_to_half(v.data(), dispatched.data(), n);
-  std::printf("F16C on this CPU: %s\n", bc6h::cpu_has_f16c() ? "yes" : "no");
+  std::printf("F16C on this CPU: %s\n", cpu::has(cpu::kF16c) ? "yes" : "no");
   for (int i = 0; i < n; ++i) {
     ASSERT_EQ(portable[i], Imath::half(v[i]).bits()) << v[i];
     ASSERT_EQ(dispatched[i], portable[i]) << v[i];
@@ -293,19 +294,19 @@ TEST(Bc6h, SimdAndScalarLoopsWriteTheSameBytes) {
         Bc6hOptions o;
         o.quality = q;
         o.is_signed = is_signed;
-        bc6h::force_scalar(true);
+        cpu::disable_for_tests(cpu::kAllSimd);
         const std::vector<uint8_t> scalar = bc6h_encode_image(crop, o);
-        bc6h::force_scalar(false);
+        cpu::disable_for_tests(0);
         const std::vector<uint8_t> simd = bc6h_encode_image(crop, o);
         EXPECT_EQ(scalar, simd) << file << " " << bc6h_quality_name(q) << (is_signed ? " signed" : "");
         // The search's SSE2 index step and ranking, which AVX2 CPUs otherwise skip.
-        bc6h::force_search_sse2(true);
+        cpu::disable_for_tests(cpu::kAboveSse2);
         const std::vector<uint8_t> sse2 = bc6h_encode_image(crop, o);
-        bc6h::force_search_sse2(false);
+        cpu::disable_for_tests(0);
         EXPECT_EQ(scalar, sse2) << file << " " << bc6h_quality_name(q) << (is_signed ? " signed" : "") << " (SSE2)";
-        bc6h::force_avx2(true);  // eight-block AVX2 batches where the CPU has AVX-512
+        cpu::disable_for_tests(cpu::kAboveAvx2);  // eight-block AVX2 batches where the CPU has AVX-512
         const std::vector<uint8_t> avx2 = bc6h_encode_image(crop, o);
-        bc6h::force_avx2(false);
+        cpu::disable_for_tests(0);
         EXPECT_EQ(scalar, avx2) << file << " " << bc6h_quality_name(q) << (is_signed ? " signed" : "") << " AVX2";
       }
     // max (its polish evaluates candidates through the same index step) on a 32×32 corner.
@@ -317,13 +318,13 @@ TEST(Bc6h, SimdAndScalarLoopsWriteTheSameBytes) {
       Bc6hOptions o;
       o.quality = Bc6hQuality::Max;
       o.is_signed = is_signed;
-      bc6h::force_scalar(true);
+      cpu::disable_for_tests(cpu::kAllSimd);
       const std::vector<uint8_t> scalar = bc6h_encode_image(small, o);
-      bc6h::force_scalar(false);
+      cpu::disable_for_tests(0);
       EXPECT_EQ(scalar, bc6h_encode_image(small, o)) << file << " max" << (is_signed ? " signed" : "");
-      bc6h::force_search_sse2(true);
+      cpu::disable_for_tests(cpu::kAboveSse2);
       EXPECT_EQ(scalar, bc6h_encode_image(small, o)) << file << " max (SSE2)" << (is_signed ? " signed" : "");
-      bc6h::force_search_sse2(false);
+      cpu::disable_for_tests(0);
     }
   }
 }
@@ -362,9 +363,9 @@ TEST(Bc6h, FastPathWritesTheSameBytesWithEitherHalfConversion) {
     const ImageF src = clamp_rgb(read_image(std::string(AHD_SHARED_DIR) + "/data/bc6h/" + file));
     Bc6hOptions o;
     o.quality = Bc6hQuality::Fast;
-    bc6h::force_portable_half(true);
+    cpu::disable_for_tests(cpu::kF16c);
     const std::vector<uint8_t> portable = bc6h_encode_image(src, o);
-    bc6h::force_portable_half(false);
+    cpu::disable_for_tests(0);
     EXPECT_EQ(portable, bc6h_encode_image(src, o)) << file;
   }
 }
@@ -561,8 +562,8 @@ TEST(Bc6h, FastBatchedBlocksAreTheBlocksEncodedAlone) {
   // scalar path forced, must give the same bytes.
   // The same holds for the AVX-512 path's sixteen-block batches, and with the AVX2 path forced
   // on a CPU that has AVX-512.
-  std::printf("AVX2 on this CPU: %s, AVX-512: %s\n", bc6h::cpu_has_avx2() ? "yes" : "no",
-              bc6h::cpu_has_avx512() ? "yes" : "no");
+  std::printf("AVX2 on this CPU: %s, AVX-512: %s\n", cpu::has(cpu::kAvx2) ? "yes" : "no",
+              cpu::has(cpu::kAvx512) ? "yes" : "no");
   constexpr int kBlocks = 203;  // not a multiple of 8: the last batch is partial
   std::mt19937 rng(13);
   std::uniform_real_distribution<float> u(0, 1);
@@ -592,9 +593,9 @@ TEST(Bc6h, FastBatchedBlocksAreTheBlocksEncodedAlone) {
   bc6h::floats_to_half(x.data(), h.data(), kBlocks * 48);
   std::vector<uint8_t> alone(kBlocks * 16), scalar(kBlocks * 16);
   for (int b = 0; b < kBlocks; ++b) bc6h::encode_blocks_fast(&h[b * 48], &x[b * 48], &valid[b * 16], 1, &alone[b * 16]);
-  bc6h::force_scalar(true);
+  cpu::disable_for_tests(cpu::kAllSimd);
   bc6h::encode_blocks_fast(h.data(), x.data(), valid.data(), kBlocks, scalar.data());
-  bc6h::force_scalar(false);
+  cpu::disable_for_tests(0);
   EXPECT_EQ(alone, scalar);
   for (int b = 0; b < kBlocks; ++b) {  // the one-block encoder itself
     uint8_t one[16];
@@ -603,7 +604,7 @@ TEST(Bc6h, FastBatchedBlocksAreTheBlocksEncodedAlone) {
   }
   for (bool avx2 : {false, true}) {
     SCOPED_TRACE(avx2 ? "AVX2 forced" : "widest batches");
-    bc6h::force_avx2(avx2);
+    cpu::disable_for_tests(avx2 ? cpu::kAboveAvx2 : 0);
     // The fits themselves (`default` starts from them and reads their error against a threshold):
     // batched fits equal the one-block fits field by field, the error bit for bit.
     std::vector<bc6h::OneRegionFit> fits(kBlocks);
@@ -637,7 +638,7 @@ TEST(Bc6h, FastBatchedBlocksAreTheBlocksEncodedAlone) {
     bc6h::encode_blocks_fast(hs.data(), xs.data(), vs.data(), kBlocks, shuffled.data());
     for (int i = 0; i < kBlocks; ++i)
       ASSERT_TRUE(std::equal(&shuffled[i * 16], &shuffled[i * 16] + 16, &alone[order[i] * 16])) << order[i];
-    bc6h::force_avx2(false);
+    cpu::disable_for_tests(0);
   }
   // And the blocks decode within the no-specks bound.
   for (int b = 0; b < kBlocks; ++b) {
@@ -714,9 +715,9 @@ TEST(Bc6h, FastTwoRegionLanesWriteTheScalarBytes) {
   bc6h::floats_to_half(x.data(), h.data(), kBlocks * 48);
   std::vector<uint8_t> wide(kBlocks * 16), scalar(kBlocks * 16);
   bc6h::encode_blocks_fast(h.data(), x.data(), valid.data(), kBlocks, wide.data());
-  bc6h::force_scalar(true);
+  cpu::disable_for_tests(cpu::kAllSimd);
   bc6h::encode_blocks_fast(h.data(), x.data(), valid.data(), kBlocks, scalar.data());
-  bc6h::force_scalar(false);
+  cpu::disable_for_tests(0);
   int two_region = 0;
   for (int b = 0; b < kBlocks; ++b) {
     ASSERT_TRUE(std::equal(&wide[b * 16], &wide[b * 16] + 16, &scalar[b * 16])) << b;
@@ -731,7 +732,7 @@ TEST(Bc6h, FastTwoRegionLanesWriteTheScalarBytes) {
       for (int t = 0; t < 16; ++t) ASSERT_LE(int(dec[t * 3 + c]), top + 1) << b;
     }
   }
-  std::printf("AVX-512: %s; two-region blocks: %d of %d\n", bc6h::cpu_has_avx512() ? "yes" : "no", two_region, kBlocks);
+  std::printf("AVX-512: %s; two-region blocks: %d of %d\n", cpu::has(cpu::kAvx512) ? "yes" : "no", two_region, kBlocks);
   EXPECT_GT(two_region, kBlocks / 3);
 }
 
@@ -749,9 +750,9 @@ TEST(Bc6h, FastTwoClustersGetTwoRegions) {
   bc6h::floats_to_half(x, h, 48);
   uint8_t out[16], scalar[16], one[16];
   bc6h::encode_blocks_fast(h, x, valid, 1, out);
-  bc6h::force_scalar(true);
+  cpu::disable_for_tests(cpu::kAllSimd);
   bc6h::encode_blocks_fast(h, x, valid, 1, scalar);
-  bc6h::force_scalar(false);
+  cpu::disable_for_tests(0);
   EXPECT_TRUE(std::equal(out, out + 16, scalar));
   const int code = out[0] & 0x1F;
   EXPECT_TRUE(code != 0x03 && code != 0x07 && code != 0x0B && code != 0x0F) << "mode bits " << code;

@@ -62,9 +62,10 @@ TEST(Cli, ConvertBuiltInSampleWritesPlanesManifestAndReport) {
     // Re-read by our own reader: the same planes, bit for bit, as the library produces in memory.
     ahd::BakerOptions bo;
     bo.width = bo.height = 48;
-    ahd::ConvertOptions defaults;  // the CLI's defaults are the public ones (<ahd/convert.h>)
+    ahd::PipelineOptions defaults;  // the CLI's defaults are the public ones (<ahd/convert.h>)
     defaults.fit.direction_fit = ahd::ConversionOptions{}.direction_fit;
-    const ahd::ConvertResult mem = ahd::convert(ahd::bake_analytic_scene(bo), ahd::load_profile("uncompressed"), defaults);
+    const ahd::PipelineResult mem =
+        ahd::run_conversion(ahd::bake_analytic_scene(bo), ahd::load_profile("uncompressed"), defaults);
     for (const auto& p : mem.planes) {
       const ahd::Texture t = ahd::read_container_file(ahd_test::plane_file((d / "s.json").string(), p.name));
       ASSERT_EQ(t.format, p.texture.format);
@@ -231,10 +232,10 @@ TEST(Cli, EveryProfileAndContainerRoundTrips) {
       ahd::BakerOptions bo;
       bo.width = bo.height = 24;
       const ahd::Profile p = ahd::load_profile(profile);
-      ahd::ConvertOptions opt;
+      ahd::PipelineOptions opt;
       opt.fit.direction_fit = ahd::ConversionOptions{}.direction_fit;
       if (p.ratio_rgb) opt.fit.ratio_form = ahd::RatioForm::Rgb;
-      const ahd::ConvertResult mem = ahd::convert(ahd::bake_analytic_scene(bo), p, opt);
+      const ahd::PipelineResult mem = ahd::run_conversion(ahd::bake_analytic_scene(bo), p, opt);
       for (const auto& plane : mem.planes) {
         const ahd::Texture t = ahd::read_container_file(ahd_test::plane_file((d / (profile + ".json")).string(), plane.name));
         ASSERT_EQ(t.format, plane.texture.format) << profile << " " << plane.name;

@@ -38,9 +38,9 @@ Agreement decode_vs_runtime(const WorldBake& b, const std::string& layout, const
                                        (out / "a.ktx2").string(), "--direction", "keep", "-q"});
   EXPECT_EQ(conv.exit_code, 0) << conv.output;
   const ShImage sh = b.read(layout);
-  ConvertOptions opt;
+  PipelineOptions opt;
   opt.measure = Measure::Off;
-  ConvertResult fr;
+  PipelineResult fr;
   const std::vector<FittedLevel> fit = fit_levels(sh, opt, &fr);
 
   Agreement a;

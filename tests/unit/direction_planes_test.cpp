@@ -101,10 +101,10 @@ TEST(DirectionPlanes, AutoKeepsDirectionalLightAndDropsWeakOne) {
   bo.width = bo.height = 32;
   const ShImage scene = bake_analytic_scene(bo);
   const Profile p = load_profile("uncompressed");
-  ConvertOptions opt;
+  PipelineOptions opt;
   opt.measure = Measure::Full;
   opt.measure_baselines = false;
-  ConvertResult strong = convert(scene, p, opt);
+  PipelineResult strong = run_conversion(scene, p, opt);
   EXPECT_TRUE(strong.directional) << strong.direction_reason;
   EXPECT_EQ(strong.planes.size(), 3u);
   EXPECT_GT(strong.ambient_error.relative.p99, 0.1);  // the sample's light is strongly directional
@@ -112,7 +112,7 @@ TEST(DirectionPlanes, AutoKeepsDirectionalLightAndDropsWeakOne) {
   ShImage weak = scene;  // the same light with its directional part 1000× weaker
   for (size_t i = 0; i < weak.texels(); ++i)
     for (int k = 3; k < weak.coeffs * 3; ++k) weak.texel(i)[k] *= 1e-3f;
-  const ConvertResult w = convert(weak, p, opt);
+  const PipelineResult w = run_conversion(weak, p, opt);
   EXPECT_FALSE(w.directional) << w.direction_reason;
   ASSERT_EQ(w.planes.size(), 1u);
   EXPECT_EQ(w.planes[0].name, "iz");
@@ -152,9 +152,9 @@ TEST(DirectionPlanes, EarlyExitDecisionEqualsTheMeasuredP99) {
     ShImage sh = scene;
     for (size_t i = 0; i < sh.texels(); ++i)
       for (int k = 3; k < sh.coeffs * 3; ++k) sh.texel(i)[k] *= scale;
-    ConvertOptions opt;
+    PipelineOptions opt;
     opt.measure = Measure::Off;
-    ConvertResult r;
+    PipelineResult r;
     const std::vector<FittedLevel> levels = fit_levels(sh, opt, &r);
     const std::vector<AhdLobe> lobes = ambient_only_lobes(levels[0]);
     const double p99 = measure_error(levels[0].sh, lobes, 1).relative.p99;

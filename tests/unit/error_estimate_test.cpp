@@ -36,18 +36,18 @@ ShImage plain_of(const ShImage& sh) {
 }
 
 // What a pc-bc conversion's files decode to at level 0, as lobes.
-std::vector<AhdLobe> final_lobes(const ShImage& sh, ConvertResult* r) {
-  ConvertOptions opt;
+std::vector<AhdLobe> final_lobes(const ShImage& sh, PipelineResult* r) {
+  PipelineOptions opt;
   opt.measure = Measure::Off;
-  *r = convert(sh, load_profile("pc-bc"), opt);
+  *r = run_conversion(sh, load_profile("pc-bc"), opt);
   return lobes_from_planes(decode_planes(r->planes, false, 0), opt.fit.dz_min);
 }
 
 std::vector<AhdLobe> fit_lobes(const ShImage& sh) {
-  ConvertOptions opt;
+  PipelineOptions opt;
   opt.measure = Measure::Off;
   opt.max_levels = 1;
-  ConvertResult r;
+  PipelineResult r;
   const auto levels = fit_levels(sh, opt, &r);
   std::vector<AhdLobe> lobes(sh.texels());
   for (size_t i = 0; i < lobes.size(); ++i)
@@ -139,7 +139,7 @@ TEST(ErrorEstimate, SmallImagesAreMeasuredExactly) {
 TEST(ErrorEstimate, AgreesWithFullMeasurementOnTheSampleScene) {
   const ShImage sh = scene(256);
   expect_estimate_agrees(sh, fit_lobes(sh), 1e-4);
-  ConvertResult r;
+  PipelineResult r;
   const auto lobes = final_lobes(sh, &r);
   expect_estimate_agrees(sh, lobes, 1e-4);
   // Thread count does not change it.
@@ -150,7 +150,7 @@ TEST(ErrorEstimate, AgreesWithFullMeasurementOnTheSampleScene) {
 
 TEST(ErrorEstimate, AgreesWithFullMeasurementOnAPlainLightmap) {
   const ShImage p = plain_of(scene(256, 4));
-  ConvertResult r;
+  PipelineResult r;
   const auto lobes = final_lobes(p, &r);
   EXPECT_FALSE(r.directional);
   // The plain map's error is BC6H's alone (≈ 1e-2 relative); near-zero figures get an absolute floor.
@@ -217,11 +217,11 @@ TEST(ErrorEstimate, ConversionEstimateAgreesWithFullMeasurement) {
   BakerOptions bo;
   bo.width = bo.height = 256;  // the built-in sample: 65 536 texels, far more than the 4096 sampled
   const ShImage sh = bake_analytic_scene(bo);
-  ConvertOptions est, full;
+  PipelineOptions est, full;
   est.measure = Measure::Estimate;
   full.measure = Measure::Full;
   const Profile p = load_profile("pc-bc");
-  const ConvertResult e = convert(sh, p, est), f = convert(sh, p, full);
+  const PipelineResult e = run_conversion(sh, p, est), f = run_conversion(sh, p, full);
   ASSERT_EQ(e.level_error.size(), f.level_error.size());
   EXPECT_LT(e.final_error.texels, f.final_error.texels);  // level 0 really was sampled
   EXPECT_EQ(e.final_error.population, f.final_error.texels);

@@ -19,12 +19,12 @@
 #include "fit/direction_guard.h"
 #include "fit/direction_refine.h"
 #include "fit/fit_image.h"
-#include "fit/fit_quality.h"
+#include "lab/fit_quality.h"
 #include "fit/refine_objective.h"
 #include "io/ahd_intermediate.h"
 #include "io/sh_exr.h"
 #include "sample/analytic_baker.h"
-#include "sample/hard_cases.h"
+#include "lab/hard_cases.h"
 
 using namespace ahd;
 

@@ -10,7 +10,7 @@
 #include "fit/ahd_fit.h"
 #include "fit/fit_image.h"
 #include "io/sh_exr.h"
-#include "sample/hard_cases.h"
+#include "lab/hard_cases.h"
 
 using namespace ahd;
 

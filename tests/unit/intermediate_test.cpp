@@ -23,9 +23,9 @@ static ShImage small_scene(int width, int height, int area_samples) {
 
 TEST(Intermediate, RoundTripIsExactAndTranscodeMatchesConvert) {
   const ShImage sh = small_scene(23, 17, 3);
-  ConvertOptions opt;
+  PipelineOptions opt;
   opt.threads = 2;
-  ConvertResult direct;
+  PipelineResult direct;
   const std::vector<FittedLevel> levels = fit_levels(sh, opt, &direct);
   const Profile p = load_profile("uncompressed");
   quantise_levels(levels, p, opt, &direct);
@@ -48,7 +48,7 @@ TEST(Intermediate, RoundTripIsExactAndTranscodeMatchesConvert) {
         ASSERT_EQ(back[l].ahd.texel(i).ratio[c], levels[l].ahd.texel(i).ratio[c]);
       }
   }
-  ConvertResult again;
+  PipelineResult again;
   quantise_levels(back, p, opt, &again);
   ASSERT_EQ(again.planes.size(), direct.planes.size());
   for (size_t k = 0; k < direct.planes.size(); ++k)
@@ -71,13 +71,13 @@ TEST(Intermediate, PlainL0ConversionWritesTheStoredChainsBytes) {
   ASSERT_GT(std::count(sh.coverage.begin(), sh.coverage.end(), 0), 0);  // dilated texels are in the blocks
   for (const char* profile : {"pc-bc", "uncompressed"}) {
     for (DirectionPlanes dir : {DirectionPlanes::Auto, DirectionPlanes::Keep}) {
-      ConvertOptions opt;
+      PipelineOptions opt;
       opt.threads = 2;
       opt.direction = dir;
       const Profile p = load_profile(profile);
-      ConvertResult stored;
+      PipelineResult stored;
       quantise_levels(fit_levels(sh, opt, &stored), p, opt, &stored);
-      const ConvertResult streamed = convert(sh, p, opt);
+      const PipelineResult streamed = run_conversion(sh, p, opt);
       ASSERT_EQ(streamed.planes.size(), stored.planes.size()) << profile;
       for (size_t k = 0; k < stored.planes.size(); ++k)
         for (size_t l = 0; l < stored.planes[k].texture.levels.size(); ++l)

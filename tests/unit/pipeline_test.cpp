@@ -77,10 +77,10 @@ TEST(Pipeline, BakerHandlesTinyAndOddSizes) {
 
 TEST(Pipeline, UncompressedProfileClosedLoopBeatsOpenLoop) {
   const ShImage sh = scene(64, 9);
-  ConvertOptions opt;
+  PipelineOptions opt;
   opt.measure = Measure::Full;
   opt.threads = 2;
-  const ConvertResult r = convert(sh, load_profile("uncompressed"), opt);
+  const PipelineResult r = run_conversion(sh, load_profile("uncompressed"), opt);
   ASSERT_EQ(r.planes.size(), 3u);
   EXPECT_EQ(r.planes[0].texture.format, PixelFormat::RGBA16_SFLOAT);
   EXPECT_EQ(r.planes[1].texture.format, PixelFormat::RG8_UNORM);
@@ -97,19 +97,20 @@ TEST(Pipeline, UncompressedProfileClosedLoopBeatsOpenLoop) {
 
 TEST(Pipeline, ConvertIsDeterministicAcrossThreadCounts) {
   const ShImage sh = scene(40, 9);
-  ConvertOptions a;
+  PipelineOptions a;
   a.threads = 1;
-  ConvertOptions b = a;
+  PipelineOptions b = a;
   b.threads = 2;
-  const ConvertResult x = convert(sh, load_profile("uncompressed"), a), y = convert(sh, load_profile("uncompressed"), b);
+  const PipelineResult x = run_conversion(sh, load_profile("uncompressed"), a);
+  const PipelineResult y = run_conversion(sh, load_profile("uncompressed"), b);
   ASSERT_EQ(x.planes.size(), y.planes.size());
   for (size_t p = 0; p < x.planes.size(); ++p) EXPECT_EQ(x.planes[p].texture.levels[0].data, y.planes[p].texture.levels[0].data);
 }
 
 TEST(Pipeline, DecodedPlanesReproduceIzAtTexelCentres) {
   const ShImage sh = scene(32, 9);
-  ConvertOptions opt;
-  const ConvertResult r = convert(sh, load_profile("uncompressed"), opt);
+  PipelineOptions opt;
+  const PipelineResult r = run_conversion(sh, load_profile("uncompressed"), opt);
   const DecodedPlanes p = decode_planes(r.planes, false);
   for (size_t i = 0; i < sh.texels(); ++i) {
     const double z[3] = {0, 0, 1};

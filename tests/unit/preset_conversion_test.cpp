@@ -37,18 +37,18 @@ ShImage canonical_world(const WorldScene& w) {
   return sh;
 }
 
-ConvertResult convert_planes(const ShImage& sh) {
-  ConvertOptions opt;
+PipelineResult convert_planes(const ShImage& sh) {
+  PipelineOptions opt;
   opt.measure = Measure::Off;
   opt.direction = DirectionPlanes::Keep;
-  return convert(sh, load_profile("uncompressed"), opt);
+  return run_conversion(sh, load_profile("uncompressed"), opt);
 }
 
 // The fitted AHD of level 0 before quantisation, as plane values.
 DecodedPlanes fitted_planes(const ShImage& sh) {
-  ConvertOptions opt;
+  PipelineOptions opt;
   opt.measure = Measure::Off;
-  ConvertResult r;
+  PipelineResult r;
   const auto lv = fit_levels(sh, opt, &r);
   DecodedPlanes p;
   p.width = sh.width, p.height = sh.height;
@@ -96,7 +96,7 @@ double worst_difference(const WorldScene& w, const ShImage& preset_sh, const ShI
 }
 
 // Largest difference, in codes, between the 8-bit planes (dir, ratio) of two conversions.
-int worst_code_step(const ConvertResult& a, const ConvertResult& b, const std::vector<uint8_t>& coverage) {
+int worst_code_step(const PipelineResult& a, const PipelineResult& b, const std::vector<uint8_t>& coverage) {
   int worst = 0;
   for (size_t p = 1; p < a.planes.size(); ++p) {
     const std::vector<uint8_t>& da = a.planes[p].texture.levels[0].data;
@@ -154,9 +154,9 @@ TEST(PresetConversion, ExactStoragePresetsConvertBitForBit) {
     std::vector<std::pair<std::string, std::string>> presets = {{"exr-layers-" + level, "layers"},
                                                                  {"exr-parts-" + level, "parts"}};
     if (coeffs == 9) presets.push_back({"per-coefficient", "pc"});  // its preset names all nine files
-    const ConvertResult ref = convert_planes(src);
+    const PipelineResult ref = convert_planes(src);
     for (const auto& [preset, base] : presets) {
-      const ConvertResult got = convert_planes(read_layout(load_layout(preset), (d / base).string(), ""));
+      const PipelineResult got = convert_planes(read_layout(load_layout(preset), (d / base).string(), ""));
       ASSERT_EQ(got.planes.size(), ref.planes.size()) << preset;
       for (size_t p = 0; p < ref.planes.size(); ++p)
         EXPECT_TRUE(got.planes[p].texture.levels[0].data == ref.planes[p].texture.levels[0].data)
@@ -171,8 +171,8 @@ TEST(PresetConversion, UnityAndPlainKeepTheIrradianceAlongTheNormal) {
   // must convert exactly is I_z, the irradiance along the surface normal.
   const WorldBake b("pconv_unity");
   write_unity_directional(b.w, b.base());
-  const ConvertResult u = convert_planes(b.read("unity-directional"));
-  const ConvertResult ref = convert_planes(canonical_world(b.w));
+  const PipelineResult u = convert_planes(b.read("unity-directional"));
+  const PipelineResult ref = convert_planes(canonical_world(b.w));
   const ImageF iu = decode_plane(u.planes[0].texture.format, u.planes[0].texture.levels[0]);
   const ImageF ir = decode_plane(ref.planes[0].texture.format, ref.planes[0].texture.levels[0]);
   double worst = 0;
@@ -197,10 +197,11 @@ TEST(PresetConversion, UnityAndPlainKeepTheIrradianceAlongTheNormal) {
       for (int k = 1; k < 4; ++k) ambient.texel(i)[k * 3 + c] = 0;
     }
   write_image(b.file("_plain.exr"), plain);
-  ConvertOptions opt;
+  PipelineOptions opt;
   opt.measure = Measure::Off;
-  const ConvertResult p = convert(read_layout(load_layout("plain"), b.file("_plain"), ""), load_profile("uncompressed"), opt);
-  const ConvertResult pr = convert_planes(ambient);
+  const PipelineResult p =
+      run_conversion(read_layout(load_layout("plain"), b.file("_plain"), ""), load_profile("uncompressed"), opt);
+  const PipelineResult pr = convert_planes(ambient);
   ASSERT_EQ(p.planes.size(), 1u);
   const ImageF ip = decode_plane(p.planes[0].texture.format, p.planes[0].texture.levels[0]);
   const ImageF ipr = decode_plane(pr.planes[0].texture.format, pr.planes[0].texture.levels[0]);

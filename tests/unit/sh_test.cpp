@@ -5,7 +5,7 @@
 #include <random>
 
 #include "sh/sh.h"
-#include "sample/hard_cases.h"
+#include "lab/hard_cases.h"
 
 using namespace ahd;
 

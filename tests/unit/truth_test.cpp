@@ -9,9 +9,9 @@
 
 #include "api/options.h"
 #include "fit/ahd_decode.h"
-#include "fit/fit_quality.h"
-#include "fit/truth_reference.h"
-#include "io/truth_file.h"
+#include "lab/fit_quality.h"
+#include "lab/truth_reference.h"
+#include "lab/truth_file.h"
 #include "pipeline/convert.h"
 #include "pipeline/plane_decode.h"
 #include "sh/sh_image.h"
@@ -63,11 +63,11 @@ TEST(Truth, DefaultConversionIsWithinFivePercentOfTheSearchedDirection) {
     const AhdImage searched = searched_direction_fit(sh, defaults, 300);
     const double reference = truth_errors(t, fit_eval(searched)).held_out;
 
-    ConvertOptions opt = defaults_all.convert;
+    PipelineOptions opt = defaults_all.convert;
     opt.max_levels = 1;
     opt.direction = DirectionPlanes::Keep;
     const Profile& prof = defaults_all.profile;
-    const ConvertResult r = convert(sh, prof, opt);
+    const PipelineResult r = run_conversion(sh, prof, opt);
     const DecodedPlanes p = decode_planes(r.planes, prof.ratio_rgb, 0);
     const double ours = truth_errors(t, [&p](size_t i, const double n[3], double out[3]) {
                           decode_irradiance(&p.iz[i * 3], &p.d[i * 3], &p.ratio[i * 3], n, FitOptions{}.dz_min, out);

@@ -24,11 +24,11 @@
 #include <functional>
 
 #include "cli/commands.h"
-#include "cli/peers_bc6h.h"
-#include "cli/svg_plot.h"
+#include "lab/peers_bc6h.h"
+#include "cli/lab/svg_plot.h"
 #include "codecs/bc4.h"
 #include "codecs/bc5.h"
-#include "codecs/bc6h_codec.h"
+#include "codecs/bc6h/bc6h_codec.h"
 #include "core/error.h"
 #include "core/parallel.h"
 #include "io/image_io.h"

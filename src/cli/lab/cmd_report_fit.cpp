@@ -12,7 +12,7 @@
 #include "io/profile_file.h"
 #include "cli/commands.h"
 #include "fit/direction_refine.h"
-#include "fit/fit_quality.h"
+#include "lab/fit_quality.h"
 #include "pipeline/convert.h"
 #include "sample/analytic_baker.h"
 
@@ -29,12 +29,12 @@ double thread_seconds() {
 // The planes a conversion wrote (level 0, as the reference decoder reads them) as an AhdImage.
 AhdImage quantised_planes(const ShImage& sh, const FitOptions& fit) {
   const bool rgb = fit.ratio_form == RatioForm::Rgb;
-  ConvertOptions opt;
+  PipelineOptions opt;
   opt.fit = fit;
   opt.measure = Measure::Off;
   opt.max_levels = 1;
   opt.direction = DirectionPlanes::Keep;
-  const ConvertResult r = convert(sh, load_profile(rgb ? "uncompressed-rgb" : "uncompressed"), opt);
+  const PipelineResult r = run_conversion(sh, load_profile(rgb ? "uncompressed-rgb" : "uncompressed"), opt);
   const DecodedPlanes p = decode_planes(r.planes, rgb, 0);
   AhdImage a = make_ahd_image(sh.width, sh.height, false);  // the decoded ratios, three a texel
   a.coverage = sh.coverage;

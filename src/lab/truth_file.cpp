@@ -1,4 +1,4 @@
-#include "io/truth_file.h"
+#include "lab/truth_file.h"
 
 #include <Imath/half.h>
 

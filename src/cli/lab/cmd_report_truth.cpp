@@ -10,12 +10,12 @@
 #include <vector>
 
 #include "cli/commands.h"
-#include "fit/truth_reference.h"
-#include "io/truth_file.h"
+#include "lab/truth_reference.h"
+#include "lab/truth_file.h"
 #include "fit/ahd_decode.h"
 #include "fit/ahd_fit.h"
 #include "fit/fit_image.h"
-#include "fit/fit_quality.h"
+#include "lab/fit_quality.h"
 #include "io/profile_file.h"
 #include "pipeline/convert.h"
 #include "sh/sh_image.h"
@@ -57,7 +57,7 @@ Eval planes_eval(const DecodedPlanes& p, double dz_min) {
   };
 }
 
-double level0_bytes_per_texel(const ConvertResult& r) {
+double level0_bytes_per_texel(const PipelineResult& r) {
   double bytes = 0;
   for (const Plane& p : r.planes) bytes += double(p.texture.levels[0].data.size());
   return bytes / double(r.planes[0].texture.levels[0].width * r.planes[0].texture.levels[0].height);
@@ -107,13 +107,13 @@ void report_truth(const std::vector<std::string>& dirs, const std::vector<std::s
     for (const std::string& name : profiles) {
       for (DirectionFit df : {DirectionFit::Linear, DirectionFit::Refined}) {
         const Profile prof = load_profile(name);
-        ConvertOptions opt;
+        PipelineOptions opt;
         opt.fit.direction_fit = df;
         opt.fit.pair_guard_deg = guard;
         opt.fit.ratio_form = prof.ratio_rgb ? RatioForm::Rgb : RatioForm::Luminance;
         opt.max_levels = 1;
         opt.direction = DirectionPlanes::Keep;
-        const ConvertResult r = convert(l2, prof, opt);
+        const PipelineResult r = run_conversion(l2, prof, opt);
         const DecodedPlanes p = decode_planes(r.planes, prof.ratio_rgb, 0);
         rows.push_back({"ahdpack " + name + ", " + (df == DirectionFit::Linear ? "linear d" : "refined d"),
                         level0_bytes_per_texel(r), truth_errors(t, planes_eval(p, opt.fit.dz_min))});

@@ -1,4 +1,4 @@
-#include "fit/truth_reference.h"
+#include "lab/truth_reference.h"
 
 #include <algorithm>
 #include <array>

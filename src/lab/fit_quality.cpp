@@ -1,4 +1,4 @@
-#include "fit/fit_quality.h"
+#include "lab/fit_quality.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,7 @@
 #include "fit/direction_guard.h"
 #include "fit/direction_refine.h"
 #include "fit/hemisphere_error.h"
-#include "sample/hard_cases.h"
+#include "lab/hard_cases.h"
 
 namespace ahd {
 namespace {

@@ -8,14 +8,14 @@
 
 #include "cli/commands.h"
 #include "cli/report.h"
-#include "cli/svg_plot.h"
+#include "cli/lab/svg_plot.h"
 #include "io/image_io.h"
 #include "io/profile_file.h"
 #include "fit/direction_refine.h"
 #include "io/sh_exr.h"
 #include "pipeline/convert.h"
 #include "sample/analytic_baker.h"
-#include "sample/hard_cases.h"
+#include "lab/hard_cases.h"
 
 namespace ahd::cli {
 
@@ -70,10 +70,10 @@ void report_profiles(int size, const std::string& plot_path) {
     };
     bpt = bytes(p.iz) + (p.packed_dir_ratio ? bytes(p.dirratio) : bytes(p.dir) + bytes(p.ratio));
     for (int s = 0; s < 2; ++s) {
-      ConvertOptions opt;
+      PipelineOptions opt;
       opt.measure = Measure::Full;
       if (p.ratio_rgb) opt.fit.ratio_form = RatioForm::Rgb;
-      const ConvertResult r = convert(sets[s], p, opt);
+      const PipelineResult r = run_conversion(sets[s], p, opt);
       for (int loop = 0; loop < 2; ++loop) {
         const ErrorReport& e = loop ? r.final_error : r.open_loop_error;
         std::printf("| %s | %.2f | %s | %s | %.2e | %.2e | %.2e | %.2e | %.2e | %.2e | %.2e | %.2e |\n", name.c_str(), bpt,
@@ -112,12 +112,12 @@ void report_direction(int size, const std::string& profile_name) {
               kDefaultAmbientThreshold);
   std::printf("|---|---|---|---|---|---|\n");
   for (double s : {0.0, 0.001, 0.003, 0.01, 0.03, 0.1, 0.3, 1.0}) {
-    ConvertOptions opt;
+    PipelineOptions opt;
     opt.measure = Measure::Full;
     opt.measure_baselines = false;
     opt.direction = DirectionPlanes::Keep;
     const ShImage sh = scaled_directional_part(scene, s);
-    ConvertResult r;
+    PipelineResult r;
     const std::vector<FittedLevel> levels = fit_levels(sh, opt, &r);
     quantise_levels(levels, p, opt, &r);
     const ErrorReport a = ambient_only_error(levels[0], 0);
@@ -148,11 +148,11 @@ void add_report_command(CLI::App& app) {
     for (HardCase& hc : hard_cases()) {
       ReadStats rs;
       sanitise_sh(hc.sh, false, &rs);
-      ConvertOptions opt;
+      PipelineOptions opt;
       opt.measure = Measure::Full;
       opt.threads = 1;
       opt.fit.direction_fit = fit.direction_fit;
-      const ConvertResult res = convert(hc.sh, p, opt);
+      const PipelineResult res = run_conversion(hc.sh, p, opt);
       std::string rules;
       auto add = [&](const char* what, size_t n) {
         if (n) rules += (rules.empty() ? "" : ", ") + std::string(what) + " " + std::to_string(n);
@@ -184,11 +184,11 @@ void add_report_command(CLI::App& app) {
       std::printf("  %-6s %-9s %-27s %-27s %-18s %s\n", "eps", "Cd<=Iz/e", "fit rel (mean p99 max)",
                   "quantised rel", "quantised log2", "tilted");
       for (double eps : {0.01, 0.02, 0.05, 0.1, 0.2, 0.3}) {
-        ConvertOptions opt;
+        PipelineOptions opt;
         opt.measure = Measure::Full;
         opt.fit.dz_min = eps;
         opt.measure_baselines = false;
-        const ConvertResult res = convert(sets[s], p, opt);
+        const PipelineResult res = run_conversion(sets[s], p, opt);
         std::printf("  %-6.2f %-9.0f %.2e %.2e %.2e   %.2e %.2e %.2e   %.2e %.2e    %zu\n", eps, 1.0 / eps,
                     res.fit_error.relative.mean, res.fit_error.relative.p99, res.fit_error.relative.max,
                     res.final_error.relative.mean, res.final_error.relative.p99, res.final_error.relative.max,

@@ -34,10 +34,12 @@
 #include <limits>
 #include <vector>
 
-#include "codecs/bc6h_codec.h"
-#include "codecs/bc6h_fast.h"
-#include "codecs/bc6h_search_avx2.h"
-#include "codecs/bc6h_tables.h"
+#include "codecs/bc6h/bc6h_codec.h"
+#include "codecs/bc6h/bc6h_fast.h"
+#include "codecs/bc6h/bc6h_search_avx2.h"
+#include "codecs/bc6h/bc6h_search_avx512.h"
+#include "codecs/bc6h/bc6h_tables.h"
+#include "core/cpu.h"
 #include "core/parallel.h"
 
 #ifdef __SSE2__
@@ -278,14 +280,12 @@ double evaluate(const Block& b, Candidate& cand) {
   // The index step: AVX2 when the CPU has it (eight entries per vector), else SSE2; the same picks.
   const auto pick = [&] {
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-    static const bool avx2 = cpu_has_avx2(), avx512 = cpu_has_avx512();
-    if (avx512 && !search_sse2_forced() && !avx2_forced())
-      return pick_indices_avx512(b.Lp, b.valid, pal, mask, n, kOff, cand.idx);
-    if (avx2 && !search_sse2_forced()) return pick_indices_avx2(b.Lp, b.valid, pal, mask, n, kOff, cand.idx);
+    if (cpu::has(cpu::kAvx512)) return pick_indices_avx512(b.Lp, b.valid, pal, mask, n, kOff, cand.idx);
+    if (cpu::has(cpu::kAvx2)) return pick_indices_avx2(b.Lp, b.valid, pal, mask, n, kOff, cand.idx);
 #endif
     return pick_indices_sse2(b, pal, mask, n, cand.idx);
   };
-  if (!b.is_signed && !scalar_forced()) {  // UF16: the palettes in SSE2 lanes, the same values
+  if (!b.is_signed && cpu::has(cpu::kSse2)) {  // UF16: the palettes in SSE2 lanes, the same values
     palettes_uf16_sse2(b, cand, pal);
     return cand.err = pick();
   }
@@ -308,7 +308,7 @@ double evaluate(const Block& b, Candidate& cand) {
   }
   double total = 0;
 #ifdef __SSE2__
-  if (!scalar_forced()) return cand.err = pick();
+  if (cpu::has(cpu::kSse2)) return cand.err = pick();
 #endif
   for (int t = 0; t < 16; ++t) {
     const int r = (mask >> t) & 1;
@@ -426,8 +426,7 @@ void axis_endpoints(const Block& b, uint16_t mask, int r, double lo[3], double h
 void axis_endpoints_pair(const Block& b, uint16_t mask, double t[2][2][3]) {
   double mean[2][3] = {}, cov[2][3][3] = {};
 #if defined(__SSE2__) && defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-  static const bool avx2 = cpu_has_avx2();
-  const bool wide = avx2 && !scalar_forced() && !search_sse2_forced();
+  const bool wide = cpu::has(cpu::kSse2 | cpu::kAvx2);
 #else
   const bool wide = false;
 #endif
@@ -746,10 +745,9 @@ bool polish_steps(const Block& b, Candidate& best, int rounds, double* gain = nu
   // The groups' weights and regions as float lanes.
   alignas(32) float fwa[16], fwb[16], fr[16];
   for (int i = 0; i < ng8; ++i) fwa[i] = float(gwa[i]), fwb[i] = float(gwb[i]), fr[i] = float(greg[i] / 2);
-  [[maybe_unused]] const bool simd = !scalar_forced();
+  [[maybe_unused]] const bool simd = cpu::has(cpu::kSse2);
 #if defined(__SSE2__) && defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-  static const bool has_avx2 = cpu_has_avx2();
-  const bool wide = simd && has_avx2 && !search_sse2_forced();
+  const bool wide = cpu::has(cpu::kSse2 | cpu::kAvx2);
 #else
   const bool wide = false;
 #endif
@@ -1040,7 +1038,7 @@ void try_two_regions(const Block& b, int n_parts, int max_exact, int refine_top,
       }
     };
 #ifdef __SSE2__
-    if (!scalar_forced()) {
+    if (cpu::has(cpu::kSse2)) {
       // The same sums as below (region 1 from the four rows in row order, region 0 as all minus
       // region 1), each component put straight into its lanes (region 0, region 1).
       const double* all_c[10] = {&all.w, &all.s[0], &all.s[1], &all.s[2], &all.ss[0], &all.ss[1], &all.ss[2], &all.ss[3], &all.ss[4], &all.ss[5]};
@@ -1049,8 +1047,7 @@ void try_two_regions(const Block& b, int n_parts, int max_exact, int refine_top,
       // Lanes {region 0, region 1} of partition p at m[p / 2][k][2·(p & 1)]: all the moments
       // first, then the residuals in one loop (two partitions per AVX2 step, one per SSE2 call),
       // whose steps are independent, so their divisions overlap.
-      static const bool avx2 = cpu_has_avx2();
-      const bool wide = avx2 && !search_sse2_forced();
+      const bool wide = cpu::has(cpu::kAvx2);
       alignas(32) double m[16][10][4];
       if (wide) {  // the same sums four components per vector (partition_moments_avx2)
         alignas(32) double pt[16][12];

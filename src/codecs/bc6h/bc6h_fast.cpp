@@ -21,81 +21,33 @@
 // on AVX-512 CPUs and eight on AVX2 ones (bc6h_fast_lanes.inc, the same operations lane by lane).
 // In `fast`, blocks whose one-region error is high then get a two-region candidate
 // (bc6h_fast_two_region.cpp), kept when it is better. Bytes depend only on the block.
-#include "codecs/bc6h_fast.h"
+#include "codecs/bc6h/bc6h_fast.h"
 
 #include <Imath/half.h>
 
 #include <algorithm>
-#include <atomic>
 #include <bit>
 #include <cmath>
 #include <cstring>
 #include <limits>
 
-#if defined(__x86_64__) || defined(__i386__)
-#include <cpuid.h>
-#include <immintrin.h>
-#define AHD_HAVE_X86 1
+#include "core/cpu.h"
+
+#ifdef __SSE2__
+#include <emmintrin.h>
 #endif
 
 namespace ahd::bc6h {
 
 // ---- half conversion -------------------------------------------------------------------------
 
-namespace {
-
-std::atomic<bool> g_force_portable{false};
-std::atomic<bool> g_force_scalar{false};
-std::atomic<bool> g_force_avx2{false};
-
-void to_half_portable(const float* in, uint16_t* out, int n) {
+void floats_to_half_portable(const float* in, uint16_t* out, int n) {
   for (int i = 0; i < n; ++i) out[i] = Imath::half(in[i]).bits();
 }
 
-#ifdef AHD_HAVE_X86
-__attribute__((target("avx,f16c"))) void to_half_f16c(const float* in, uint16_t* out, int n) {
-  int i = 0;
-  for (; i + 8 <= n; i += 8) {
-    const __m128i h = _mm256_cvtps_ph(_mm256_loadu_ps(in + i), _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
-    _mm_storeu_si128(reinterpret_cast<__m128i*>(out + i), h);
-  }
-  if (i < n) to_half_portable(in + i, out + i, n - i);
-}
-#endif
-
-// CPUID leaf 1 (ECX: OSXSAVE bit 27, AVX 28, F16C 29) and XCR0 (the OS saves the YMM state):
-// read directly, since clang 14's __builtin_cpu_supports does not know "f16c".
-bool detect_f16c() {
-#ifdef AHD_HAVE_X86
-  unsigned a = 0, b = 0, c = 0, d = 0;
-  if (!__get_cpuid(1, &a, &b, &c, &d)) return false;
-  const unsigned need = (1u << 27) | (1u << 28) | (1u << 29);
-  if ((c & need) != need) return false;
-  unsigned lo = 0, hi = 0;
-  __asm__("xgetbv" : "=a"(lo), "=d"(hi) : "c"(0));
-  return (lo & 6u) == 6u;  // XMM and YMM state enabled
-#else
-  return false;
-#endif
-}
-
-}  // namespace
-
-bool cpu_has_f16c() {
-  static const bool has = detect_f16c();
-  return has;
-}
-
-void force_portable_half(bool portable) { g_force_portable.store(portable, std::memory_order_relaxed); }
-
-void force_scalar(bool scalar) { g_force_scalar.store(scalar, std::memory_order_relaxed); }
-bool scalar_forced() { return g_force_scalar.load(std::memory_order_relaxed); }
-
 void floats_to_half(const float* in, uint16_t* out, int n) {
-#ifdef AHD_HAVE_X86
-  if (cpu_has_f16c() && !g_force_portable.load(std::memory_order_relaxed)) return to_half_f16c(in, out, n);
-#endif
-  to_half_portable(in, out, n);
+  if (cpu::has(cpu::kF16c)) return floats_to_half_f16c(in, out, n);
+  floats_to_half_portable(in, out, n);
 }
 
 // ---- the encoder -----------------------------------------------------------------------------
@@ -106,7 +58,7 @@ namespace {
 inline float sum16(const float v[16]) {
   alignas(16) float l[4] = {0, 0, 0, 0};
 #ifdef __SSE2__
-  if (!g_force_scalar.load(std::memory_order_relaxed)) {
+  if (cpu::has(cpu::kSse2)) {
     __m128 acc = _mm_setzero_ps();
     for (int t = 0; t < 16; t += 4) acc = _mm_add_ps(acc, _mm_loadu_ps(v + t));
     _mm_store_ps(l, acc);
@@ -291,7 +243,7 @@ float assign(const Fit& f, const Endpoints& ep, uint8_t idx[16]) {
   float P[3][16];
   int pos[16];
 #ifdef __SSE2__
-  if (!g_force_scalar.load(std::memory_order_relaxed)) {
+  if (cpu::has(cpu::kSse2)) {
     palette_sse2(ep, P);
     project_sse2(f, P, pos);
     return pick_sse2(f, P, pos, idx);
@@ -359,7 +311,7 @@ bool refit(const Fit& f, const uint8_t idx[16], float a[3], float b[3]) {
     // Four partial sums (lanes t mod 4): the same sums with SSE2 or without.
     alignas(16) float p00[4] = {}, p01[4] = {}, p11[4] = {}, q0[4] = {}, q1[4] = {};
 #ifdef __SSE2__
-    if (!g_force_scalar.load(std::memory_order_relaxed)) {
+    if (cpu::has(cpu::kSse2)) {
       const __m128 one = _mm_set1_ps(1.0f);
       __m128 s00 = _mm_setzero_ps(), s01 = s00, s11 = s00, r0 = s00, r1 = s00;
       for (int t = 0; t < 16; t += 4) {
@@ -561,12 +513,9 @@ static void fit_batch(const uint16_t* h, const float* x, const uint8_t* valid, i
   fit(hp, xp, vp, op);
 }
 
-void force_avx2(bool avx2) { g_force_avx2.store(avx2, std::memory_order_relaxed); }
-bool avx2_forced() { return g_force_avx2.load(std::memory_order_relaxed); }
-
 void fit_blocks_fast(const uint16_t* h, const float* x, const uint8_t* valid, int n, OneRegionFit* fits) {
   int i = 0;
-  if (!scalar_forced() && !g_force_avx2.load(std::memory_order_relaxed) && cpu_has_avx512()) {
+  if (cpu::has(cpu::kAvx512)) {
     // Up to kMaxBatches batches of sixteen at a time (their second passes gathered); a last
     // batch of at most eight blocks takes the AVX2 path (half the lanes' work; same fits).
     for (; n - i > 8; i += 16 * kMaxBatches) {
@@ -576,7 +525,7 @@ void fit_blocks_fast(const uint16_t* h, const float* x, const uint8_t* valid, in
       });
     }
   }
-  if (!scalar_forced() && cpu_has_avx2()) {
+  if (cpu::has(cpu::kAvx2)) {
     for (; i < n; i += 8) fit_batch<8>(h, x, valid, n, i, fits, fit_blocks_fast_x8);
     return;
   }
@@ -588,7 +537,7 @@ void encode_blocks_fast(const uint16_t* h, const float* x, const uint8_t* valid,
     const int m = std::min(16 * kMaxBatches, n - i);
     float err[16 * kMaxBatches];
     int j = 0;
-    if (!scalar_forced() && !g_force_avx2.load(std::memory_order_relaxed) && cpu_has_avx512() && m > 8) {
+    if (cpu::has(cpu::kAvx512) && m > 8) {
       // The AVX-512 batches pack in their lanes (the blocks pack_one_region writes); as in
       // fit_blocks_fast, at most eight blocks take the path below instead.
       const int full = m;

@@ -8,11 +8,10 @@
 //
 // Built for plain x86-64: only the functions here are compiled for AVX2 (target attribute, no
 // per-file flags, so no inline function of a shared header is ever compiled with AVX2), and
-// bc6h_fast.cpp calls them only when the CPU reports AVX2 (cpu_has_avx2).
-#include "codecs/bc6h_fast.h"
+// bc6h_fast.cpp calls them only when the CPU reports AVX2 (cpu::has(cpu::kAvx2)).
+#include "codecs/bc6h/bc6h_fast.h"
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-#include <cpuid.h>
 #include <immintrin.h>
 
 #include <cstring>
@@ -83,9 +82,9 @@ LANE_INLINE F loadf(const float* p) { return _mm256_load_ps(p); }
 LANE_INLINE void storef(float* p, F v) { _mm256_store_ps(p, v); }
 LANE_INLINE void storei(int* p, I v) { _mm256_store_si256(reinterpret_cast<I*>(p), v); }
 
-#include "codecs/bc6h_fast_lanes.inc"
+#include "codecs/bc6h/bc6h_fast_lanes.inc"
 
-#include "codecs/bc6h_transpose8.inc"
+#include "codecs/bc6h/bc6h_transpose8.inc"
 
 }  // namespace
 
@@ -121,28 +120,12 @@ AVX2_FN void fit_blocks_fast_x8(const uint16_t* const h[8], const float* const x
   fit_lanes(B, out);
 }
 
-bool cpu_has_avx2() {
-  static const bool has = [] {
-    unsigned a = 0, b = 0, c = 0, d = 0;
-    if (!__get_cpuid(1, &a, &b, &c, &d)) return false;
-    if (!(c & (1u << 27)) || !(c & (1u << 28))) return false;  // OSXSAVE, AVX
-    unsigned lo = 0, hi = 0;
-    __asm__("xgetbv" : "=a"(lo), "=d"(hi) : "c"(0));
-    if ((lo & 6u) != 6u) return false;  // XMM and YMM state enabled by the OS
-    if (__get_cpuid_max(0, nullptr) < 7) return false;
-    __cpuid_count(7, 0, a, b, c, d);
-    return (b & (1u << 5)) != 0;  // AVX2
-  }();
-  return has;
-}
-
 }  // namespace ahd::bc6h
 
 #else
 
 namespace ahd::bc6h {
 void fit_blocks_fast_x8(const uint16_t* const*, const float* const*, const uint8_t* const*, OneRegionFit* const*) {}
-bool cpu_has_avx2() { return false; }
 }  // namespace ahd::bc6h
 
 #endif

@@ -11,19 +11,14 @@ namespace ahd::bc6h {
 // (float products added in double), or 1e300 when some texel's nearest entry is at or above
 // `off` (no entry inside the block's range; idx is then written up to that texel). pal[r][c][k]:
 // entry k of region r, channel c, for k < n (n = 8 or 16). The same results as the SSE2 and
-// scalar loops of evaluate. Call only when cpu_has_avx2().
+// scalar loops of evaluate. Call only when cpu::has(cpu::kAvx2).
 double pick_indices_avx2(const float target[3][16], const float valid[16], const float pal[2][3][16], uint16_t mask,
                          int n, float off, uint8_t idx[16]);
-// The same, sixteen texels per AVX-512 vector (bc6h_search_avx512.cpp): the same indices and
-// error. Call only when cpu_has_avx512().
-double pick_indices_avx512(const float target[3][16], const float valid[16], const float pal[2][3][16], uint16_t mask,
-                           int n, float off, uint8_t idx[16]);
-
 // The partition ranking's residual (bc6h_encoder.cpp's pair_residual_sse2) for `pairs` pairs of
 // partitions, two per step: m[j][k] = {region 0 of partition 2j, region 1 of 2j, region 0 of
 // 2j + 1, region 1 of 2j + 1}, k over w, s[0..2], ss[0..5]; out[p] = the two residuals of
 // partition p added. The same operations in the same order per lane, so the same doubles. Call
-// only when cpu_has_avx2().
+// only when cpu::has(cpu::kAvx2).
 void pair_residuals_avx2(const double m[][10][4], int pairs, double* out);
 
 // The partition ranking's moments (bc6h_encoder.cpp's try_two_regions) for all 32 partitions, in
@@ -31,7 +26,7 @@ void pair_residuals_avx2(const double m[][10][4], int pairs, double* out);
 // zeros), all = their sum. Region 1 of partition p is the sum of its four rows' subsets (each
 // row's subset sums built as the encoder builds them: 0 + the texels in ascending order), added
 // in row order; region 0 is all minus region 1. The same additions per component, so the same
-// doubles as the scalar loops. Call only when cpu_has_avx2().
+// doubles as the scalar loops. Call only when cpu::has(cpu::kAvx2).
 void partition_moments_avx2(const double pt[16][12], const double all[10], const uint16_t partitions[32],
                             double m[16][10][4]);
 
@@ -39,7 +34,7 @@ void partition_moments_avx2(const double pt[16][12], const double all[10], const
 // axis_endpoints_pair): region r = bit t of mask; mean[r] = Σ tw·q / Σ tw (Σ tw ≤ 0 taken as 1),
 // cov[r][i][j] = Σ (tw·d[i])·d[j] with d = q − mean[r], each sum in texel order. A texel adds
 // +0 to the other region's sums, which changes none of them (they start at +0 and never become
-// −0), so the doubles are the scalar loops'. Call only when cpu_has_avx2().
+// −0), so the doubles are the scalar loops'. Call only when cpu::has(cpu::kAvx2).
 void region_moments_pair_avx2(const double q[16][3], const double tw[16], uint16_t mask, double mean[2][3],
                               double cov[2][3][3]);
 
@@ -48,19 +43,15 @@ void region_moments_pair_avx2(const double q[16][3], const double tw[16], uint16
 // weights fwa[i] / fwb[i] on the unquantised components u (u[0], u[1] region 0, u[2], u[3] region
 // 1), the decoded half bits h, and the sum of gn[i]·(L[h] − gm[i])² in the four-lane order of the
 // SSE2 loop (lane i mod 4, then the lanes added pairwise). *over = some group's h is above cap.
-// The same float operations, so the same value. Call only when cpu_has_avx2().
+// The same float operations, so the same value. Call only when cpu::has(cpu::kAvx2).
 float held_channel_error_avx2(const int u[4], int ng, const float fr[16], const float fwa[16], const float fwb[16],
                               const float gn[16], const float gm[16], int cap, const float* L, bool* over);
 
 // held_channel_error_avx2 for two sets of components at once (err[0], over[0] for ua; err[1],
 // over[1] for ub): the same values, without a branch between the two, so their latencies overlap
-// (polish_steps tries a component's step down and up this way). Call only when cpu_has_avx2().
+// (polish_steps tries a component's step down and up this way). Call only when cpu::has(cpu::kAvx2).
 void held_channel_error_pair_avx2(const int ua[4], const int ub[4], int ng, const float fr[16], const float fwa[16],
                                   const float fwb[16], const float gn[16], const float gm[16], int cap, const float* L,
                                   float err[2], bool over[2]);
-
-// Tests: true = evaluate takes its SSE2 index step even on an AVX2 CPU (both write the same bytes).
-void force_search_sse2(bool sse2);
-bool search_sse2_forced();
 
 }  // namespace ahd::bc6h

@@ -5,11 +5,10 @@
 //
 // Built for plain x86-64 as bc6h_fast_avx2.cpp is: only the functions here carry the AVX-512
 // target attribute, and bc6h_fast.cpp calls them only when the CPU and the OS support AVX-512
-// F/VL/BW/DQ (cpu_has_avx512).
-#include "codecs/bc6h_fast.h"
+// F/VL/BW/DQ (cpu::has(cpu::kAvx512)).
+#include "codecs/bc6h/bc6h_fast.h"
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-#include <cpuid.h>
 // GCC 12's AVX-512 intrinsics start their unmasked forms from _mm512_undefined_*(), which its
 // -Wuninitialized reports once per inlined use (a known false positive of the header).
 #pragma GCC diagnostic ignored "-Wuninitialized"
@@ -79,9 +78,9 @@ LANE_INLINE F loadf(const float* p) { return _mm512_load_ps(p); }
 LANE_INLINE void storef(float* p, F v) { _mm512_store_ps(p, v); }
 LANE_INLINE void storei(int* p, I v) { _mm512_store_si512(p, v); }
 
-#include "codecs/bc6h_fast_lanes.inc"
+#include "codecs/bc6h/bc6h_fast_lanes.inc"
 
-#include "codecs/bc6h_transpose8.inc"
+#include "codecs/bc6h/bc6h_transpose8.inc"
 
 // dst with the lanes of `place` (in order) replaced by the lanes of src in `take` (in order).
 LANE_INLINE F move_lanes(F dst, M place, F src, M take) { return _mm512_mask_expand_ps(dst, place, _mm512_maskz_compress_ps(take, src)); }
@@ -287,20 +286,6 @@ AVX512_FN void encode_blocks_fast_x16n(int batches, const uint16_t* const h[], c
   fit_gathered(batches, h, x, valid, real, fin);
 }
 
-bool cpu_has_avx512() {
-  static const bool has = [] {
-    if (!cpu_has_avx2()) return false;  // also checks OSXSAVE and CPUID leaf 7
-    unsigned lo = 0, hi = 0;
-    __asm__("xgetbv" : "=a"(lo), "=d"(hi) : "c"(0));
-    if ((lo & 0xE6u) != 0xE6u) return false;  // XMM, YMM, opmask and both ZMM states enabled by the OS
-    unsigned a = 0, b = 0, c = 0, d = 0;
-    __cpuid_count(7, 0, a, b, c, d);
-    const unsigned need = (1u << 16) | (1u << 17) | (1u << 30) | (1u << 31);  // F, DQ, BW, VL
-    return (b & need) == need;
-  }();
-  return has;
-}
-
 }  // namespace ahd::bc6h
 
 #else
@@ -309,7 +294,6 @@ namespace ahd::bc6h {
 void fit_blocks_fast_x16n(int, const uint16_t* const*, const float* const*, const uint8_t* const*, OneRegionFit* const*) {}
 void encode_blocks_fast_x16n(int, const uint16_t* const*, const float* const*, const uint8_t* const*, uint8_t* const*,
                              float* const*) {}
-bool cpu_has_avx512() { return false; }
 }  // namespace ahd::bc6h
 
 #endif

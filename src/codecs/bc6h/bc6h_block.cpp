@@ -1,8 +1,8 @@
 // BC6H decoding of one block, exactly as the specification reads it.
 #include <Imath/half.h>
 
-#include "codecs/bc6h_codec.h"
-#include "codecs/bc6h_tables.h"
+#include "codecs/bc6h/bc6h_codec.h"
+#include "codecs/bc6h/bc6h_tables.h"
 #include "core/parallel.h"
 
 namespace ahd {

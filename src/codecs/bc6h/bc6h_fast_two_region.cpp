@@ -20,21 +20,17 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "codecs/bc6h_fast.h"
-#include "codecs/bc6h_tables.h"
+#include "codecs/bc6h/bc6h_fast.h"
+#include "codecs/bc6h/bc6h_tables.h"
 
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-// GCC 12's AVX-512 intrinsics start their unmasked forms from _mm512_undefined_*(), which its
-// -Wuninitialized reports once per inlined use (a known false positive of the header).
-#pragma GCC diagnostic ignored "-Wuninitialized"
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-#include <immintrin.h>
-#define AHD_TWO_REGION_AVX512 1
-#endif
+#include "codecs/bc6h/bc6h_two_region.h"
+#include "core/cpu.h"
 
 namespace ahd::bc6h {
 
 namespace {
+
+using namespace two_region;
 
 // One-region error (weighted squared half steps) above which the candidate is tried; partitions
 // fitted from their axes (best-ranked first); how many of the best of those get least-squares
@@ -53,15 +49,6 @@ constexpr int kTried = 8, kRefined = 2, kPasses = 2;
 // endpoints and always fits.
 constexpr int kOrder[10] = {2, 3, 4, 0, 5, 6, 7, 8, 1, 9};
 
-constexpr int kW3[8] = {0, 9, 18, 27, 37, 46, 55, 64};  // kWeights3, usable in constant expressions
-
-inline int unq(int e, int bits) {
-  if (e == 0) return 0;
-  if (e == (1 << bits) - 1) return 0xFFFF;
-  return ((e << 16) + 0x8000) >> bits;
-}
-inline int dec(int c) { return (c * 31) >> 6; }
-
 // The component (bits wide) decoding nearest `target` (half bits) without exceeding `cap`.
 int quantize_capped(float target, int bits, int cap) {
   const int maxv = (1 << bits) - 1;
@@ -70,12 +57,6 @@ int quantize_capped(float target, int bits, int cap) {
   while (e > 0 && dec(unq(e, bits)) > cap) --e;
   return e;
 }
-
-struct Planes {
-  float H[3][16], W[3][16], tw[16];
-  int cap[3];
-  uint8_t valid[16];
-};
 
 // The palette entry whose weight is at or below p, for p = 0..64.
 struct Below {
@@ -129,67 +110,6 @@ float assign_region(const Planes& f, uint16_t mask, int r, const int a[3], const
   }
   return total;
 }
-
-#ifdef AHD_TWO_REGION_AVX512
-// assign_region for both regions at once, the sixteen texels in one AVX-512 register: each
-// texel's operations are assign_region's in the same order (one table of both regions' palettes
-// per channel, entry 8r + k), and each region's error is the sum of its texels' in texel order,
-// as assign_region adds them: err[r] is bit for bit assign_region's, idx the same indices.
-__attribute__((target("avx2,avx512f,avx512vl,avx512bw,avx512dq"))) void assign_both_avx512(
-    const Planes& f, uint16_t mask, const int e[4][3], int bits, uint8_t idx[16], float err[2]) {
-  const __mmask16 r1 = __mmask16(mask);  // the texels of region 1
-  __m512 tab[3], d[3], p0[3];
-  for (int c = 0; c < 3; ++c) {
-    alignas(64) float t[16];
-    for (int r = 0; r < 2; ++r) {
-      const int ua = unq(e[2 * r][c], bits), ub = unq(e[2 * r + 1][c], bits);
-      for (int k = 0; k < 8; ++k) t[8 * r + k] = float(dec(interpolate(ua, ub, kWeights3[k])));
-    }
-    tab[c] = _mm512_load_ps(t);
-    d[c] = _mm512_mask_blend_ps(r1, _mm512_set1_ps(t[7] - t[0]), _mm512_set1_ps(t[15] - t[8]));
-    p0[c] = _mm512_mask_blend_ps(r1, _mm512_set1_ps(t[0]), _mm512_set1_ps(t[8]));
-  }
-  __m512 H[3], W[3], wd[3];
-  for (int c = 0; c < 3; ++c) {
-    H[c] = _mm512_loadu_ps(f.H[c]), W[c] = _mm512_loadu_ps(f.W[c]);
-    wd[c] = _mm512_mul_ps(W[c], d[c]);
-  }
-  const __m512 num = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(wd[0], _mm512_sub_ps(H[0], p0[0])),
-                                                 _mm512_mul_ps(wd[1], _mm512_sub_ps(H[1], p0[1]))),
-                                   _mm512_mul_ps(wd[2], _mm512_sub_ps(H[2], p0[2])));
-  const __m512 den = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(wd[0], d[0]), _mm512_mul_ps(wd[1], d[1])),
-                                   _mm512_mul_ps(wd[2], d[2]));
-  const __m512 zero = _mm512_setzero_ps(), k64 = _mm512_set1_ps(64.0f);
-  const __m512 safe = _mm512_mask_blend_ps(_mm512_cmp_ps_mask(den, zero, _CMP_GT_OQ), _mm512_set1_ps(1.0f), den);
-  __m512 p = _mm512_div_ps(_mm512_mul_ps(k64, num), safe);
-  // std::clamp(p, 0, 64): p < 0 → 0, 64 < p → 64.
-  p = _mm512_mask_blend_ps(_mm512_cmp_ps_mask(p, zero, _CMP_LT_OQ),
-                           _mm512_mask_blend_ps(_mm512_cmp_ps_mask(k64, p, _CMP_LT_OQ), p, k64), zero);
-  // kBelow.k[int(p)]: how many of the weights 9, 18, …, 64 are at or below int(p).
-  const __m512i ip = _mm512_cvttps_epi32(p), one = _mm512_set1_epi32(1);
-  __m512i k = _mm512_setzero_si512();
-  for (int j = 1; j < 8; ++j) k = _mm512_mask_add_epi32(k, _mm512_cmpge_epi32_mask(ip, _mm512_set1_epi32(kW3[j])), k, one);
-  const __m512i base = _mm512_mask_blend_epi32(r1, _mm512_setzero_si512(), _mm512_set1_epi32(8));
-  const __mmask16 below7 = _mm512_cmplt_epi32_mask(k, _mm512_set1_epi32(7));
-  const __m512i kn = _mm512_mask_add_epi32(k, below7, k, one);  // the next entry (k itself at 7)
-  __m512 errs[2];
-  for (int q = 0; q < 2; ++q) {
-    const __m512i ti = _mm512_add_epi32(base, q ? kn : k);
-    __m512 ec[3];
-    for (int c = 0; c < 3; ++c) ec[c] = _mm512_sub_ps(_mm512_permutexvar_ps(ti, tab[c]), H[c]);
-    errs[q] = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(_mm512_mul_ps(W[0], ec[0]), ec[0]), _mm512_mul_ps(_mm512_mul_ps(W[1], ec[1]), ec[1])),
-                            _mm512_mul_ps(_mm512_mul_ps(W[2], ec[2]), ec[2]));
-  }
-  const __m512 ek = errs[0], en = errs[1];
-  const __mmask16 up = below7 & _mm512_cmp_ps_mask(en, ek, _CMP_LT_OQ);
-  alignas(64) float best[16];
-  _mm512_store_ps(best, _mm512_mask_blend_ps(up, ek, en));
-  _mm_storeu_si128(reinterpret_cast<__m128i*>(idx), _mm512_cvtepi32_epi8(_mm512_mask_blend_epi32(up, k, kn)));
-  float total[2] = {0, 0};
-  for (int t = 0; t < 16; ++t) total[(mask >> t) & 1] += best[t];
-  err[0] = total[0], err[1] = total[1];
-}
-#endif
 
 // Least squares for one region's endpoints given its indices (half bits), held under the cap as
 // the one-region refit does. Returns false when a channel's system is singular.
@@ -323,103 +243,6 @@ void axis_targets(const Planes& f, uint16_t mask, int r, float a[3], float b[3])
   }
 }
 
-#ifdef AHD_TWO_REGION_AVX512
-// axis_targets for both regions of kTried partitions at once, one (partition i, region r) per
-// AVX-512 lane 2i + r: each lane's operations are axis_targets' in the same order (a texel
-// outside the region or not valid leaves the lane's sums untouched, as its `continue` does; the
-// early returns become selections), so targets[i][r] are bit for bit axis_targets'.
-static_assert(2 * kTried == 16, "one lane per partition and region");
-__attribute__((target("avx2,avx512f,avx512vl,avx512bw,avx512dq"))) void axis_targets_avx512(
-    const Planes& f, const int parts[kTried], float targets[kTried][2][2][3]) {
-  alignas(64) int in[16];  // lane 2i + r: the texels of region r of partition i (bit t)
-  unsigned valid = 0;
-  for (int t = 0; t < 16; ++t) valid |= unsigned(f.valid[t] != 0) << t;
-  for (int i = 0; i < kTried; ++i) {
-    const unsigned m = kPartitions[parts[i]];
-    in[2 * i] = int(~m & valid & 0xFFFF), in[2 * i + 1] = int(m & valid);
-  }
-  const __m512i inv = _mm512_load_si512(in);
-  __mmask16 mt[16];  // texel t's lanes
-  for (int t = 0; t < 16; ++t) mt[t] = _mm512_test_epi32_mask(inv, _mm512_set1_epi32(1 << t));
-  __m512 w = _mm512_setzero_ps(), mean[3], lo[3], hi[3];
-  for (int c = 0; c < 3; ++c)
-    mean[c] = _mm512_setzero_ps(), lo[c] = _mm512_set1_ps(1e30f), hi[c] = _mm512_set1_ps(-1e30f);
-  for (int t = 0; t < 16; ++t) {
-    const __mmask16 k = mt[t];
-    w = _mm512_mask_add_ps(w, k, w, _mm512_set1_ps(f.tw[t]));
-    for (int c = 0; c < 3; ++c) {
-      const __m512 hv = _mm512_set1_ps(f.H[c][t]);
-      mean[c] = _mm512_mask_add_ps(mean[c], k, mean[c], _mm512_set1_ps(f.tw[t] * f.H[c][t]));
-      lo[c] = _mm512_mask_min_ps(lo[c], k, hv, lo[c]);  // std::min(lo, H): H < lo ? H : lo
-      hi[c] = _mm512_mask_max_ps(hi[c], k, hv, hi[c]);  // std::max(hi, H): hi < H ? H : hi
-    }
-  }
-  const __mmask16 empty = _mm512_cmp_ps_mask(lo[0], hi[0], _CMP_NLE_UQ);  // !(lo <= hi)
-  const __mmask16 light = _mm512_cmp_ps_mask(w, _mm512_setzero_ps(), _CMP_NGT_UQ) & ~empty;  // !(w > 0)
-  for (int c = 0; c < 3; ++c) mean[c] = _mm512_div_ps(mean[c], w);
-  __m512 cov[6];
-  for (int i = 0; i < 6; ++i) cov[i] = _mm512_setzero_ps();
-  for (int t = 0; t < 16; ++t) {
-    const __mmask16 k = mt[t];
-    const __m512 tw = _mm512_set1_ps(f.tw[t]);
-    const __m512 d0 = _mm512_sub_ps(_mm512_set1_ps(f.H[0][t]), mean[0]), d1 = _mm512_sub_ps(_mm512_set1_ps(f.H[1][t]), mean[1]),
-                 d2 = _mm512_sub_ps(_mm512_set1_ps(f.H[2][t]), mean[2]);
-    const __m512 w0 = _mm512_mul_ps(tw, d0), w1 = _mm512_mul_ps(tw, d1);
-    cov[0] = _mm512_mask_add_ps(cov[0], k, cov[0], _mm512_mul_ps(w0, d0));
-    cov[1] = _mm512_mask_add_ps(cov[1], k, cov[1], _mm512_mul_ps(w1, d1));
-    cov[2] = _mm512_mask_add_ps(cov[2], k, cov[2], _mm512_mul_ps(_mm512_mul_ps(tw, d2), d2));
-    cov[3] = _mm512_mask_add_ps(cov[3], k, cov[3], _mm512_mul_ps(w0, d1));
-    cov[4] = _mm512_mask_add_ps(cov[4], k, cov[4], _mm512_mul_ps(w0, d2));
-    cov[5] = _mm512_mask_add_ps(cov[5], k, cov[5], _mm512_mul_ps(w1, d2));
-  }
-  // principal_axis, lane-wise: a lane stops when its largest component is not above 0.
-  __m512 ax[3] = {cov[0], cov[1], cov[2]};
-  const __m512 sign = _mm512_set1_ps(-0.0f);
-  __mmask16 going = 0xFFFF;
-  for (int it = 0; it < 4; ++it) {
-    const __m512 v0 = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(cov[0], ax[0]), _mm512_mul_ps(cov[3], ax[1])), _mm512_mul_ps(cov[4], ax[2]));
-    const __m512 v1 = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(cov[3], ax[0]), _mm512_mul_ps(cov[1], ax[1])), _mm512_mul_ps(cov[5], ax[2]));
-    const __m512 v2 = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(cov[4], ax[0]), _mm512_mul_ps(cov[5], ax[1])), _mm512_mul_ps(cov[2], ax[2]));
-    const __m512 m = _mm512_max_ps(_mm512_max_ps(_mm512_andnot_ps(sign, v0), _mm512_andnot_ps(sign, v1)), _mm512_andnot_ps(sign, v2));
-    going &= _mm512_cmp_ps_mask(m, _mm512_setzero_ps(), _CMP_GT_OQ);
-    if (!going) break;
-    ax[0] = _mm512_mask_div_ps(ax[0], going, v0, m);
-    ax[1] = _mm512_mask_div_ps(ax[1], going, v1, m);
-    ax[2] = _mm512_mask_div_ps(ax[2], going, v2, m);
-  }
-  __m512 len2 = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(ax[0], ax[0]), _mm512_mul_ps(ax[1], ax[1])), _mm512_mul_ps(ax[2], ax[2]));
-  const __mmask16 flat = _mm512_cmp_ps_mask(len2, _mm512_setzero_ps(), _CMP_NGT_UQ);
-  for (int c = 0; c < 3; ++c) ax[c] = _mm512_mask_blend_ps(flat, ax[c], _mm512_set1_ps(1.0f));
-  len2 = _mm512_mask_blend_ps(flat, len2, _mm512_set1_ps(3.0f));
-  __m512 tmin = _mm512_set1_ps(1e30f), tmax = _mm512_set1_ps(-1e30f);
-  for (int t = 0; t < 16; ++t) {
-    const __m512 p = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(_mm512_sub_ps(_mm512_set1_ps(f.H[0][t]), mean[0]), ax[0]),
-                                                 _mm512_mul_ps(_mm512_sub_ps(_mm512_set1_ps(f.H[1][t]), mean[1]), ax[1])),
-                                   _mm512_mul_ps(_mm512_sub_ps(_mm512_set1_ps(f.H[2][t]), mean[2]), ax[2]));
-    tmin = _mm512_mask_blend_ps(mt[t] & _mm512_cmp_ps_mask(p, tmin, _CMP_LT_OQ), tmin, p);
-    tmax = _mm512_mask_blend_ps(mt[t] & _mm512_cmp_ps_mask(tmax, p, _CMP_LT_OQ), tmax, p);
-  }
-  const __m512 smin = _mm512_div_ps(tmin, len2), smax = _mm512_div_ps(tmax, len2);
-  alignas(64) float out[2][3][16];
-  for (int c = 0; c < 3; ++c) {
-    const __m512 va = _mm512_add_ps(mean[c], _mm512_mul_ps(smin, ax[c]));
-    const __m512 vb = _mm512_add_ps(mean[c], _mm512_mul_ps(smax, ax[c]));
-    // std::clamp(v, lo, hi): v < lo → lo, hi < v → hi.
-    __m512 a = _mm512_mask_blend_ps(_mm512_cmp_ps_mask(va, lo[c], _CMP_LT_OQ),
-                                    _mm512_mask_blend_ps(_mm512_cmp_ps_mask(hi[c], va, _CMP_LT_OQ), va, hi[c]), lo[c]);
-    __m512 b = _mm512_mask_blend_ps(_mm512_cmp_ps_mask(vb, lo[c], _CMP_LT_OQ),
-                                    _mm512_mask_blend_ps(_mm512_cmp_ps_mask(hi[c], vb, _CMP_LT_OQ), vb, hi[c]), lo[c]);
-    a = _mm512_mask_blend_ps(light, a, lo[c]), b = _mm512_mask_blend_ps(light, b, hi[c]);
-    a = _mm512_mask_blend_ps(empty, a, _mm512_setzero_ps()), b = _mm512_mask_blend_ps(empty, b, _mm512_setzero_ps());
-    _mm512_store_ps(out[0][c], a), _mm512_store_ps(out[1][c], b);
-  }
-  for (int i = 0; i < kTried; ++i)
-    for (int r = 0; r < 2; ++r)
-      for (int j = 0; j < 2; ++j)
-        for (int c = 0; c < 3; ++c) targets[i][r][j][c] = out[j][c][2 * i + r];
-}
-#endif
-
 struct Cand {
   int mode = -1;  // 0-based, two-region
   int e[4][3];    // region r's endpoints are e[2r], e[2r+1]
@@ -496,12 +319,8 @@ Cand make(const Planes& f, int p, const float t[2][2][3], bool wide) {
       std::memset(ia, 0, 16);
       erra = 0;
       float er[2] = {0, 0};
-#ifdef AHD_TWO_REGION_AVX512
       const bool both = wide;
       if (both) assign_both_avx512(f, mask, ea, mi.epb, ia, er);
-#else
-      const bool both = false;
-#endif
       for (int r = 0; r < 2; ++r) {
         erra += both ? er[r] : assign_region(f, mask, r, ea[2 * r], ea[2 * r + 1], mi.epb, ia);
         if (ia[anchor[r]] >= 4) {
@@ -566,20 +385,15 @@ void improve_with_two_regions(const uint16_t h[48], const float x[48], const uin
   }
   // The index step sixteen texels at a time where the CPU has AVX-512 (the same bytes; the
   // scalar loops when forced, so tests compare the two).
-#ifdef AHD_TWO_REGION_AVX512
-  const bool wide = !scalar_forced() && cpu_has_avx512();
-#else
-  const bool wide = false;
-#endif
+  static_assert(kTried == kAvx512Partitions, "one AVX-512 lane per tried partition and region");
+  const bool wide = cpu::has(cpu::kAvx512);
   int parts[32];
   rank_partitions(f, kTried, parts);
   // Every ranked partition from its axes; least squares only on the kRefined best of them.
   Cand cand[kTried];
   float targets[kTried][2][2][3];
   int order[kTried];
-#ifdef AHD_TWO_REGION_AVX512
   if (wide) axis_targets_avx512(f, parts, targets);
-#endif
   for (int i = 0; i < kTried; ++i) {
     const uint16_t mask = kPartitions[parts[i]];
     if (!wide)

@@ -3,20 +3,7 @@
 // the entries is taken eight lanes at a time, and a minimum does not depend on its order, so the
 // indices and the error are the same. Built for plain x86-64: only this function is compiled for
 // AVX2 (target attribute), and evaluate calls it only when the CPU reports AVX2.
-#include "codecs/bc6h_search_avx2.h"
-
-#include <atomic>
-
-namespace ahd::bc6h {
-
-namespace {
-std::atomic<bool> g_force_sse2{false};
-}
-
-void force_search_sse2(bool sse2) { g_force_sse2.store(sse2, std::memory_order_relaxed); }
-bool search_sse2_forced() { return g_force_sse2.load(std::memory_order_relaxed); }
-
-}  // namespace ahd::bc6h
+#include "codecs/bc6h/bc6h_search_avx2.h"
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #include <immintrin.h>

@@ -1,4 +1,4 @@
-#include "sample/hard_cases.h"
+#include "lab/hard_cases.h"
 
 #include <cmath>
 #include <limits>

@@ -2,7 +2,7 @@
 #pragma once
 #include <string>
 
-#include "fit/truth_reference.h"
+#include "lab/truth_reference.h"
 
 namespace ahd {
 

@@ -9,25 +9,19 @@
 namespace ahd::bc6h {
 
 // Half-float bit patterns of n finite floats, rounded to nearest even (exactly Imath::half's
-// bits). Uses the CPU's F16C instructions when it has them (checked once at run time) and a
-// portable bit-exact path otherwise; both give the same bits.
+// bits). Uses the CPU's F16C instructions when cpu::has(cpu::kF16c) and the portable bit-exact
+// path otherwise; both give the same bits.
 void floats_to_half(const float* in, uint16_t* out, int n);
+// The two paths themselves (tests compare them): the portable one, and F16C
+// (bc6h_half_f16c.cpp; call only when cpu::has(cpu::kF16c)).
+void floats_to_half_portable(const float* in, uint16_t* out, int n);
+void floats_to_half_f16c(const float* in, uint16_t* out, int n);
 
 // On x86-64 the fast fit's palette and projection and the search's index step (bc6h_encoder.cpp)
-// run four lanes at a time with SSE2, and `fast` encodes eight blocks per AVX2 batch when the CPU
-// has AVX2; true = the plain one-block scalar loops instead (tests: every path writes the same
-// bytes).
-void force_scalar(bool scalar);
-bool scalar_forced();
-
-// true = AVX2 batches of eight even when the CPU has AVX-512 (whose batches hold sixteen blocks):
-// tests force each path (AVX-512, AVX2, scalar) and compare the bytes.
-void force_avx2(bool avx2);
-bool avx2_forced();
-
-// Which conversion floats_to_half uses: true = the portable path whatever the CPU (tests).
-void force_portable_half(bool portable);
-bool cpu_has_f16c();
+// run four lanes at a time with SSE2 (the x86-64 baseline, so in the generic files), and `fast`
+// encodes eight blocks per AVX2 batch when the CPU has AVX2, sixteen per AVX-512 batch when it has
+// AVX-512. Which path runs is cpu::has's answer (core/cpu.h); tests turn the wider paths off with
+// cpu::ScopedDisable and compare the bytes (every path writes the same bytes).
 
 // The principal axis of a weighted covariance (xx yy zz xy xz yz) by four power steps from its
 // diagonal, each normalised by its largest component (no square root); *len2 = |ax|² (an axis of
@@ -84,21 +78,19 @@ void pack_one_region(int mode, const int e[2][3], uint64_t idx, uint8_t out[16])
 
 // fit_one_region_fast for eight blocks at once, one per AVX2 lane (bc6h_fast_avx2.cpp): *out[l]
 // (skipped when null) gets exactly the fit fit_one_region_fast(h[l], x[l], valid[l]) gives, its
-// error bit for bit, whatever the other lanes hold. Call only when cpu_has_avx2().
+// error bit for bit, whatever the other lanes hold. Call only when cpu::has(cpu::kAvx2).
 void fit_blocks_fast_x8(const uint16_t* const h[8], const float* const x[8], const uint8_t* const valid[8],
                         OneRegionFit* const out[8]);
-bool cpu_has_avx2();
 
 // fit_blocks_fast_x8 for `batches` (1..kMaxBatches) batches of sixteen blocks, one block per
 // AVX-512 lane (bc6h_fast_avx512.cpp; block i: h[i], x[i], valid[i] → *out[i], skipped when
 // null): the same fits as fit_one_region_fast. The second least-squares pass's index step runs
-// on the lanes that need it gathered from all the batches. Call only when cpu_has_avx512() (F,
-// VL, BW, DQ and the OS's ZMM state). h[i] must be the half bits of x[i] (floats_to_half's):
+// on the lanes that need it gathered from all the batches. Call only when
+// cpu::has(cpu::kAvx512). h[i] must be the half bits of x[i] (floats_to_half's):
 // batches of whole blocks convert x themselves.
 constexpr int kMaxBatches = 8;
 void fit_blocks_fast_x16n(int batches, const uint16_t* const h[], const float* const x[], const uint8_t* const valid[],
                           OneRegionFit* const out[]);
-bool cpu_has_avx512();
 
 // fit_blocks_fast_x16n with each fit written as pack_one_region writes it: block i at blocks[i]
 // (16 bytes) and its fit error at *err[i], both skipped when blocks[i] is null (`fast` packs in
@@ -114,9 +106,8 @@ void improve_with_two_regions(const uint16_t h[48], const float x[48], const uin
                               uint8_t out[16]);
 
 // Fits n UF16 blocks (block i: h + 48i, x + 48i, valid + 16i → fits[i]), each exactly as
-// fit_one_region_fast fits it alone: sixteen per AVX-512 batch when the CPU has AVX-512 (unless
-// force_avx2), else eight per AVX2 batch when it has AVX2, unless the scalar path is forced
-// (force_scalar); a partial batch is padded with copies of its first block.
+// fit_one_region_fast fits it alone: sixteen per AVX-512 batch when cpu::has(cpu::kAvx512), else
+// eight per AVX2 batch when cpu::has(cpu::kAvx2), else one block at a time; a partial batch is padded with copies of its first block.
 void fit_blocks_fast(const uint16_t* h, const float* x, const uint8_t* valid, int n, OneRegionFit* fits);
 
 // Encodes n UF16 blocks (block i → out + 16i), each exactly as encode_block_fast encodes it

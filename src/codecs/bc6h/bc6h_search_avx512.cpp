@@ -3,8 +3,8 @@
 // vectors of eight). Every float operation is the AVX2 path's, lane for lane (subtract, square,
 // add the channels in the same order, keep an entry only when strictly nearer), so the indices
 // and the error are the same. Built for plain x86-64: only this function carries the AVX-512
-// target attribute, and evaluate calls it only when cpu_has_avx512() and AVX2 is not forced.
-#include "codecs/bc6h_search_avx2.h"
+// target attribute, and evaluate calls it only when cpu::has(cpu::kAvx512).
+#include "codecs/bc6h/bc6h_search_avx512.h"
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 // GCC 12's AVX-512 intrinsics start their unmasked forms from _mm512_undefined_*(), which its

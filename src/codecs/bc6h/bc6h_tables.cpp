@@ -1,7 +1,7 @@
 // The BC6H tables. Header layouts are written as the spec's tables list them, one token per run of
 // bits: "rw0-9" = RW bits 0..9 in that order, "rw15-10" = RW bits 15 down to 10, "d0-4" = the
 // partition number. They are parsed at compile time into (field, bit) pairs.
-#include "codecs/bc6h_tables.h"
+#include "codecs/bc6h/bc6h_tables.h"
 
 
 namespace ahd::bc6h {

@@ -1,4 +1,4 @@
-#include "cli/peers_bc6h.h"
+#include "lab/peers_bc6h.h"
 
 namespace ahd::cli {
 
