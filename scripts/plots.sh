@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Regenerates the README's plots (docs/plots/*.svg) from the built ahdpack:
+# Regenerates the plots of docs/tools.md (docs/plots/*.svg) from the built ahdpack:
 #   bench_bc6h.svg  BC6H speed against error per quality level on ../shared/data/bc6h, with the
 #                   published peers of ../shared/data/bc6h/PEERS.md (src/cli/peers_bc6h.cpp)
 #   profiles.svg    bytes per texel against error per profile (ahdpack report profiles)
