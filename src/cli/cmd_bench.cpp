@@ -128,7 +128,7 @@ std::string bc6h_plot(const std::vector<Row>& rows) {
   p.title = "BC6H: speed against error (ahdpack bench bc6h)";
   p.x_label = "MPix/s, one thread's CPU time";
   p.y_label = "log-RMSE, log2(1+x)";
-  p.note = std::string("peers: ../shared/data/bc6h/PEERS.md, measured ") + kPeersBc6hDate + "; labels: quality or image";
+  p.note = std::string("peers: tests/data/bc6h/PEERS.md, measured ") + kPeersBc6hDate + "; labels: quality or image";
   std::vector<std::string> images;
   for (const Row& r : rows)
     if (std::find(images.begin(), images.end(), r.image) == images.end()) images.push_back(r.image);
@@ -157,7 +157,7 @@ std::string bc6h_plot(const std::vector<Row>& rows) {
 
 void add_bench_command(CLI::App& app) {
   struct Args {
-    std::string folder = std::string(AHD_FORMATS_DIR) + "/../../shared/data/bc6h";
+    std::string folder = std::string(AHD_FORMATS_DIR) + "/../tests/data/bc6h";  // the source tree's test images
     std::string csv, plot;
     std::vector<std::string> qualities = {"fast", "default", "high", "max"};
     std::vector<std::string> codecs = {"bc6h", "bc4", "bc5"};
@@ -167,7 +167,7 @@ void add_bench_command(CLI::App& app) {
   add_bench_convert_command(*b);
   CLI::App* c = b->add_subcommand(
       "bc6h", "BC6H speed and error per quality level over a folder of EXRs; BC4/BC5 on x/(1+x) planes of the same images");
-  c->add_option("folder", a->folder, "Folder of EXR images (default: ../shared/data/bc6h)");
+  c->add_option("folder", a->folder, "Folder of EXR images (default: tests/data/bc6h of the source tree)");
   c->add_option("--csv", a->csv, "Also write the table as CSV");
   c->add_option("--plot", a->plot, "Also write the BC6H speed-error plot as SVG, with the peers of PEERS.md");
   c->add_option("--qualities", a->qualities, "BC6H quality levels to run (fast default high max)");

@@ -16,6 +16,7 @@
 #include "codecs/bc6h_search_avx2.h"
 #include "codecs/bc6h_tables.h"
 #include "io/image_io.h"
+#include "test_data.h"
 
 using namespace ahd;
 
@@ -225,7 +226,9 @@ TEST(Bc6h, SharedImagesBeatTheFastestPublicEncoder) {
                 {"hdr_hard.exr", 0.01501, 0.00795, 1.0001},
                 {"lightmap_noisy.exr", 0.1030, 0.04606, 1.0001}};
   for (const auto& im : images) {
-    const ImageF src = clamp_rgb(read_image(std::string(AHD_SHARED_DIR) + "/data/bc6h/" + im.file));
+    const std::filesystem::path path = ahd_test::test_data("bc6h") / im.file;
+    AHD_REQUIRE_DATA(path);
+    const ImageF src = clamp_rgb(read_image(path.string()));
     Bc6hOptions o;
     const std::vector<uint8_t> b = bc6h_encode_image(src, o);
     const double e = log_rmse(src, bc6h_decode_image(b.data(), src.width, src.height, false));
@@ -281,7 +284,9 @@ TEST(Bc6h, SimdAndScalarLoopsWriteTheSameBytes) {
   // fast (the AVX-512 or AVX2 batches, or the one-block SSE2 loops), default (fast-fit blocks and searched ones), high
   // (two regions, 3-bit indices), unsigned and signed, on a crop of each shared image.
   for (const char* file : {"lightmap_smooth.exr", "hdr_hard.exr", "lightmap_noisy.exr"}) {
-    const ImageF src = clamp_rgb(read_image(std::string(AHD_SHARED_DIR) + "/data/bc6h/" + file));
+    const std::filesystem::path path = ahd_test::test_data("bc6h") / file;
+    AHD_REQUIRE_DATA(path);
+    const ImageF src = clamp_rgb(read_image(path.string()));
     ImageF crop(96, 96, 3);
     for (int y = 0; y < 96; ++y)
       for (int x = 0; x < 96; ++x)
@@ -338,7 +343,9 @@ TEST(Bc6h, MaxOnCropsOfTheSharedImages) {
     double measured;
   } images[] = {{"lightmap_smooth.exr", 0.009842}, {"hdr_hard.exr", 0.002005}, {"lightmap_noisy.exr", 0.045290}};
   for (const auto& im : images) {
-    const ImageF src = clamp_rgb(read_image(std::string(AHD_SHARED_DIR) + "/data/bc6h/" + im.file));
+    const std::filesystem::path path = ahd_test::test_data("bc6h") / im.file;
+    AHD_REQUIRE_DATA(path);
+    const ImageF src = clamp_rgb(read_image(path.string()));
     ImageF crop(128, 128, 3);
     for (int y = 0; y < 128; ++y)
       for (int x = 0; x < 128; ++x)
@@ -357,7 +364,9 @@ TEST(Bc6h, MaxOnCropsOfTheSharedImages) {
 
 TEST(Bc6h, FastPathWritesTheSameBytesWithEitherHalfConversion) {
   for (const char* file : {"lightmap_noisy.exr", "hdr_hard.exr"}) {
-    const ImageF src = clamp_rgb(read_image(std::string(AHD_SHARED_DIR) + "/data/bc6h/" + file));
+    const std::filesystem::path path = ahd_test::test_data("bc6h") / file;
+    AHD_REQUIRE_DATA(path);
+    const ImageF src = clamp_rgb(read_image(path.string()));
     Bc6hOptions o;
     o.quality = Bc6hQuality::Fast;
     bc6h::force_portable_half(true);
@@ -402,7 +411,9 @@ TEST(Bc6h, FastBeatsTheRealTimePeerOnTheSharedImages) {
   } images[] = {{"lightmap_smooth.exr", 0.01247, 0.01247}, {"hdr_hard.exr", 0.02072, 0.02072},
                 {"lightmap_noisy.exr", 0.04633, 0.04633}};
   for (const auto& im : images) {
-    const ImageF src = clamp_rgb(read_image(std::string(AHD_SHARED_DIR) + "/data/bc6h/" + im.file));
+    const std::filesystem::path path = ahd_test::test_data("bc6h") / im.file;
+    AHD_REQUIRE_DATA(path);
+    const ImageF src = clamp_rgb(read_image(path.string()));
     Bc6hOptions o;
     o.quality = Bc6hQuality::Fast;
     const std::vector<uint8_t> b = bc6h_encode_image(src, o);
