@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Side-by-side BC6H speed and error of Basis Universal's real-time encoder (HQ defaults and its
 # 9-mode/32-pattern setting) and ahdpack (`fast` and `default`; QUALITIES overrides) on this
-# machine, on ../shared/data/bc6h and the real-lightmap corpus bench/data/real, each pinned to the
+# machine, on tests/data/bc6h and the real-lightmap corpus bench/data/real, each pinned to the
 # same CPU (bench/peers/basis_bc6h.cpp says why).
 # Usage: bash scripts/peer-basis-bc6h.sh BASIS_UNIVERSAL_CHECKOUT [CPU ...]   (default CPUs: all)
 #        QUALITIES="fast default max" bash scripts/peer-basis-bc6h.sh ...
@@ -13,7 +13,7 @@ basis="$(cd "${1:?usage: peer-basis-bc6h.sh BASIS_UNIVERSAL_CHECKOUT [CPU ...]}"
 shift
 cpus=("$@")
 [ ${#cpus[@]} -gt 0 ] || mapfile -t cpus < <(seq 0 $(($(nproc) - 1)))
-images=(../shared/data/bc6h/lightmap_smooth.exr ../shared/data/bc6h/hdr_hard.exr ../shared/data/bc6h/lightmap_noisy.exr
+images=(tests/data/bc6h/lightmap_smooth.exr tests/data/bc6h/hdr_hard.exr tests/data/bc6h/lightmap_noisy.exr
         bench/data/real/*.exr)
 read -r -a qualities <<< "${QUALITIES:-fast default}"
 mkdir -p build/peers

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# Regenerates the README's plots (docs/plots/*.svg) from the built ahdpack:
-#   bench_bc6h.svg  BC6H speed against error per quality level on ../shared/data/bc6h, with the
-#                   published peers of ../shared/data/bc6h/PEERS.md (src/cli/peers_bc6h.cpp)
+# Regenerates the plots of docs/tools.md (docs/plots/*.svg) from the built ahdpack:
+#   bench_bc6h.svg  BC6H speed against error per quality level on tests/data/bc6h, with the
+#                   published peers of tests/data/bc6h/PEERS.md (src/cli/peers_bc6h.cpp)
 #   profiles.svg    bytes per texel against error per profile (ahdpack report profiles)
 # Usage: bash scripts/plots.sh [BUILD_DIR]   (default ./build; speeds depend on the machine's load)
 set -euo pipefail

@@ -5,7 +5,7 @@
 # Needs a built ./build. Builds build/probes/exr_read. docs/performance-real.md has a run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-f="${1:-../shared/data/bakes/godot-ragdoll-plain/ragdoll_physics.exr}"
+f="${1:-tests/data/bakes/godot-ragdoll-plain/ragdoll_physics.exr}"
 mkdir -p build/probes
 [ build/probes/exr_read -nt bench/probes/exr_read.cpp ] ||
   g++ -std=c++20 -O2 bench/probes/exr_read.cpp -I/usr/include/OpenEXR -I/usr/include/Imath -lOpenEXR-3_1 -lIex-3_1 \

@@ -1,8 +1,8 @@
 // Basis Universal's real-time BC6H encoder (`fast_encode_bc6h`) at its transcoder's "HQ" defaults
 // and at its best setting (9 modes, 32 two-subset patterns, exhaustive 4-bit weights), timed on
 // this machine beside `ahdpack bench bc6h`: PEERS.md's figures were measured elsewhere,
-// and this VM's two vCPUs do not run the same code at the same speed (README, BC6H, "Where this
-// stands"), so a side-by-side run on the same CPU is the fair comparison.
+// and this VM's two vCPUs do not run the same code at the same speed (docs/notes/bc6h-issue13-rounds.md
+// "BC6H against issue 13's targets"), so a side-by-side run on the same CPU is the fair comparison.
 //
 // Not part of the build: scripts/peer-basis-bc6h.sh compiles it against a Basis Universal checkout
 // the user provides (nothing of Basis Universal is in this repository). Protocol of PEERS.md:

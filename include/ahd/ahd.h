@@ -23,7 +23,8 @@ extern "C" {
 
 /* An SH lightmap in caller-owned memory, read only during ahd_convert (copied in).
  * sh: width*height*coeffs*3 floats, texel-major: sh[((y*width + x)*coeffs + k)*3 + c], k in the
- *     order Y00, y, z, x (, xy, yz, 3z²−1, xz, x²−y²), radiance projection (README conventions).
+ *     order Y00, y, z, x (, xy, yz, 3z²−1, xz, x²−y²), radiance projection (docs/conventions.md
+ *     "Canonical SH and conventions").
  * coverage: width*height bytes (non-zero = covered), or NULL for every texel covered.
  * normals: width*height*3 unit world-space normals when the SH is in world space, else NULL. */
 typedef struct ahd_sh_input {
@@ -55,7 +56,8 @@ typedef struct ahd_options {
 
 AHD_API void ahd_options_init(ahd_options* options);
 
-/* The finished conversion: files (planes, then NAME.json, then NAME.report.json) owned by it. */
+/* The finished conversion: files (planes, then NAME.report.json, then NAME.json
+ * — the manifest last: write it last, it commits the set) owned by it. */
 typedef struct ahd_result ahd_result;
 
 /* Converts `input` into files named after `name` (a file stem, no folders). On success *result

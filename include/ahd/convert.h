@@ -23,7 +23,7 @@ namespace ahd {
 
 struct ConversionOptions {
   // Output profile: a standard one by name ("uncompressed", "uncompressed-rgb", "pc-bc",
-  // "packed-float", "packed-rgb9e5"; README "Outputs"), or, when `profile_json` is not empty, that
+  // "packed-float", "packed-rgb9e5"; docs/container-format.md "Outputs"), or, when `profile_json` is not empty, that
   // definition (the format of formats/profiles/*.json).
   std::string profile = "uncompressed";
   std::string profile_json;

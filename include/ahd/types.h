@@ -1,7 +1,7 @@
 // ahdpack's public data types: the error it throws, the SH lightmap it reads, and the enums its
 // options use. Plain data, no dependencies beyond the standard library.
 //
-// Conventions (README "Canonical SH and conventions"): real SH in the order Y00, y, z, x (L1), then
+// Conventions (docs/conventions.md "Canonical SH and conventions"): real SH in the order Y00, y, z, x (L1), then
 // xy, yz, 3z²−1, xz, x²−y² (L2), no Condon–Shortley sign; coefficients are the projection of incident
 // RADIANCE; the frame is tangent space (z = surface normal) unless `normals` is given.
 #pragma once
@@ -57,7 +57,7 @@ enum class DirectionFit : uint8_t { Linear, Refined };
 // within the ambient threshold of the SH (a plain lightmap, or SH with a negligible L1/L2 part).
 enum class DirectionPlanes { Auto, Keep, Drop };
 
-// BC6H encoder effort (speed against error: README, "BC6H").
+// BC6H encoder effort (speed against error: docs/bc6h.md "BC6H").
 enum class Bc6hQuality : uint8_t { Fast, Default, High, Max };
 
 // The container every plane is written in.

@@ -11,7 +11,7 @@ namespace ahd::cli {
 // Largest input (texels of its file's header) converted beside others. Why: two threads speed one
 // conversion up only 1.26× at 256², 1.32× at 512², 1.44× at 1024² (pc-bc, L2 sample, this
 // 2-core machine), while files side by side keep both cores busy. But memory grows with texels: a 512² L2 conversion peaks ≈ 75 MB above the idle process
-// (≈ 290 bytes a texel), a 1024² one ≈ 260 MB (README "Whole conversions"): with larger files
+// (≈ 290 bytes a texel), a 1024² one ≈ 260 MB (docs/performance.md "Whole conversions"): with larger files
 // one at a time, a batch needs at most its largest file's peak plus ≈ 75 MB per extra job (issue
 // 12: peak memory matters).
 constexpr int kSmallBatchSide = 512;

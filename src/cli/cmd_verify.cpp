@@ -5,7 +5,7 @@
 // "PASS|FAIL <check> <value> <= <bound>", then a summary; exit 0 when every check passes, 1 when
 // any fails (bad input: one error line, exit 1, as everywhere).
 //
-// Default bounds (README "Verify a conversion in CI") pass every standard profile on the analytic
+// Default bounds (docs/tools.md "Verify in CI") pass every standard profile on the analytic
 // sample with a margin and catch a broken or swapped plane; a CI job should set its own from its
 // lightmaps' measured figures.
 #include <algorithm>

@@ -4,8 +4,8 @@
 // on bare metal, 15–30 µs on a virtual machine that traps each one — and a 2048² RGB float image is
 // 12 800 pages. Linux's transparent huge pages in "madvise" mode (Debian's default) back a region
 // with 2 MB pages once it is advised, which turns those faults into a few dozen: reading and
-// converting a 2048² plain lightmap on the project's VM took 40 % less time (README, "Whole
-// conversions"). Contents and sizes are those of std::vector::assign; only the kernel's paging
+// converting a 2048² plain lightmap on the project's VM took 40 % less time (docs/performance.md
+// "Whole conversions"). Contents and sizes are those of std::vector::assign; only the kernel's paging
 // differs, so no output byte depends on it.
 #pragma once
 #include <cstddef>

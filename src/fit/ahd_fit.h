@@ -23,7 +23,7 @@ struct FitOptions {
   // Luminance weights for the direction and the luminance ratio (Rec.709 by default).
   double luma[3] = {0.2126, 0.7152, 0.0722};
   // Smallest d_z the encoder stores. Decoding divides by d_z; keeping d_z ≥ eps bounds
-  // C_d ≤ I_z / eps. Chosen by measurement (README, "Choosing eps"; `ahdpack bench eps`).
+  // C_d ≤ I_z / eps. Chosen by measurement (docs/accuracy.md "Choosing ε, the horizon rule"; `ahdpack report eps`).
   double dz_min = 0.05;
   // |L1 luminance| below this fraction of the L0 luminance means "no preferred direction": d = z.
   double no_direction_threshold = 1e-6;
@@ -31,12 +31,12 @@ struct FitOptions {
   DirectionFit direction_fit = DirectionFit::Linear;
   // Refined only, over an image (fit_image): a texel takes its neighbourhood's mean direction when
   // that costs at most this fraction of its constrained hemisphere error (direction_coherence.h;
-  // 0 = off). Chosen by measurement (README "Choosing the direction").
+  // 0 = off). Chosen by measurement (docs/fit.md "Choosing the direction beyond the paper").
   double coherence_tolerance = 0.02;
   // Refined only, over an image (fit_image): after the coherence pass, any two adjacent texels whose
   // directions turn by more than max(this, their linear directions' angle) in degrees both fall back
   // to the linear fit, until no pair does (direction_guard.h; 0 = off). Chosen by measurement
-  // (README "Choosing the direction", the pair guard).
+  // (docs/fit.md "Choosing the direction beyond the paper", the pair guard).
   double pair_guard_deg = 4.0;
   // Refined only, over an image (fit_image): d is chosen on the mean SH of the texel's covered
   // (2r+1)² window of this radius r and the colours on the texel's own SH (direction_filter.h; 0 =

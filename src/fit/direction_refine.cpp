@@ -150,7 +150,7 @@ int collect_starts(const IrradiancePoly p[3], const FitOptions& opt, const Refin
   // lighting (the L1 band averages the lights' directions; the best lobe follows the strongest).
   // Candidates: each channel's own L1 direction and the axis of the luminance L2 band's quadratic
   // form, which points along the dominant light. The best of them and the linear d is polished
-  // below. (Which pay: README "Choosing the direction".) All are evaluated in one batch
+  // below. (Which pay: docs/fit.md "Choosing the direction beyond the paper".) All are evaluated in one batch
   // (RefineObjective::values) and the first smallest kept, as trying them one by one would. A
   // start within search.same_start_cos of one already listed is dropped (it would land in the same
   // basin; on near-grey lighting the channels' L1 directions are the linear d).
@@ -387,7 +387,7 @@ void refine_direction(const IrradiancePoly p[3], const double iz[3], const FitOp
                       const RefineSearch& search, int* winner, LuneMoments* moments) {
   // Cheap global starts: the local search from the linear d misses the better basin on varied
   // lighting (the L1 band averages the lights' directions; the best lobe follows the strongest).
-  // (collect_starts; which pay: README "Choosing the direction".)
+  // (collect_starts; which pay: docs/fit.md "Choosing the direction beyond the paper".)
   Lane l;
   l.p = p;
   l.f = RefineObjective(p, iz, opt.ratio_form);

@@ -66,7 +66,7 @@ struct RefineSearch {
   int steps = 2;
   bool line = true;  // Newton along −∇f (2 gradients a step); false: the 2-D Newton step (3 gradients)
   // A start within ≈ 8° of one already listed (cosine above this) is dropped: it would end in the
-  // same basin (README "Speed, second round").
+  // same basin (docs/notes/fit-speed-rounds.md "Speed, second round").
   double same_start_cos = 0.99;
   // Line search only: a further step only after the last lowered f by more than this fraction of
   // Σ_c 2π I_c² (most texels gain little from the second step).

@@ -12,7 +12,7 @@ namespace ahd {
 // The fitted texels of an image, stored as planes. Why planes and not an array of AhdFit: in the
 // luminance form the three ratios are one number, and an AhdFit pads its flags byte to 4, so a
 // texel takes 29 bytes here instead of 40 — at level 0 of a 1024² L1 lightmap that is 11 MiB of a
-// peak that must stay within twice the 48 MiB of SH (README, "Whole conversions").
+// peak that must stay within twice the 48 MiB of SH (docs/performance.md "Whole conversions").
 struct AhdImage {
   int width = 0;
   int height = 0;

@@ -1,6 +1,6 @@
 // How close the fitted AHD planes are to the source SH over the whole hemisphere, in closed form
 // (exact integrals, no direction sampling), against the unconstrained least-squares AHD at the
-// linear d — the figures of issue 18 / README "Choosing the direction". Also the coherence of d
+// linear d — the figures of issue 18 / docs/fit.md "Choosing the direction beyond the paper". Also the coherence of d
 // between neighbouring texels and the error between texel centres under bilinear filtering.
 #pragma once
 #include <cstddef>
@@ -59,8 +59,8 @@ FilteredError filtered_error(const ShImage& sh, const AhdImage& fit, const FitOp
 // `ambient`: the ambient's brightness relative to a light's (uniform draw × this).
 ShImage random_lighting_set(int n, uint32_t seed, double saturation = 1.0, double ambient = 0.1);
 
-// Issue 18's sets, calibrated so that the linear fit reproduces the issue's "today" column (README
-// "Choosing the direction"; `ahdpack report fit`): random lighting with light colours 90 % saturated
+// Issue 18's sets, calibrated so that the linear fit reproduces the issue's "today" column
+// (docs/fit.md "Choosing the direction beyond the paper"; `ahdpack report fit`): random lighting with light colours 90 % saturated
 // and a dimmer ambient (linear: RGB 1.309, luminance 1.568; issue 1.31 / 1.56), and a "smooth
 // scene": the analytic scene (sample/analytic_baker.h) as L1 input, without the point light (no hard
 // shadow) and with the sky ×4 (linear: 1.03 / 1.05; issue 1.03 / 1.06).

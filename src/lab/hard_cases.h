@@ -1,6 +1,6 @@
 // The hard-case set: SH texels every real bake eventually contains, as named data. Used by the
 // tests (each case asserts finite output and the constraints) and by `ahdpack report hard-cases`
-// (the README's accuracy table).
+// (docs/accuracy.md "Hard cases").
 #pragma once
 #include <string>
 #include <vector>

@@ -2,7 +2,7 @@
 
 namespace ahd::cli {
 
-// Copied by hand from ../shared/data/bc6h/PEERS.md, table "Measured 2026-12-01" (figures are
+// Copied by hand from tests/data/bc6h/PEERS.md, table "Measured 2026-12-01" (figures are
 // smooth / hard / noisy there). DirectXTex and CVTT default were measured on the smooth image only;
 // the "Basis Universal, no 2-subset patterns" row is left out (its error equals the default row's
 // to 0.7 %, its speed the default row's to 16 %).

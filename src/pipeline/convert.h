@@ -22,7 +22,7 @@ namespace ahd {
 // other planes when decoding I_z alone (d = z, ratio = 1: I(n) = I_z) stays within
 // `ambient_threshold` of the SH — relative hemisphere RMSE p99 over covered texels of level 0.
 // The default 1 % is where dropping them costs less than the 8-bit direction/ratio planes' own
-// quantisation error (measured by `ahdpack report direction`, README).
+// quantisation error (measured by `ahdpack report direction`; docs/container-format.md "Outputs").
 constexpr double kDefaultAmbientThreshold = 0.01;
 
 struct PipelineOptions {

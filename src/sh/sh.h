@@ -1,4 +1,4 @@
-// Spherical-harmonics math of the tool's one canonical form (see README, "Canonical SH"):
+// Spherical-harmonics math of the tool's one canonical form (docs/conventions.md "Canonical SH and conventions"):
 // real SH, order 0..8 = Y00, y, z, x, xy, yz, 3z²-1, xz, x²-y² (no Condon-Shortley sign),
 // coefficients = projection of incident RADIANCE, in the texel's local frame (z = surface normal).
 // Irradiance means E(n) = ∫ L(ω) max(0, n·ω) dω (no 1/π).

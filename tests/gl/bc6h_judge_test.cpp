@@ -99,8 +99,8 @@ TEST_F(Bc6hJudge, RandomBlocksOfEveryModeDecodeBitExact) {
 
 TEST_F(Bc6hJudge, EveryBlockWeWriteForTheTestImagesDecodesAsWeBelieve) {
   for (const char* file : {"lightmap_smooth.exr", "hdr_hard.exr", "lightmap_noisy.exr"}) {
-    const std::string path = std::string(AHD_SHARED_DIR) + "/data/bc6h/" + file;
-    if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " missing";
+    const std::string path = std::string(AHD_TEST_DATA_DIR) + "/bc6h/" + file;
+    if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " missing (tests/data/README.md)";
     const ImageF src = read_image(path);
     for (bool is_signed : {false, true})
       for (Bc6hQuality q : {Bc6hQuality::Fast, Bc6hQuality::Default}) {

@@ -1,7 +1,7 @@
 // The bad-input catalogue (issue 15): every named bad input must give one ahd::Error of one line
 // "<file>: <cause>", write no file, and leave the previous outputs untouched. In-process (the
 // library calls the CLI makes); bad_input_cli_test.cpp runs a representative handful through the
-// command line. README "Bad input" lists the catalogue; keep both in step.
+// command line. docs/robustness.md "The catalogue of bad input" lists it; keep both in step.
 #include <gtest/gtest.h>
 #include <zstd.h>
 

@@ -1,4 +1,4 @@
-// Real bakes as they lie on disk (issue 16): the real Godot 4.2 bake of ../shared/data/bakes/
+// Real bakes as they lie on disk (issue 16): the real Godot 4.2 bake of tests/data/bakes/
 // detected and read back against its own layers; a 4-page Godot-style atlas converted to 4-layer
 // array planes equal, layer by layer, to each page converted alone; the page count refused when
 // unknown; --layout auto over the presets' own file sets.
@@ -13,6 +13,7 @@
 #include "io/layout_pages.h"
 #include "layout_test_scene.h"
 #include "pipeline/manifest.h"
+#include "test_data.h"
 
 namespace fs = std::filesystem;
 using namespace ahd;
@@ -20,7 +21,7 @@ using namespace layout_test;
 
 namespace {
 
-const fs::path kVermilion = fs::path(AHD_SHARED_DIR) / "data" / "bakes" / "godot42-vermilion";
+const fs::path kVermilion = ahd_test::test_data("bakes/godot42-vermilion");
 
 bool contains(const std::string& s, const std::string& what) { return s.find(what) != std::string::npos; }
 
@@ -73,6 +74,7 @@ Manifest read_manifest(const fs::path& p) {
 }  // namespace
 
 TEST(Atlas, RealGodot42BakeDetectedAsRawOnePageAndReadBackAgainstItsLayers) {
+  AHD_REQUIRE_DATA(kVermilion / "world.exr");
   const std::string exr = (kVermilion / "world.exr").string();
   ASSERT_TRUE(fs::exists(exr)) << exr;
   const LayoutDetection d = detect_layout(exr);
@@ -120,6 +122,7 @@ TEST(Atlas, RealGodot42BakeDetectedAsRawOnePageAndReadBackAgainstItsLayers) {
 }
 
 TEST(Atlas, RealGodot42BakeConvertsFromTheCommandLineWithTheDetectionPrinted) {
+  AHD_REQUIRE_DATA(kVermilion / "world.exr");
   const fs::path dir = ahd_test::temp_dir("atlas_vermilion_cli");
   ImageF n(512, 512, 3);
   for (size_t i = 0; i < n.texels(); ++i) n.data[i * 3 + 1] = 1;
@@ -267,6 +270,7 @@ TEST(Atlas, AutoDetectionOfEachBakersSet) {
 }
 
 TEST(Atlas, GodotRecordsAreRead) {
+  AHD_REQUIRE_DATA(kVermilion / "world.exr");
   const GodotImport gi = read_godot_import((kVermilion / "world.exr").string());
   EXPECT_TRUE(gi.found);
   EXPECT_EQ(gi.importer, "2d_array_texture");

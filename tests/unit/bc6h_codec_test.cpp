@@ -19,6 +19,7 @@
 #include "codecs/bc6h/bc6h_tables.h"
 #include "core/cpu.h"
 #include "io/image_io.h"
+#include "test_data.h"
 
 using namespace ahd;
 
@@ -228,7 +229,9 @@ TEST(Bc6h, SharedImagesBeatTheFastestPublicEncoder) {
                 {"hdr_hard.exr", 0.01501, 0.00795, 1.0001},
                 {"lightmap_noisy.exr", 0.1030, 0.04606, 1.0001}};
   for (const auto& im : images) {
-    const ImageF src = clamp_rgb(read_image(std::string(AHD_SHARED_DIR) + "/data/bc6h/" + im.file));
+    const std::filesystem::path path = ahd_test::test_data("bc6h") / im.file;
+    AHD_REQUIRE_DATA(path);
+    const ImageF src = clamp_rgb(read_image(path.string()));
     Bc6hOptions o;
     const std::vector<uint8_t> b = bc6h_encode_image(src, o);
     const double e = log_rmse(src, bc6h_decode_image(b.data(), src.width, src.height, false));
@@ -284,7 +287,9 @@ TEST(Bc6h, SimdAndScalarLoopsWriteTheSameBytes) {
   // fast (the AVX-512 or AVX2 batches, or the one-block SSE2 loops), default (fast-fit blocks and searched ones), high
   // (two regions, 3-bit indices), unsigned and signed, on a crop of each shared image.
   for (const char* file : {"lightmap_smooth.exr", "hdr_hard.exr", "lightmap_noisy.exr"}) {
-    const ImageF src = clamp_rgb(read_image(std::string(AHD_SHARED_DIR) + "/data/bc6h/" + file));
+    const std::filesystem::path path = ahd_test::test_data("bc6h") / file;
+    AHD_REQUIRE_DATA(path);
+    const ImageF src = clamp_rgb(read_image(path.string()));
     ImageF crop(96, 96, 3);
     for (int y = 0; y < 96; ++y)
       for (int x = 0; x < 96; ++x)
@@ -341,7 +346,9 @@ TEST(Bc6h, MaxOnCropsOfTheSharedImages) {
     double measured;
   } images[] = {{"lightmap_smooth.exr", 0.009842}, {"hdr_hard.exr", 0.002005}, {"lightmap_noisy.exr", 0.045290}};
   for (const auto& im : images) {
-    const ImageF src = clamp_rgb(read_image(std::string(AHD_SHARED_DIR) + "/data/bc6h/" + im.file));
+    const std::filesystem::path path = ahd_test::test_data("bc6h") / im.file;
+    AHD_REQUIRE_DATA(path);
+    const ImageF src = clamp_rgb(read_image(path.string()));
     ImageF crop(128, 128, 3);
     for (int y = 0; y < 128; ++y)
       for (int x = 0; x < 128; ++x)
@@ -360,7 +367,9 @@ TEST(Bc6h, MaxOnCropsOfTheSharedImages) {
 
 TEST(Bc6h, FastPathWritesTheSameBytesWithEitherHalfConversion) {
   for (const char* file : {"lightmap_noisy.exr", "hdr_hard.exr"}) {
-    const ImageF src = clamp_rgb(read_image(std::string(AHD_SHARED_DIR) + "/data/bc6h/" + file));
+    const std::filesystem::path path = ahd_test::test_data("bc6h") / file;
+    AHD_REQUIRE_DATA(path);
+    const ImageF src = clamp_rgb(read_image(path.string()));
     Bc6hOptions o;
     o.quality = Bc6hQuality::Fast;
     cpu::disable_for_tests(cpu::kF16c);
@@ -405,7 +414,9 @@ TEST(Bc6h, FastBeatsTheRealTimePeerOnTheSharedImages) {
   } images[] = {{"lightmap_smooth.exr", 0.01247, 0.01247}, {"hdr_hard.exr", 0.02072, 0.02072},
                 {"lightmap_noisy.exr", 0.04633, 0.04633}};
   for (const auto& im : images) {
-    const ImageF src = clamp_rgb(read_image(std::string(AHD_SHARED_DIR) + "/data/bc6h/" + im.file));
+    const std::filesystem::path path = ahd_test::test_data("bc6h") / im.file;
+    AHD_REQUIRE_DATA(path);
+    const ImageF src = clamp_rgb(read_image(path.string()));
     Bc6hOptions o;
     o.quality = Bc6hQuality::Fast;
     const std::vector<uint8_t> b = bc6h_encode_image(src, o);
@@ -498,11 +509,11 @@ TEST(Bc6h, MaxIsNeverWorseThanDefaultOnAnyBlock) {
   // Issue 28: `max` lowest of all on every image. On the noisy image default's polished fast fit
   // beat max's search (0.04573 vs 0.04639), so max keeps default's block where it decodes closer.
   // Per block, in the judged metric (log2(1 + x) squared over the block's texels), on a 48² crop
-  // of each shared image (when ../shared is there) and of each real lightmap.
+  // of each shared image (tests/data/bc6h) and of each real lightmap.
   std::vector<std::string> files = {std::string(AHD_SOURCE_DIR) + "/bench/data/real/godot42-vermilion_iz.exr",
                                     std::string(AHD_SOURCE_DIR) + "/bench/data/real/godot-ragdoll-plain_iz_1024.exr"};
   for (const char* f : {"lightmap_smooth.exr", "hdr_hard.exr", "lightmap_noisy.exr"}) {
-    const std::string path = std::string(AHD_SHARED_DIR) + "/data/bc6h/" + f;
+    const std::string path = std::string(AHD_TEST_DATA_DIR) + "/bc6h/" + f;
     if (std::ifstream(path)) files.push_back(path);
   }
   for (const std::string& file : files) {

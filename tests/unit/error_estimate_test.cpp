@@ -59,7 +59,7 @@ std::vector<AhdLobe> fit_lobes(const ShImage& sh) {
   return lobes;
 }
 
-// The stated tolerance of the estimate (README, hemisphere_error.h): mean within 3 %, p99 within
+// The stated tolerance of the estimate (docs/performance.md "The error estimate", hemisphere_error.h): mean within 3 %, p99 within
 // 10 % of the full figure (relative to it), or within `floor` absolute for figures near zero.
 // Why 10 % for the p99: the sample's p99 stands at a true quantile of 0.99 ± 0.0016 (one standard
 // error at 4096 texels); on the heavy-tailed BC6H errors of a plain map that rank band is ±6 % in

@@ -339,7 +339,7 @@ TEST(FitRefine, FilteredErrorOnTheAnalyticSceneIsNoWorse) {
   // Measured on 64²: bilinear sub-texel error relative to the mean irradiance, linear → refined
   // (with the pair guard): RGB 0.1003 → 0.0964, luminance 0.1028 → 0.0988 (without the guard 0.0959
   // / 0.0983). The neighbour-angle p99 is the linear one, 14.14°, with the guard (without it 17.0° /
-  // 16.2°): printed here, in the README.
+  // 16.2°): printed here, in docs/fit.md "Choosing the direction beyond the paper".
   const ShImage sh = smooth_scene();
   for (RatioForm form : {RatioForm::Rgb, RatioForm::Luminance}) {
     const FitOptions lin = options(form, DirectionFit::Linear), ref = options(form, DirectionFit::Refined);

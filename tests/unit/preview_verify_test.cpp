@@ -148,13 +148,13 @@ TEST(Plot, BenchBc6hHasOnePointPerImageAndQuality) {
 }
 
 TEST(Plot, BenchBc6hByDefaultCoversTheSyntheticAndTheRealImages) {
-  // No folder: the shared synthetic images (when ../shared is there) and the real-lightmap corpus
+  // No folder: the shared synthetic images (tests/data/bc6h) and the real-lightmap corpus
   // of bench/data/real, every image in the table; several folders are read in turn.
   const auto r = run_cli({"bench", "bc6h", "--codecs", "bc6h", "--qualities", "fast"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   for (const char* real : {"godot42-vermilion_iz.exr", "godot-ragdoll-plain_iz_1024.exr"})
     EXPECT_NE(r.output.find(real), std::string::npos) << r.output;
-  if (fs::exists(fs::path(AHD_SHARED_DIR) / "data" / "bc6h" / "lightmap_smooth.exr"))
+  if (fs::exists(fs::path(AHD_TEST_DATA_DIR) / "bc6h" / "lightmap_smooth.exr"))
     for (const char* synthetic : {"lightmap_smooth.exr", "hdr_hard.exr", "lightmap_noisy.exr"})
       EXPECT_NE(r.output.find(synthetic), std::string::npos) << r.output;
   const fs::path d = ahd_test::temp_dir("bench_folders");

@@ -129,7 +129,7 @@ std::string bc6h_plot(const std::vector<Row>& rows) {
   p.title = "BC6H: speed against error (ahdpack bench bc6h)";
   p.x_label = "MPix/s, one thread's CPU time";
   p.y_label = "log-RMSE, log2(1+x)";
-  p.note = std::string("peers: ../shared/data/bc6h/PEERS.md, measured ") + kPeersBc6hDate + "; labels: quality or image";
+  p.note = std::string("peers: tests/data/bc6h/PEERS.md, measured ") + kPeersBc6hDate + "; labels: quality or image";
   std::vector<std::string> images;
   for (const Row& r : rows)
     if (std::find(images.begin(), images.end(), r.image) == images.end()) images.push_back(r.image);
@@ -169,7 +169,7 @@ void add_bench_command(CLI::App& app) {
   CLI::App* c = b->add_subcommand(
       "bc6h", "BC6H speed and error per quality level over a folder of EXRs; BC4/BC5 on x/(1+x) planes of the same images");
   c->add_option("folder", a->folders,
-                "Folders of EXR images (default: ../shared/data/bc6h, the synthetic images, and bench/data/real, the real "
+                "Folders of EXR images (default: tests/data/bc6h, the synthetic images, and bench/data/real, the real "
                 "lightmaps' I_z planes; a default folder that is absent is left out)");
   c->add_option("--csv", a->csv, "Also write the table as CSV");
   c->add_option("--plot", a->plot, "Also write the BC6H speed-error plot as SVG, with the peers of PEERS.md");
@@ -178,7 +178,7 @@ void add_bench_command(CLI::App& app) {
   c->callback([a]() {
     const bool defaults = a->folders.empty();
     const std::vector<std::string> folders =
-        defaults ? std::vector<std::string>{std::string(AHD_FORMATS_DIR) + "/../../shared/data/bc6h",
+        defaults ? std::vector<std::string>{std::string(AHD_FORMATS_DIR) + "/../tests/data/bc6h",
                                             std::string(AHD_FORMATS_DIR) + "/../bench/data/real"}
                  : a->folders;
     std::vector<fs::path> files;
@@ -187,7 +187,7 @@ void add_bench_command(CLI::App& app) {
       std::error_code ec;
       for (const auto& e : fs::directory_iterator(folder, ec))
         if (e.path().extension() == ".exr") in_folder.push_back(e.path());
-      if (defaults && (ec || in_folder.empty())) continue;  // e.g. no ../shared beside the checkout
+      if (defaults && (ec || in_folder.empty())) continue;  // e.g. a checkout without bench/data
       if (ec || in_folder.empty()) throw file_error(folder, "no EXR images in this folder");
       std::sort(in_folder.begin(), in_folder.end());
       files.insert(files.end(), in_folder.begin(), in_folder.end());

@@ -1,4 +1,4 @@
-// ahdpack report …: the accuracy tables of the README, each from one command anyone can rerun.
+// ahdpack report …: the accuracy tables of docs/accuracy.md "Accuracy", each from one command anyone can rerun.
 //   hard-cases  the fit and the quantised planes on the hard-case set
 //   eps         the horizon rule's eps against error (how the default was chosen)
 //   profiles    every profile end to end: bytes per texel, error vs the source SH, open vs closed loop

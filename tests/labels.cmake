@@ -1,0 +1,40 @@
+# ctest labels of the discovered gtest tests, by test name (run by ctest after the discovered
+# tests are defined: tests/CMakeLists.txt adds this file to TEST_INCLUDE_FILES after them).
+#
+# Every test has exactly one kind:
+#   judge        an independent reader or decoder checks our output (Mesa llvmpipe, ktx-parse,
+#                Chromium, three.js, OpenImageIO's DDS reader, the bakers' own runtime formulas)
+#   integration  runs the ahdpack binary or another process, or reads the real bakes (tests/data)
+#   accuracy     an error bound measured on many inputs (the figures docs/accuracy.md quotes)
+#   unit         everything else: in process, one stage, seconds for the whole label
+# and may add:
+#   slow         took 20 s or more in the fresh-clone run of 2026-12-02 (2 cores at load ≈ 15) (ctest -LE slow leaves them out)
+#   nosan        left out of the ASan/UBSan run (scripts/sanitize.sh): a browser, the installed
+#                package built with the default compiler, the three.js render, two accuracy sweeps the instrumented
+#                suite already covers on fewer inputs
+# A new test lands in `unit` unless a pattern below names it.
+
+set(_judge "^(Bc6hJudge|PackedFloatMesa|RgtcMesa|Profiles/ShaderRender|KtxParse|PreviewChromium|ThreeRender|DecodeVsRuntime)\\.|^Container\\.OpenImageIOReadsOurDds$")
+set(_integration "^(Cli|Golden|Verify|Plot|Preview|Preview3d|BenchConvert|Consumer|OutputSet)\\.|^Atlas\\.(RealGodot42|FourPageGodotAtlas|UnknownPageCount)|^BadInput\\.Cli|^Placement\\.ConvertWith|^MeshRaster\\.(BadMeshes|ConvertWithMesh|MeshAxes)|^DirectionPlanes\\.(PlainLightmapWritesOnlyIz|KeepAndDrop)|^Layout\\.GodotPackedMatchesSource")
+set(_accuracy "^Truth\\.|^FitWindow\\.NoisyScene|^Bc6h\\.(SharedImagesBeatTheFastestPublicEncoder|MaxOnCropsOfTheSharedImages|FastBeatsTheRealTimePeerOnTheSharedImages)$|^Fit\\.(ClosedFormTMatchesBruteForceSearch|MillionRandomTexels)|^FitRefine\\.(ErrorRatiosAgainstUnconstrainedLeastSquares|IssueMeasureSampledDirections|NeverWorseThanTheLinearDirectionPerTexel|MillionRandomTexels|FilteredErrorOnTheAnalyticScene|PairGuardBounds|CoherencePass)|^ErrorEstimate\\.(AgreesWithFullMeasurement|ConversionEstimateAgrees)|^Bc4\\.EncoderIsCloseToExhaustiveSearch$")
+set(_slow "^(Consumer|BenchConvert|Truth)\\.|^Atlas\\.FourPageGodotAtlas|^Cli\\.(BatchOfSmallFiles|EveryProfileAndContainer)|^Bc6h\\.MaxOnCrops|^OutputSet\\.KilledBeforeEachRename")
+set(_nosan "^(Consumer|PreviewChromium|ThreeRender|Truth)\\.|^Bc6h\\.MaxOnCropsOfTheSharedImages$|^Fit\\.ClosedFormTMatchesBruteForceSearch$")
+
+foreach(_t IN LISTS ahd_tests_TESTS ahd_gl_tests_TESTS)
+  if(_t MATCHES "${_judge}")
+    set(_labels judge)
+  elseif(_t MATCHES "${_integration}")
+    set(_labels integration)
+  elseif(_t MATCHES "${_accuracy}")
+    set(_labels accuracy)
+  else()
+    set(_labels unit)
+  endif()
+  if(_t MATCHES "${_slow}")
+    list(APPEND _labels slow)
+  endif()
+  if(_t MATCHES "${_nosan}")
+    list(APPEND _labels nosan)
+  endif()
+  set_tests_properties("${_t}" PROPERTIES LABELS "${_labels}")
+endforeach()
