@@ -1,5 +1,5 @@
 // Godot from the files a Godot project has (issue 25): the real Godot 4.2 bake of
-// tests/data/godot42-vermilion (scene, .lmbake, .glb meshes with UV0 only and their
+// tests/data/bakes/godot42-vermilion (scene, .lmbake, .glb meshes with UV0 only and their
 // .glb.unwrap_cache) converts with no normals or placement file; the coverage rasterised from the
 // meshes matches the lightmap's lit charts and the normals agree with the SH. The parsers refuse
 // damaged bytes with one line. A mesh with the wrong UV set, or instances overlapping without
@@ -11,6 +11,7 @@
 #include <fstream>
 
 #include "cli_runner.h"
+#include "test_data.h"
 #include "core/error.h"
 #include "fit/fit_image.h"
 #include "io/baker_layout.h"
@@ -29,7 +30,7 @@ using namespace ahd;
 
 namespace {
 
-const fs::path kBake = fs::path(AHD_SOURCE_DIR) / "tests" / "data" / "godot42-vermilion";
+const fs::path kBake = ahd_test::test_data("bakes/godot42-vermilion");
 const fs::path kScenes = kBake / "project" / "scenes";
 
 bool contains(const std::string& s, const std::string& what) { return s.find(what) != std::string::npos; }
