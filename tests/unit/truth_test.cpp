@@ -15,13 +15,14 @@
 #include "pipeline/convert.h"
 #include "pipeline/plane_decode.h"
 #include "sh/sh_image.h"
+#include "test_data.h"
 
 namespace ahd {
 namespace {
 
 const char* const kScenes[] = {"area", "sun"};
 
-std::string scene_dir(const char* name) { return std::string(AHD_SOURCE_DIR) + "/tests/data/truth/" + name; }
+std::string scene_dir(const char* name) { return ahd_test::test_data(std::string("truth/") + name).string(); }
 
 TruthEval fit_eval(const AhdImage& a) {
   return [&a](size_t i, const double n[3], double out[3]) {
