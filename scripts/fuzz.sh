@@ -26,6 +26,7 @@ seed dds golden/expected/*.dds
 seed manifest $(ls golden/expected/*.json | grep -v report)
 seed layout formats/bakers/*.json
 seed blocks golden/expected/*.iz.*
+seed report golden/expected/*.report.json
 # The intermediate EXR of a golden input; small meshes (byte 0 picks .obj / .gltf / .glb).
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
@@ -39,8 +40,8 @@ failed=0
 # A fixed number of runs per target with a fixed seed: the same inputs are tried on every machine,
 # so a run that passed here passes in CI (FUZZ_SECONDS only caps the time on a slow machine, which
 # then tries a prefix of the same sequence). About 30 s each on this 2-core machine.
-declare -A RUNS=([ktx2]=600000 [dds]=1000000 [manifest]=100000 [layout]=60000 [intermediate]=500 [blocks]=60000 [mesh]=300)
-for t in ${@:-ktx2 dds manifest layout intermediate blocks mesh}; do
+declare -A RUNS=([ktx2]=600000 [dds]=1000000 [manifest]=100000 [layout]=60000 [intermediate]=500 [blocks]=60000 [mesh]=300 [report]=50000)
+for t in ${@:-ktx2 dds manifest layout intermediate blocks mesh report}; do
   extra=(-runs="${FUZZ_RUNS:-${RUNS[$t]}}")
   # OpenEXR and Assimp are not instrumented and keep caches of their own: leaks are only ours to find elsewhere.
   case $t in intermediate|mesh) extra+=(-detect_leaks=0) ;; esac
