@@ -137,14 +137,14 @@ struct ReadOnlyFolder {
 // Defect 6: `compress` on a full disk exited 0 and left a short file in place of the good one.
 TEST(OutputFaults, CompressOnAFullDiskFailsAndKeepsThePreviousFile) {
   const fs::path d = ahd_test::temp_dir("faults_compress");
-  ASSERT_EQ(run_cli({"convert", "-o", (d / "s" / "room.ktx2").string(), "--sample-size", "64", "-q"}).exit_code, 0);
+  ASSERT_EQ(run_cli({"convert", "-o", (d / "s" / "room.ktx2").string(), "--sample-size", "16", "-q"}).exit_code, 0);
   ASSERT_EQ(run_cli({"decode", (d / "s" / "room.json").string(), "-o", (d / "in.exr").string()}).exit_code, 0);
   const fs::path out = d / "c.ktx2";
   ASSERT_EQ(run_cli({"compress", (d / "in.exr").string(), "-o", out.string()}).exit_code, 0);
-  const std::string good = slurp(out);
-  ASSERT_GT(good.size(), 4096u);  // 64x64 BC6H: 4 KiB of blocks, more than the limit below
+  ASSERT_GT(slurp(out).size(), 256u);
   const auto before = snapshot(d);
-  const auto r = run_full_disk(2, {"compress", (d / "in.exr").string(), "-o", out.string(), "--quality", "fast"});
+  // No room at all: the file is created, its buffered bytes fail at close (unchecked: 0 bytes, exit 0).
+  const auto r = run_full_disk(0, {"compress", (d / "in.exr").string(), "-o", out.string(), "--quality", "fast"});
   expect_one_error_line(r, out.string());
   EXPECT_EQ(snapshot(d), before);  // the previous file byte for byte, no temporary left
   fs::remove_all(d);
@@ -153,12 +153,12 @@ TEST(OutputFaults, CompressOnAFullDiskFailsAndKeepsThePreviousFile) {
 // Defect 6: `decode` on a full disk exited 0 and left a 1 KiB EXR in place of the good one.
 TEST(OutputFaults, DecodeOnAFullDiskFailsAndKeepsThePreviousFile) {
   const fs::path d = ahd_test::temp_dir("faults_decode");
-  ASSERT_EQ(run_cli({"convert", "-o", (d / "s" / "room.ktx2").string(), "--sample-size", "64", "-q"}).exit_code, 0);
+  ASSERT_EQ(run_cli({"convert", "-o", (d / "s" / "room.ktx2").string(), "--sample-size", "16", "-q"}).exit_code, 0);
   const fs::path out = d / "irr.exr";
-  ASSERT_EQ(run_cli({"decode", (d / "s" / "room.json").string(), "-o", out.string()}).exit_code, 0);
-  ASSERT_GT(slurp(out).size(), 2048u);
+  ASSERT_EQ(run_cli({"decode", (d / "s" / "room.json").string(), "-o", out.string(), "--level", "1"}).exit_code, 0);
   const auto before = snapshot(d);
-  const auto r = run_full_disk(1, {"decode", (d / "s" / "room.json").string(), "-o", out.string(), "--level", "1"});
+  // 1 KiB of room: OpenEXR's last bytes fail at close, which was unchecked (a 1 KiB file, exit 0).
+  const auto r = run_full_disk(1, {"decode", (d / "s" / "room.json").string(), "-o", out.string()});
   expect_one_error_line(r, out.string());
   EXPECT_EQ(snapshot(d), before);
   fs::remove_all(d);
@@ -167,7 +167,7 @@ TEST(OutputFaults, DecodeOnAFullDiskFailsAndKeepsThePreviousFile) {
 // Defect 6 for `decompress`, the other single-file writer of an image.
 TEST(OutputFaults, DecompressOnAFullDiskFailsAndKeepsThePreviousFile) {
   const fs::path d = ahd_test::temp_dir("faults_decompress");
-  ASSERT_EQ(run_cli({"convert", "-o", (d / "s" / "room.ktx2").string(), "--sample-size", "64", "-q"}).exit_code, 0);
+  ASSERT_EQ(run_cli({"convert", "-o", (d / "s" / "room.ktx2").string(), "--sample-size", "16", "-q"}).exit_code, 0);
   ASSERT_EQ(run_cli({"decode", (d / "s" / "room.json").string(), "-o", (d / "in.exr").string()}).exit_code, 0);
   ASSERT_EQ(run_cli({"compress", (d / "in.exr").string(), "-o", (d / "c.ktx2").string()}).exit_code, 0);
   const fs::path out = d / "back.exr";
@@ -277,7 +277,12 @@ TEST(OutputFaults, SignalBetweenRenamesLeavesNoOrphan) {
       ::setenv("AHDPACK_TEST_KILL_BEFORE_RENAME", (std::to_string(k) + ":" + sig).c_str(), 1);
       const auto r = convert(d / "room.ktx2", "pc-bc", 1);
       ::unsetenv("AHDPACK_TEST_KILL_BEFORE_RENAME");
-      if (r.exit_code == 0) break;
+      if (r.exit_code == 0) {
+        EXPECT_GT(k, 3) << "the signal hook did not fire";
+        break;
+      }
+      const int signo = std::string(sig) == "INT" ? SIGINT : SIGTERM;
+      EXPECT_TRUE(r.exit_code == 128 + signo || r.exit_code == -1) << "not killed by the signal: " << r.output;
       EXPECT_TRUE(complete_set(d / "room.json"));
       if (read_json(d / "room.json").value("profile", "") == "uncompressed") {
         EXPECT_EQ(snapshot(d), before);
@@ -375,14 +380,17 @@ TEST(OutputFaults, InterruptedPreviewLeavesNoTemporaryFolder) {
   ASSERT_EQ(run_cli({"convert", "-o", (d / "s" / "room.ktx2").string(), "--sample-size", "256", "-q"}).exit_code, 0);
   const std::string cmd = quote(AHD_CLI_PATH) + " preview " + quote((d / "s" / "room.json").string()) + " -o " +
                           quote((d / "page").string()) + " >/dev/null 2>&1";
-  for (const char* delay : {"0.05", "0.1", "0.2", "0.3", "0.5"}) {
+  size_t interrupted = 0;
+  for (const char* delay : {"0.1", "0.3", "0.6", "1", "1.5", "2.5"}) {
     SCOPED_TRACE(delay);
     fs::remove_all(d / "page");
     const std::string rc = ahd_test::run_shell(cmd + " & P=$!; sleep " + delay + "; kill -INT $P; wait $P; echo $?");
     EXPECT_TRUE(rc == "130\n" || rc == "0\n") << rc;
+    interrupted += rc == "130\n";
     EXPECT_EQ(hidden_in(d), 0u);
     if (fs::exists(d / "page")) EXPECT_TRUE(fs::exists(d / "page" / "index.html"));
   }
+  EXPECT_GT(interrupted, 0u) << "every preview finished before its signal: nothing was tested";
   fs::remove_all(d);
 }
 
