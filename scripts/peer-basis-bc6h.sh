@@ -1,7 +1,10 @@
 #!/usr/bin/env bash
-# Side-by-side BC6H speed of Basis Universal's real-time encoder and ahdpack `fast` on this machine,
-# on ../shared/data/bc6h, each pinned to the same CPU (bench/peers/basis_bc6h.cpp says why).
+# Side-by-side BC6H speed and error of Basis Universal's real-time encoder (HQ defaults and its
+# 9-mode/32-pattern setting) and ahdpack (`fast` and `default`; QUALITIES overrides) on this
+# machine, on ../shared/data/bc6h and the real-lightmap corpus bench/data/real, each pinned to the
+# same CPU (bench/peers/basis_bc6h.cpp says why).
 # Usage: bash scripts/peer-basis-bc6h.sh BASIS_UNIVERSAL_CHECKOUT [CPU ...]   (default CPUs: all)
+#        QUALITIES="fast default max" bash scripts/peer-basis-bc6h.sh ...
 # Needs a built ./build (README command 1 or 2). Builds into build/peers/; nothing of the checkout
 # is copied into the repository.
 set -euo pipefail
@@ -10,7 +13,9 @@ basis="$(cd "${1:?usage: peer-basis-bc6h.sh BASIS_UNIVERSAL_CHECKOUT [CPU ...]}"
 shift
 cpus=("$@")
 [ ${#cpus[@]} -gt 0 ] || mapfile -t cpus < <(seq 0 $(($(nproc) - 1)))
-images=(../shared/data/bc6h/lightmap_smooth.exr ../shared/data/bc6h/hdr_hard.exr ../shared/data/bc6h/lightmap_noisy.exr)
+images=(../shared/data/bc6h/lightmap_smooth.exr ../shared/data/bc6h/hdr_hard.exr ../shared/data/bc6h/lightmap_noisy.exr
+        bench/data/real/*.exr)
+read -r -a qualities <<< "${QUALITIES:-fast default}"
 mkdir -p build/peers
 if [ ! -x build/peers/basis_bc6h ] || [ bench/peers/basis_bc6h.cpp -nt build/peers/basis_bc6h ]; then
   [ -f build/peers/basisu_transcoder.o ] ||
@@ -21,5 +26,5 @@ fi
 for cpu in "${cpus[@]}"; do
   echo "== CPU $cpu (load $(cut -d' ' -f1-3 /proc/loadavg))"
   taskset -c "$cpu" build/peers/basis_bc6h "${images[@]}"
-  taskset -c "$cpu" build/ahdpack bench bc6h ../shared/data/bc6h --qualities fast --codecs bc6h | tail -n +3
+  taskset -c "$cpu" build/ahdpack bench bc6h --qualities "${qualities[@]}" --codecs bc6h | tail -n +3
 done

@@ -1,6 +1,7 @@
-// ahdpack bench bc6h [FOLDER] [--csv OUT.csv]: speed against error for every quality level, on
-// every EXR of a folder (default: the shared BC6H test images), as PEERS.md measures them; then
-// BC4 and BC5 on LDR planes derived from the same images.
+// ahdpack bench bc6h [FOLDER ...] [--csv OUT.csv]: speed against error for every quality level, on
+// every EXR of the folders (default: the shared synthetic BC6H test images, then the real-lightmap
+// corpus of bench/data/real), as PEERS.md measures them; then BC4 and BC5 on LDR planes derived
+// from the same images.
 //
 // Speed is reported three ways, because the machine is shared and wall time alone says little:
 //   cpu/thr  MPix/s of one thread's CPU time (CLOCK_THREAD_CPUTIME_ID), the PEERS.md figure
@@ -157,7 +158,7 @@ std::string bc6h_plot(const std::vector<Row>& rows) {
 
 void add_bench_command(CLI::App& app) {
   struct Args {
-    std::string folder = std::string(AHD_FORMATS_DIR) + "/../../shared/data/bc6h";
+    std::vector<std::string> folders;  // empty: the default corpus (kDefaultFolders)
     std::string csv, plot;
     std::vector<std::string> qualities = {"fast", "default", "high", "max"};
     std::vector<std::string> codecs = {"bc6h", "bc4", "bc5"};
@@ -167,18 +168,31 @@ void add_bench_command(CLI::App& app) {
   add_bench_convert_command(*b);
   CLI::App* c = b->add_subcommand(
       "bc6h", "BC6H speed and error per quality level over a folder of EXRs; BC4/BC5 on x/(1+x) planes of the same images");
-  c->add_option("folder", a->folder, "Folder of EXR images (default: ../shared/data/bc6h)");
+  c->add_option("folder", a->folders,
+                "Folders of EXR images (default: ../shared/data/bc6h, the synthetic images, and bench/data/real, the real "
+                "lightmaps' I_z planes; a default folder that is absent is left out)");
   c->add_option("--csv", a->csv, "Also write the table as CSV");
   c->add_option("--plot", a->plot, "Also write the BC6H speed-error plot as SVG, with the peers of PEERS.md");
   c->add_option("--qualities", a->qualities, "BC6H quality levels to run (fast default high max)");
   c->add_option("--codecs", a->codecs, "Codecs to run (bc6h bc4 bc5)");
   c->callback([a]() {
+    const bool defaults = a->folders.empty();
+    const std::vector<std::string> folders =
+        defaults ? std::vector<std::string>{std::string(AHD_FORMATS_DIR) + "/../../shared/data/bc6h",
+                                            std::string(AHD_FORMATS_DIR) + "/../bench/data/real"}
+                 : a->folders;
     std::vector<fs::path> files;
-    std::error_code ec;
-    for (const auto& e : fs::directory_iterator(a->folder, ec))
-      if (e.path().extension() == ".exr") files.push_back(e.path());
-    if (ec || files.empty()) throw file_error(a->folder, "no EXR images in this folder");
-    std::sort(files.begin(), files.end());
+    for (const std::string& folder : folders) {
+      std::vector<fs::path> in_folder;
+      std::error_code ec;
+      for (const auto& e : fs::directory_iterator(folder, ec))
+        if (e.path().extension() == ".exr") in_folder.push_back(e.path());
+      if (defaults && (ec || in_folder.empty())) continue;  // e.g. no ../shared beside the checkout
+      if (ec || in_folder.empty()) throw file_error(folder, "no EXR images in this folder");
+      std::sort(in_folder.begin(), in_folder.end());
+      files.insert(files.end(), in_folder.begin(), in_folder.end());
+    }
+    if (files.empty()) throw file_error(folders.back(), "no EXR images in the default folders");
     for (const std::string& codec : a->codecs)
       if (codec != "bc6h" && codec != "bc4" && codec != "bc5") throw Error("unknown codec " + codec);
     const int all = resolve_threads(0);
@@ -188,12 +202,12 @@ void add_bench_command(CLI::App& app) {
     std::printf("speed: MPix/s; cpu/thr = one thread's CPU time (CLOCK_THREAD_CPUTIME_ID), wall 1t / wall %dt = wall time,\n"
                 "cpu %dt = per CPU-second of the process with %d threads; median of 3 runs after an untimed one (BC6H max: 1)\n",
                 all, all, all);
-    std::printf("%-22s %-5s %-8s %8s %8s %8s %8s %10s %10s %8s %10s\n", "image", "codec", "quality", "cpu/thr", "wall 1t",
+    std::printf("%-28s %-5s %-8s %8s %8s %8s %8s %10s %10s %8s %10s\n", "image", "codec", "quality", "cpu/thr", "wall 1t",
                 "wall all", "cpu all", "log-RMSE", "RMSE", "PSNR dB", "max err");
     std::vector<Row> bc6h_rows;
     auto emit = [&](const Row& r, double mp) {
       if (r.codec == "bc6h") bc6h_rows.push_back(r), bc6h_rows.back().mp = mp;
-      std::printf("%-22s %-5s %-8s %8.3f %8.3f %8.3f %8.3f %10.5f %10.4g %8.2f %10.4g\n", r.image.c_str(), r.codec.c_str(),
+      std::printf("%-28s %-5s %-8s %8.3f %8.3f %8.3f %8.3f %10.5f %10.4g %8.2f %10.4g\n", r.image.c_str(), r.codec.c_str(),
                   r.quality.c_str(), mp / r.one.cpu, mp / r.one.wall, mp / r.all.wall, mp / r.all.cpu, r.err.log_rmse,
                   r.err.rmse, r.err.psnr, r.err.max);
       std::fflush(stdout);

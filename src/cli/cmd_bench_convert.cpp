@@ -159,7 +159,8 @@ struct Case {
   std::string file;  // what OIIO reads
   std::string base;  // what ahdpack reads (the file, or the layout's base path)
   bool plain = false;
-  int size = 0;
+  int size = 0;  // width and height of a generated input; 0 for a given file (width × height below)
+  int width = 0, height = 0;
   int coeffs = 9;  // of the SH input (plain: 1)
 };
 
@@ -248,6 +249,7 @@ void add_bench_convert_command(CLI::App& bench) {
     std::vector<int> sizes = {1024, 2048};
     std::vector<int> plain = {2048};
     std::vector<int> l1;
+    std::vector<std::string> plain_files;  // real plain lightmaps (any RGB EXR the plain layout reads)
     int threads = 0;
     std::string dir;
     bool full_measure = false;
@@ -256,12 +258,16 @@ void add_bench_convert_command(CLI::App& bench) {
   };
   auto a = std::make_shared<Args>();
   CLI::App* c = bench.add_subcommand("convert", "Whole-pipeline time, OIIO read time and peak memory on generated inputs");
-  c->add_option("--sizes", a->sizes, "Sizes of the generated L2 inputs (default 1024 2048; add 4096, slow)")
-      ->check(CLI::Range(4, 16384));
+  c->add_option("--sizes", a->sizes, "Sizes of the generated L2 inputs (default 1024 2048; add 4096, slow; 0 = none)")
+      ->check(CLI::IsMember({0}) | CLI::Range(4, 16384));
   c->add_option("--l1", a->l1, "Sizes of generated L1 inputs (the L2 inputs' first band; default none)")
       ->check(CLI::Range(4, 16384));
   c->add_option("--plain", a->plain, "Sizes of the generated plain lightmaps (default 2048; 0 = none)")
       ->check(CLI::Range(0, 16384));
+  c->add_option("--plain-file", a->plain_files,
+                 "Real plain lightmaps (RGB EXRs, e.g. ../shared/data/bakes/godot-ragdoll-plain/ragdoll_physics.exr), "
+                 "converted with the plain layout beside the generated inputs")
+      ->check(CLI::ExistingFile);
   c->add_option("--threads", a->threads, "Worker threads (0 = all)");
   c->add_option("--dir", a->dir, "Folder for the generated inputs and outputs (default: a fresh temp folder, removed after)");
   c->add_flag("--full-measure", a->full_measure, "Measure every texel (--measure full) instead of the default estimate");
@@ -289,6 +295,7 @@ void add_bench_convert_command(CLI::App& bench) {
     const int threads = resolve_threads(a->threads);
     std::vector<Case> cases;
     for (int s : a->sizes) {
+      if (s == 0) continue;
       const std::string f = (dir / ("l2_" + std::to_string(s) + ".exr")).string();
       write_canonical_sh(f, generated_l2(s, threads));
       cases.push_back({"L2 " + std::to_string(s) + "²", f, f, false, s});
@@ -304,6 +311,13 @@ void add_bench_convert_command(CLI::App& bench) {
       write_plain(base + ".exr", generated_l2(s, threads));
       cases.push_back({"plain " + std::to_string(s) + "²", base + ".exr", base, true, s, 1});
     }
+    for (const std::string& f : a->plain_files) {
+      const ImageFileInfo info = read_image_info(f);
+      Case cs{fs::path(f).stem().string().substr(0, 12), f, f.substr(0, f.size() - fs::path(f).extension().string().size()),
+              true, 0, 1};
+      cs.width = info.width, cs.height = info.height;
+      cases.push_back(cs);
+    }
     std::printf("ahdpack bench convert: pc-bc, default options, full mips, %d thread(s)%s\n", threads,
                 a->full_measure ? ", full error measurement" : ", error estimate (the default)");
     std::printf("%-12s %8s %9s %9s %7s %9s %10s %8s %9s %10s\n", "input", "MTexels", "total s", "OIIO s", "ratio",
@@ -315,7 +329,7 @@ void add_bench_convert_command(CLI::App& bench) {
                                        (dir / "out").string(), "--threads", std::to_string(threads)};
       if (a->full_measure) args.push_back("--full-measure");
       const auto cv = run_child(args);
-      const double texels = double(cs.size) * cs.size, total = std::stod(cv.at("total"));
+      const double texels = cs.size ? double(cs.size) * cs.size : double(cs.width) * cs.height, total = std::stod(cv.at("total"));
       const double oiio = std::stod(rd.at("seconds")), est = std::stod(cv.at("estimate"));
       const double peak = std::stod(cv.at("peak_rss_kb")) * 1024.0;
       const double decoded = texels * (cs.plain ? 3 : cs.coeffs * 3) * 4.0;  // the input as float: RGB, or the SH

@@ -3,8 +3,11 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <mutex>
 #include <set>
 
@@ -19,6 +22,7 @@
 #include "io/ahd_intermediate.h"
 #include "io/baker_layout.h"
 #include "io/colour_space.h"
+#include "io/godot_scene.h"
 #include "io/image_io.h"
 #include "io/layout_detect.h"
 #include "io/layout_pages.h"
@@ -26,6 +30,7 @@
 #include "io/placement_io.h"
 #include "io/profile_file.h"
 #include "io/sh_exr.h"
+#include "mesh/coverage_check.h"
 #include "pipeline/run.h"
 #include "sh/sh.h"
 
@@ -43,6 +48,10 @@ struct ConvertArgs {
   int uv_set = -1;      // the mesh's lightmap UV set (−1 = the default rule of io/mesh_io.h)
   int pages = 0;        // atlas pages of a paged layout (0 = as recorded by the baker)
   std::string placement;  // per-instance atlas placement of the mesh (JSON or Unity scene)
+  std::string godot_scene;  // or: a Godot scene (.tscn) whose LightmapGI baked the input
+  bool allow_mismatch = false;
+  std::string iz_scale = "E";  // stored I_z: E, E/pi, or a factor times E  // convert even when the mesh's coverage disagrees with the lightmap
+  mutable std::shared_ptr<const GodotSceneMeshes> godot;  // the scene, loaded once for every page
   // What reading found (detection, pages, overlaps), printed once the input has been read, so that
   // a failure prints its one error line and nothing else.
   mutable std::string notes;
@@ -70,11 +79,65 @@ void resolve_auto_layout(ConvertArgs* a) {
   for (const std::string& n : d->notes) a->notes += "  note: " + n + "\n";
 }
 
+// --iz-scale: "E" (1), "E/pi" (1/π) or a positive factor.
+double iz_scale_factor(const std::string& s) {
+  if (s == "E" || s == "e") return 1.0;
+  if (s == "E/pi" || s == "e/pi" || s == "E/π") return 1.0 / 3.14159265358979323846;
+  char* end = nullptr;
+  const double v = std::strtod(s.c_str(), &end);
+  if (end == s.c_str() || *end != '\0' || !(v > 0) || !std::isfinite(v))
+    throw Error("--iz-scale takes E, E/pi or a positive factor, not '" + s + "'");
+  return v;
+}
+
+// A Godot world-space bake without normals: the scene that baked it, when it lies beside the EXR.
+void find_godot_scene_for_input(ConvertArgs* a) {
+  if (a->layout.empty() || a->input.empty() || !a->normals.empty() || !a->mesh.empty() || !a->godot_scene.empty()) return;
+  const LayoutPreset layout = load_layout(a->layout);
+  if (!layout.world_space || layout.name.rfind("godot", 0) != 0) return;
+  const std::string exr = layout_base(layout, a->input) + ".exr";
+  const std::string scene = find_godot_scene(exr);
+  if (scene.empty()) return;
+  a->godot_scene = scene;
+  a->notes += "godot scene: " + scene + " (its LightmapGI baked " + fs::path(exr).filename().string() +
+              "): meshes, normals and atlas placement from the project\n";
+}
+
 // The baker's files through a layout preset, with normals/coverage from --normals or --mesh.
 // The mesh's triangles for atlas page `page`: as stored, or each instance moved into its atlas
 // rectangle by --placement (overlaps printed; *note says what was placed).
+// What gives the normals and coverage: the mesh file or the Godot scene.
+const std::string& mesh_source(const ConvertArgs& a) { return a.godot_scene.empty() ? a.mesh : a.godot_scene; }
+
+MeshTriangles godot_page_mesh(const ConvertArgs& a, int page, MeshReadInfo* mi, std::string* note) {
+  if (!a.godot) {
+    a.godot = std::make_shared<const GodotSceneMeshes>(load_godot_scene(a.godot_scene));
+    for (const std::string& n : a.godot->notes) a.notes += "godot scene: " + n + "\n";
+  }
+  const GodotSceneMeshes& g = *a.godot;
+  PlacedMesh pm = place_instances(g.scene, g.placements, page, g.lmbake);
+  *mi = {2, 2, int(pm.placed.size()), pm.mesh.indices.size() / 3};
+  *note = ", " + std::to_string(pm.placed.size()) + " of " + std::to_string(g.users) + " lightmap users placed by " + g.lmbake;
+  for (const std::string& o : pm.overlaps) a.notes += "placement: page " + std::to_string(page) + ": instances " + o + " overlap in the atlas\n";
+  return std::move(pm.mesh);
+}
+
 MeshTriangles page_mesh(const ConvertArgs& a, int page, MeshReadInfo* mi, std::string* note) {
-  if (a.placement.empty()) return read_mesh_lightmap(a.mesh, a.uv_set, mi);
+  if (!a.godot_scene.empty()) return godot_page_mesh(a, page, mi, note);
+  if (a.placement.empty()) {
+    // Several instances whose lightmap UVs overlap need their atlas placement: merged, they
+    // would be rasterised on top of each other.
+    const MeshInstances scene = read_mesh_instances(a.mesh, a.uv_set, mi);
+    if (!a.allow_mismatch) {
+      const PlacedMesh all = place_instances(scene, identity_placements(scene, page), page, a.mesh);
+      if (!all.overlaps.empty())
+        throw file_error(a.mesh, std::to_string(all.overlaps.size()) + " pair(s) of instances overlap in UV set " +
+                                     std::to_string(mi->uv_set) + " (first: " + all.overlaps.front() +
+                                     ") and no placement was given: give --placement (JSON or the Unity scene), "
+                                     "--godot-scene for a Godot project, or --allow-mismatch");
+    }
+    return read_mesh_lightmap(a.mesh, a.uv_set, mi);
+  }
   const MeshInstances scene = read_mesh_instances(a.mesh, a.uv_set, mi);
   PlacedMesh pm = place_instances(scene, read_placements(a.placement), page, a.placement);
   *note = ", " + std::to_string(pm.placed.size()) + " instance(s) placed by " + a.placement +
@@ -90,7 +153,8 @@ ShImage read_layout_input(const ConvertArgs& a, const LayoutPreset& layout, Read
                           int page = 0) {
   std::string from_mesh;
   ShImage sh;
-  if (!a.mesh.empty()) {
+  if (!a.mesh.empty() || !a.godot_scene.empty()) {
+    const std::string& src = mesh_source(a);
     if (layout.canonical)
       throw Error("layout " + layout.name + " is the tool's own EXR (coverage and normals inside): --mesh does not apply");
     // The mesh is rasterised at the lightmap's size, known from the first file's header.
@@ -103,13 +167,25 @@ ShImage read_layout_input(const ConvertArgs& a, const LayoutPreset& layout, Read
     mesh_normals_to_layout_axes(layout, &rn.normals);  // glTF's axes → the baker's world
     size_t covered = 0;
     for (uint8_t c : rn.coverage) covered += c;
+    const std::vector<uint8_t> mesh_coverage = rn.coverage;
     if (covered == 0)
-      throw file_error(a.mesh, "no triangle covers any texel of the " + std::to_string(w) + "x" + std::to_string(h) +
+      throw file_error(src, "no triangle covers any texel of the " + std::to_string(w) + "x" + std::to_string(h) +
                                    " lightmap in UV set " + std::to_string(mi.uv_set) + " (wrong --uv-set?)");
     // Tangent-space layouts take the coverage only (read_layout uses normals for world space).
-    const LayoutNormals ln{a.mesh, w, h, std::move(rn.normals), std::move(rn.coverage)};
+    const LayoutNormals ln{src, w, h, std::move(rn.normals), std::move(rn.coverage)};
     sh = read_layout(layout, a.input, &ln, rs);
-    from_mesh = ", " + std::string(layout.world_space ? "normals and coverage" : "coverage") + " from " + a.mesh + " (" +
+    // Never silently wrong: the mesh's coverage against what the baker wrote.
+    const CoverageComparison cc = compare_coverage(mesh_coverage, sh);
+    a.notes += "coverage: page " + std::to_string(page) + ": " + describe_coverage(cc) + "\n";
+    // A lightmap lit in every texel (gutters filled) says nothing about its charts.
+    const std::string bad = cc.lit == sh.texels() ? "" : coverage_mismatch(cc);
+    if (!bad.empty() && !a.allow_mismatch)
+      throw file_error(src, "UV set " + std::to_string(mi.uv_set) + " does not match the lightmap (" + bad + "): " +
+                                (a.godot_scene.empty() ? "give the UV set the lightmap was baked with (--uv-set), its atlas "
+                                                         "placement (--placement) or --godot-scene for a Godot project"
+                                                       : "the scene, meshes or unwrap caches are not the ones that baked it") +
+                                "; --allow-mismatch converts anyway");
+    from_mesh = ", " + std::string(layout.world_space ? "normals and coverage" : "coverage") + " from " + src + " (" +
                 std::to_string(mi.triangles) + " triangles, UV set " + std::to_string(mi.uv_set) + ", " +
                 std::to_string(covered) + " texels covered" + placed + ")";
   } else {
@@ -169,6 +245,8 @@ struct BatchJob {
 
 BatchRow run_convert(ConvertArgs a, const BatchJob* job = nullptr) {
   resolve_auto_layout(&a);
+  find_godot_scene_for_input(&a);
+  const size_t detection_notes = a.notes.size();  // why this path was taken: printed even on failure
   std::string out_path = a.output;
   if (out_path.empty())
     out_path = "ahdpack-out/" + (a.input.empty() ? std::string("sample") : fs::path(a.input).stem().string()) + ".ktx2";
@@ -181,6 +259,9 @@ BatchRow run_convert(ConvertArgs a, const BatchJob* job = nullptr) {
   // Checked before anything is read or written: one clear line, no output.
   const ResolvedOptions ro = resolve_options(co, out.name, load_profile(a.conv.profile));
   if (!a.mesh.empty() && !a.normals.empty()) throw Error("--mesh and --normals both give the normals: use one");
+  const double iz_scale = iz_scale_factor(a.iz_scale);
+  if (!a.godot_scene.empty() && (!a.mesh.empty() || !a.normals.empty() || !a.placement.empty()))
+    throw Error("--godot-scene gives the meshes, normals and placement: not with --mesh, --normals or --placement");
   if (!a.mesh.empty() && a.layout.empty()) throw Error("--mesh needs --layout (a baker's files to pair it with)");
   if (a.uv_set >= 0 && a.mesh.empty()) throw Error("--uv-set needs --mesh");
   if (!a.placement.empty() && a.mesh.empty()) throw Error("--placement needs --mesh (the instances it places)");
@@ -188,12 +269,23 @@ BatchRow run_convert(ConvertArgs a, const BatchJob* job = nullptr) {
   const auto t0 = std::chrono::steady_clock::now();
   ReadStats rs;
   std::string source;
-  std::vector<ShImage> pages = read_input_pages(a, &rs, &source);
+  std::vector<ShImage> pages;
+  try {
+    pages = read_input_pages(a, &rs, &source);
+  } catch (const std::exception&) {
+    // What detection found says why the run took this path: printed before the one error line.
+    if (!a.conv.quiet) std::fputs(a.notes.substr(0, detection_notes).c_str(), stdout), std::fflush(stdout);
+    throw;
+  }
   if (!a.conv.quiet) std::fputs(a.notes.c_str(), stdout);
   const double read_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   PackageOptions pkg = ro.package;
   pkg.world_frame = !pages[0].normals.empty();
+  pkg.iz_scale = iz_scale;
+  if (pkg.iz_scale != 1.0)  // the SH is linear in the light: scaling it scales I_z and keeps d and the ratio
+    for (ShImage& p : pages)
+      for (float& v : p.data) v = float(double(v) * pkg.iz_scale);
   pkg.report_extra = {{"source", source},
                       {"working_space", kWorkingSpace},
                       {"read", {{"non_finite_texels", rs.non_finite_texels}, {"coverage_derived", rs.coverage_derived}}}};
@@ -402,6 +494,16 @@ void add_convert_command(CLI::App& app) {
   c->add_option("--placement", a->placement,
                 "Atlas placement of the mesh's instances (node name -> page, scale, offset): ahdpack's JSON or a Unity "
                 "scene (.unity: m_LightmapIndex, m_LightmapTilingOffset); each instance's UVs become uv*scale+offset");
+  c->add_option("--godot-scene", a->godot_scene,
+                "A Godot project's scene (.tscn) holding the LightmapGI that baked the input: every lightmap user's "
+                "mesh (.glb + its .unwrap_cache UV2, or TEXCOORD_1), transform and atlas rectangle (.lmbake); "
+                "found by itself when the .tscn lies beside the EXR");
+  c->add_option("--iz-scale", a->iz_scale,
+                "What the iz plane stores: E (irradiance, the default), E/pi (what most engines' lightmaps hold: "
+                "multiply by albedo), or a factor times E; recorded in the manifest and the planes (iz_scale)");
+  c->add_flag("--allow-mismatch", a->allow_mismatch,
+              "Convert even when the mesh's coverage disagrees with the lightmap (lit texels outside it, covered "
+              "texels black, overlapping instances without placement)");
   add_conversion_options(c, &a->conv, true);
   c->add_flag("--keep-intermediate", a->keep_intermediate, "Also write OUT.ahd.exr, the lossless fitted planes for transcode");
   c->add_option("--sample-size", a->sample_size, "Built-in sample: width and height")->check(CLI::Range(1, 8192));

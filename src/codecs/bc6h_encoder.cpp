@@ -968,6 +968,12 @@ constexpr float kFastGood = 3000.0f;
 constexpr double kTwoRegionWorth = 6e-3;
 constexpr double kTwoLineGain = 0.30;
 constexpr double kNoiseBand[2] = {1.0 / 8192, 1.0 / 256}, kNoiseErr = 0.5;
+// Dark blocks (issue 28): kTwoRegionWorth and kNoiseErr are errors in the judged metric, whose
+// slope falls with the value below 1 (log2(1+x) ≈ x/ln 2), so on a dark block every error is
+// small and the two gates skipped nearly all of a real lightmap's blocks (the Godot bakes of
+// bench/data/real are mostly below 0.1). Both gates are scaled by min(1, (s/kDarkRef)²), s the
+// block's mean x/(1+x): a relative error for blocks darker than x = 1/3, unchanged above.
+constexpr double kDarkRef = 0.25;
 // Byte-changing skips (issue 13, `default` on hard): the second-ranked partition's candidate is
 // refined only when its unrefined error is within kRefineSecond times the best so far (the
 // incumbent included), and the incumbent's least squares are skipped when two regions already
@@ -1390,6 +1396,24 @@ void fill_geometry(const float rgb[48], const uint8_t valid[16], Block& b) {
   }
 }
 
+void encode_block_default(const uint16_t h[48], const float rgb[48], const uint8_t valid[16], OneRegionFit fit,
+                          uint8_t out[16]);
+
+// The judged error of an encoded UF16 block: Σ over valid texels and channels of
+// (log2(1 + decoded) − log2(1 + target))², the metric the candidates' err holds.
+double judged_error_uf16(const Block& b, const uint8_t block[16]) {
+  uint16_t dec[48];
+  bc6h_decode_block(block, false, dec);
+  const float* L = log_table();
+  double e = 0;
+  for (int t = 0; t < 16; ++t)
+    for (int c = 0; c < 3; ++c) {
+      const double d = double(L[dec[t * 3 + c]]) - double(b.L[t][c]);
+      e += b.valid[t] * d * d;
+    }
+  return e;
+}
+
 void encode_block_searched(const float rgb[48], const uint8_t valid[16], bool is_signed, Bc6hQuality q, uint8_t out[16]) {
   Block b;
   fill_targets(rgb, valid, is_signed, b);
@@ -1403,6 +1427,18 @@ void encode_block_searched(const float rgb[48], const uint8_t valid[16], bool is
   }
   Candidate best = q == Bc6hQuality::Max ? search_max(b) : search(b, q);
   pack(best, is_signed, out);
+  if (q == Bc6hQuality::Max && !is_signed && best.err > 0) {
+    // Issue 28: `max` lowest on every image. `default`'s polished fast fit beat max's search on
+    // noisy blocks (noisy image: default 0.04573, max 0.04639), so max also encodes the block as
+    // default does and keeps whichever decodes closer in the judged metric (ties: max's own).
+    uint16_t h[48];
+    floats_to_half(rgb, h, 48);
+    OneRegionFit fit;
+    fit_one_region_fast(h, rgb, valid, &fit);
+    uint8_t alt[16];
+    encode_block_default(h, rgb, valid, fit, alt);
+    if (judged_error_uf16(b, alt) < judged_error_uf16(b, out)) std::memcpy(out, alt, 16);
+  }
 }
 
 // Quality `default`'s cheap bound before the partition ranking: true when the block's texels lie
@@ -1454,6 +1490,20 @@ bool noise_along_one_line(const float rgb[48], const Block& b) {
   return off_line >= float(kNoiseBand[0]) * trace && off_line < float(kNoiseBand[1]) * trace;
 }
 
+// The scale of `default`'s two-region gates for a block (kDarkRef): min(1, (s/kDarkRef)²), s the
+// mean of x/(1+x) over the valid texels' channels (x ≥ 0, the input rule applied).
+double dark_gate_scale(const float rgb[48], const uint8_t valid[16]) {
+  float sum = 0, n = 0;
+  for (int t = 0; t < 16; ++t)
+    for (int c = 0; c < 3; ++c) {
+      const float x = rgb[t * 3 + c];
+      sum += valid[t] ? x / (1.0f + x) : 0.0f;
+      n += valid[t] ? 1.0f : 0.0f;
+    }
+  const double s = double(sum) / double(n);
+  return std::min(1.0, s * s / (kDarkRef * kDarkRef));
+}
+
 // Quality `default`, UF16: the real-time one-region fit (bc6h_fast.cpp) is the incumbent, and
 // the search runs only where it can pay:
 //  * a block whose fit error is at most kFastGood (weighted squared half steps, the fast path's
@@ -1462,7 +1512,8 @@ bool noise_along_one_line(const float rgb[48], const Block& b) {
 //    texel) and its quantised endpoints polished with those indices held (polish_steps: ±1 steps,
 //    one palette lookup per index group);
 //  * only if its error is still above kTwoRegionWorth, and the block is not noise along one line
-//    (noise_along_one_line, for errors below kNoiseErr), are the polished endpoints' indices
+//    (noise_along_one_line, for errors below kNoiseErr), both gates scaled down for dark blocks
+//    (dark_gate_scale), are the polished endpoints' indices
 //    re-picked, the kPartitionsTried best-ranked partitions tried in their most precise mode
 //    whose deltas fit, each refined kTwoRegionPasses times (unless no partition's two lines fit
 //    the block kTwoLineGain times better than one line; the second one only within
@@ -1503,7 +1554,8 @@ void encode_block_default(const uint16_t h[48], const float rgb[48], const uint8
   const bool moved = polish_steps(b, held, kPolishRounds, &gain);
   held.err -= gain;
   best = held;
-  if (held.err > kTwoRegionWorth && !(held.err < kNoiseErr && noise_along_one_line(rgb, b))) {
+  const double dark = dark_gate_scale(rgb, valid);
+  if (held.err > kTwoRegionWorth * dark && !(held.err < kNoiseErr * dark && noise_along_one_line(rgb, b))) {
     // A block that may need two regions: the polished endpoints' indices re-picked first.
     if (moved) {
       Candidate c = held;

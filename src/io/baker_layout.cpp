@@ -347,7 +347,7 @@ double normal_length(const LayoutNormals& n, size_t i) {
 // World-space layouts need usable normals of the lightmap's size; checked before the SH is decoded.
 void check_normals(const LayoutPreset& layout, const std::string& base, const LayoutNormals* normals, const SetImage& first) {
   if (!normals)
-    throw file_error(base, "layout " + layout.name + " stores world-space SH: give the lightmap's normals (--normals N.exr)");
+    throw file_error(base, "layout " + layout.name + " stores world-space SH: give its normals: --godot-scene S.tscn (a Godot project: the scene whose LightmapGI baked it), --mesh M.glb with its lightmap UVs [+ --placement P.json or the Unity scene for an atlas of instances], or --normals N.exr (a lightmap-space normal EXR)");
   const int w = first.width, h = first.slice_height;
   if (normals->width != w || normals->height != h)
     throw file_error(normals->source, "normal map is " + std::to_string(normals->width) + "x" + std::to_string(normals->height) +

@@ -58,6 +58,7 @@ std::vector<Placement> read_unity(const std::string& path, std::istream& in) {
   struct Renderer {
     std::string game_object;
     long index = -1;
+    bool has_index = false;
     double st[4] = {1, 1, 0, 0};
     bool has_st = false;
   };
@@ -84,6 +85,7 @@ std::vector<Placement> read_unity(const std::string& path, std::istream& in) {
         r.game_object = g.substr(0, g.find_first_of("},"));
       } else if (line.find("m_LightmapIndex:") != std::string::npos) {
         r.index = std::stol(after(line, "m_LightmapIndex:"));
+        r.has_index = true;
       } else if (line.find("m_LightmapTilingOffset:") != std::string::npos) {
         if (!parse_xyzw(after(line, "m_LightmapTilingOffset:"), r.st))
           throw file_error(path, "malformed m_LightmapTilingOffset: " + line);
@@ -92,6 +94,14 @@ std::vector<Placement> read_unity(const std::string& path, std::istream& in) {
     }
   }
   std::vector<Placement> out;
+  size_t with_index = 0;
+  for (const Renderer& r : renderers) with_index += r.has_index;
+  if (with_index == 0)
+    throw file_error(path, std::to_string(renderers.size()) +
+                               " MeshRenderer(s) and none records m_LightmapIndex / m_LightmapTilingOffset (a DOTS sub-scene, "
+                               "or a scene whose lightmapping lives in LightingData.asset, which is binary): give ahdpack's "
+                               "placement JSON ({\"placements\": [{\"node\", \"page\", \"scale\", \"offset\"}]}) from the "
+                               "renderers' lightmapScaleOffset, or meshes whose UV2 is already in atlas space (no --placement)");
   for (const Renderer& r : renderers) {
     if (r.index < 0 || r.index >= 65534 || !r.has_st) continue;  // 65535 / −1: not lightmapped
     const auto it = names.find(r.game_object);

@@ -75,4 +75,15 @@ PlacedMesh place_instances(const MeshInstances& scene, const std::vector<Placeme
   return out;
 }
 
+std::vector<Placement> identity_placements(const MeshInstances& scene, int page) {
+  std::vector<Placement> out;
+  for (const MeshInstance& i : scene.instances) {
+    Placement p;
+    p.node = i.node;
+    p.page = page;
+    out.push_back(p);
+  }
+  return out;
+}
+
 }  // namespace ahd

@@ -31,4 +31,8 @@ struct PlacedMesh {
 PlacedMesh place_instances(const MeshInstances& scene, const std::vector<Placement>& placements, int page,
                            const std::string& source);
 
+// Every instance of `scene` at scale 1, offset 0 on `page`: the UVs as stored (to find overlaps
+// of instances given without placement).
+std::vector<Placement> identity_placements(const MeshInstances& scene, int page = 0);
+
 }  // namespace ahd

@@ -2,6 +2,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <set>
 
@@ -55,7 +57,7 @@ std::string manifest_to_json(const Manifest& m) {
       {"luma", {m.luma[0], m.luma[1], m.luma[2]}},
       {"direction_encoding", m.direction_encoding},
       {"direction_frame", m.direction_frame},
-      {"iz_scale", 1.0},
+      {"iz_scale", m.iz_scale},
   };
   if (!m.directional) j["decode"]["without_direction"] = "no dir/ratio planes: d = (0,0,1), ratio = 1, so I(n) = Iz";
   return j.dump(2) + "\n";
@@ -146,6 +148,8 @@ Manifest manifest_from_json(const std::string& text, const std::string& path) {
     }
     m.direction_encoding = d.at("direction_encoding").get<std::string>();
     m.direction_frame = d.at("direction_frame").get<std::string>();
+    m.iz_scale = d.value("iz_scale", 1.0);
+    if (!(m.iz_scale > 0 && std::isfinite(m.iz_scale))) throw file_error(path, "iz_scale must be a finite positive number");
   } catch (const json::exception& e) {
     throw file_error(path, std::string("malformed manifest (") + e.what() + ")");
   }
@@ -167,6 +171,16 @@ std::string plane_format_problem(const std::string& role, PixelFormat f, RatioFo
   return "";
 }
 
+namespace {
+// "1" for the default (the bytes every earlier set carries), else the shortest exact decimal.
+std::string iz_scale_text(double v) {
+  if (v == 1.0) return "1";
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+}  // namespace
+
 std::vector<std::pair<std::string, std::string>> plane_metadata(const Manifest& m, const std::string& plane) {
   return {
       {"ahd.version", std::to_string(m.version)},
@@ -176,7 +190,7 @@ std::vector<std::pair<std::string, std::string>> plane_metadata(const Manifest& 
       {"ahd.dz_min", std::to_string(m.dz_min)},
       {"ahd.luma", luma_text(m.luma)},
       {"ahd.direction", m.direction_encoding + " " + m.direction_frame},
-      {"ahd.iz_scale", "1"},
+      {"ahd.iz_scale", iz_scale_text(m.iz_scale)},
       {"ahd.directional", m.directional ? "1" : "0"},
   };
 }

@@ -34,6 +34,8 @@ struct Manifest {
   double luma[3] = {0.2126, 0.7152, 0.0722};
   std::string direction_encoding = "hemi-octahedral";  // uv = (px+py, px−py), p = d.xy/|d|₁
   std::string direction_frame = "tangent";             // or "normal-frame" (world SH + normals)
+  // Stored I_z = iz_scale × E (E = irradiance, no 1/π): 1 stores E, 1/π stores E/π (convert --iz-scale).
+  double iz_scale = 1.0;
   // false: only the iz plane exists; decoders use d = (0, 0, 1), ratio = 1, so I(n) = I_z.
   bool directional = true;
 };

@@ -37,6 +37,7 @@ PackagedConversion package_conversion(ConvertResult& r, const Profile& profile, 
   m.dz_min = fit.dz_min;
   for (int i = 0; i < 3; ++i) m.luma[i] = fit.luma[i];
   m.direction_frame = opt.world_frame ? "normal-frame" : "tangent";
+  m.iz_scale = opt.iz_scale;
   m.directional = r.directional;
   for (Plane& p : r.planes) {
     if (opt.plane_metadata) p.texture.metadata = plane_metadata(m, p.name);

@@ -18,6 +18,7 @@ struct PackageOptions {
   bool zstd = false;
   bool plane_metadata = true;  // ahd.* key/values in each plane (ConversionOptions::plane_metadata)
   bool world_frame = false;    // the SH was world space + normals: d is in each texel's normal frame
+  double iz_scale = 1.0;       // recorded: the SH was scaled by it before the fit (stored I_z = iz_scale × E)
   nlohmann::json report_extra = nlohmann::json::object();  // merged into the report (e.g. "source")
 };
 

@@ -63,7 +63,9 @@ IrradiancePoly rotate_poly(const IrradiancePoly& p, const double R[3][3]) {
 }
 
 void frame_from_normal(const double n[3], double R[3][3]) {
-  const double sign = std::copysign(1.0, n[2]);
+  // `>= 0`, not copysign: z = −0.0 (a wall facing ±x in a Y-up engine) takes the + branch, as the
+  // shader snippets' `ng.z >= 0.0` does — a GPU cannot be relied on to keep the sign of a zero.
+  const double sign = n[2] >= 0.0 ? 1.0 : -1.0;
   const double a = -1.0 / (sign + n[2]);
   const double b = n[0] * n[1] * a;
   R[0][0] = 1.0 + sign * n[0] * n[0] * a;

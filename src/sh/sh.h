@@ -62,8 +62,10 @@ double eval_irradiance(const IrradiancePoly& p, const double n[3]);
 IrradiancePoly rotate_poly(const IrradiancePoly& p, const double R[3][3]);
 
 // Right-handed orthonormal frame around a unit normal n (Duff et al. 2017, "Building an
-// Orthonormal Basis, Revisited"): rows of R are (tangent, bitangent, n). Continuous except at
-// n = -z. This is THE frame ahdpack uses for world-space SH; the shader snippets build the same one.
+// Orthonormal Basis, Revisited"): rows of R are (tangent, bitangent, n). The branch follows
+// n.z >= 0 (z = ±0.0 both take the + branch), so the frame jumps where n.z changes sign (a chart
+// straddling z = 0 holds two frames; docs/godot.md). This is THE frame ahdpack uses for
+// world-space SH; the shader snippets build the same one, bit for bit in the branch.
 void frame_from_normal(const double n[3], double R[3][3]);
 
 }  // namespace ahd

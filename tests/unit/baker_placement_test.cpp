@@ -234,6 +234,20 @@ TEST(Placement, ConvertWithPlacementFromTheCommandLine) {
       EXPECT_EQ(bytes(plane(std::string("placed_") + p, name)), bytes(plane("baked", name))) << p << " " << name;
     }
   }
+  // Issue 25: the three instances share their UVs; without placement they would be merged on top of
+  // each other: refused naming the file and the remedy, converted with --allow-mismatch.
+  r = convert("instanced.gltf", "", "unplaced/a.ktx2");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("ahdpack: error: " + (d / "instanced.gltf").string() + ": 3 pair(s) of instances overlap in UV set 0"),
+            std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("--placement"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(d / "unplaced"));
+  {
+    std::vector<std::string> args = {"convert", (d / "lm.exr").string(), "--layout", "godot4-packed", "--mesh",
+                                     (d / "instanced.gltf").string(), "--allow-mismatch", "-o", (d / "unplaced" / "a.ktx2").string(),
+                                     "--levels", "1"};
+    EXPECT_EQ(ahd_test::run_cli(args).exit_code, 0);
+  }
   const double overlapping[3][4] = {{0.5, 0.5, 0, 0.5}, {0.5, 0.5, 0.25, 0.5}, {0.5, 0.25, 0.25, 0}};
   write_json((d / "over.json").string(), overlapping);
   r = convert("instanced.gltf", "over.json", "over/a.ktx2");

@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstring>
+#include <fstream>
 #include <limits>
 #include <random>
 
@@ -409,6 +411,124 @@ TEST(Bc6h, FastBeatsTheRealTimePeerOnTheSharedImages) {
     const double e = log_rmse(src, bc6h_decode_image(b.data(), src.width, src.height, false));
     std::printf("%s: fast log-RMSE %.5f (Basis Universal real-time %.5f)\n", im.file, e, im.basis);
     EXPECT_LE(e, im.bound) << im.file;
+  }
+}
+
+TEST(Bc6h, RealLightmapsBeatBasisUniversal) {
+  // The real-lightmap corpus (bench/data/real: I_z planes of two real Godot bakes, mostly dark and
+  // smooth). Basis Universal measured side by side (scripts/peer-basis-bc6h.sh, docs/bc6h-real.md):
+  // HQ 0.00079 / 0.00246, 9 modes / 32 patterns 0.00079 / 0.00245. `default`'s own bounds are
+  // issue 28's measurements with the dark-block gates (0.000322 / 0.001671; before 0.00033 /
+  // 0.00174) and max below default on a crop.
+  const struct {
+    const char* file;
+    double basis_hq, basis_best, default_bound;
+  } images[] = {{"godot-ragdoll-plain_iz_1024.exr", 0.00079, 0.00079, 0.000325},
+                {"godot42-vermilion_iz.exr", 0.00246, 0.00245, 0.00168}};
+  for (const auto& im : images) {
+    const ImageF src = clamp_rgb(read_image(std::string(AHD_SOURCE_DIR) + "/bench/data/real/" + im.file));
+    Bc6hOptions o;
+    o.quality = Bc6hQuality::Fast;
+    std::vector<uint8_t> b = bc6h_encode_image(src, o);
+    const double fast = log_rmse(src, bc6h_decode_image(b.data(), src.width, src.height, false));
+    o.quality = Bc6hQuality::Default;
+    b = bc6h_encode_image(src, o);
+    const double def = log_rmse(src, bc6h_decode_image(b.data(), src.width, src.height, false));
+    std::printf("%s: fast %.6f (Basis HQ %.5f), default %.6f (Basis best %.5f)\n", im.file, fast, im.basis_hq, def,
+                im.basis_best);
+    EXPECT_LE(fast, im.basis_hq) << im.file;
+    EXPECT_LE(def, im.basis_best) << im.file;
+    EXPECT_LE(def, im.default_bound) << im.file;
+    // A 96² crop with content (gutters and charts): SIMD and scalar paths write the same bytes,
+    // and max is not worse than default there.
+    ImageF crop(96, 96, 3);
+    for (int y = 0; y < 96; ++y)
+      for (int x = 0; x < 96; ++x)
+        for (int c = 0; c < 3; ++c) crop.at(x, y)[c] = src.at(x + 200, y + 200)[c];
+    for (Bc6hQuality q : {Bc6hQuality::Fast, Bc6hQuality::Default}) {
+      Bc6hOptions oq;
+      oq.quality = q;
+      bc6h::force_scalar(true);
+      const std::vector<uint8_t> scalar = bc6h_encode_image(crop, oq);
+      bc6h::force_scalar(false);
+      EXPECT_EQ(scalar, bc6h_encode_image(crop, oq)) << im.file << " " << bc6h_quality_name(q);
+      bc6h::force_avx2(true);
+      EXPECT_EQ(scalar, bc6h_encode_image(crop, oq)) << im.file << " " << bc6h_quality_name(q) << " AVX2";
+      bc6h::force_avx2(false);
+    }
+    ImageF small(32, 32, 3);
+    for (int y = 0; y < 32; ++y)
+      for (int x = 0; x < 32; ++x)
+        for (int c = 0; c < 3; ++c) small.at(x, y)[c] = crop.at(x + 32, y + 32)[c];
+    Bc6hOptions mx, od;
+    mx.quality = Bc6hQuality::Max;
+    const std::vector<uint8_t> bm = bc6h_encode_image(small, mx), bd = bc6h_encode_image(small, od);
+    EXPECT_LE(log_rmse(small, bc6h_decode_image(bm.data(), 32, 32, false)),
+              log_rmse(small, bc6h_decode_image(bd.data(), 32, 32, false)) * 1.0001)
+        << im.file;
+  }
+}
+
+TEST(Bc6h, DarkBlocksGetTwoRegionsInDefault) {
+  // Issue 28: `default`'s two-region gates are errors in the judged metric, which shrinks with the
+  // value below 1, so a dark block with two clusters (a chart edge: a lit pair of columns beside a
+  // dim pair, values around 0.01) passed both gates untouched and kept the one-region fit of
+  // `fast`. With the gates scaled for dark blocks (dark_gate_scale) it is searched and improves.
+  float rgb[48];
+  uint8_t valid[16];
+  std::memset(valid, 1, 16);
+  for (int t = 0; t < 16; ++t)
+    for (int c = 0; c < 3; ++c)
+      rgb[t * 3 + c] = 0.01f * ((t % 4) < 2 ? 0.8f + 0.05f * float(t / 4) + 0.1f * float(c) : 0.1f + 0.07f * float(c * (t / 4)));
+  ImageF img(4, 4, 3);
+  std::copy(rgb, rgb + 48, img.data.begin());
+  double e[2];
+  int k = 0;
+  for (Bc6hQuality q : {Bc6hQuality::Fast, Bc6hQuality::Default}) {
+    uint8_t out[16];
+    bc6h_encode_block(rgb, valid, false, q, out);
+    e[k++] = log_rmse(img, bc6h_decode_image(out, 4, 4, false));
+  }
+  std::printf("dark two-cluster block: fast %.3g, default %.3g\n", e[0], e[1]);
+  EXPECT_LT(e[1], 0.8 * e[0]);
+}
+
+TEST(Bc6h, MaxIsNeverWorseThanDefaultOnAnyBlock) {
+  // Issue 28: `max` lowest of all on every image. On the noisy image default's polished fast fit
+  // beat max's search (0.04573 vs 0.04639), so max keeps default's block where it decodes closer.
+  // Per block, in the judged metric (log2(1 + x) squared over the block's texels), on a 48² crop
+  // of each shared image (when ../shared is there) and of each real lightmap.
+  std::vector<std::string> files = {std::string(AHD_SOURCE_DIR) + "/bench/data/real/godot42-vermilion_iz.exr",
+                                    std::string(AHD_SOURCE_DIR) + "/bench/data/real/godot-ragdoll-plain_iz_1024.exr"};
+  for (const char* f : {"lightmap_smooth.exr", "hdr_hard.exr", "lightmap_noisy.exr"}) {
+    const std::string path = std::string(AHD_SHARED_DIR) + "/data/bc6h/" + f;
+    if (std::ifstream(path)) files.push_back(path);
+  }
+  for (const std::string& file : files) {
+    const ImageF src = clamp_rgb(read_image(file));
+    ImageF crop(48, 48, 3);
+    for (int y = 0; y < 48; ++y)
+      for (int x = 0; x < 48; ++x)
+        for (int c = 0; c < 3; ++c) crop.at(x, y)[c] = src.at(x + 232, y + 232)[c];
+    Bc6hOptions mx, od;
+    mx.quality = Bc6hQuality::Max;
+    const std::vector<uint8_t> bm = bc6h_encode_image(crop, mx), bd = bc6h_encode_image(crop, od);
+    const ImageF dm = bc6h_decode_image(bm.data(), 48, 48, false), dd = bc6h_decode_image(bd.data(), 48, 48, false);
+    int better = 0;
+    for (int by = 0; by < 12; ++by)
+      for (int bx = 0; bx < 12; ++bx) {
+        double em = 0, ed = 0;
+        for (int t = 0; t < 16; ++t)
+          for (int c = 0; c < 3; ++c) {
+            const int x = bx * 4 + t % 4, y = by * 4 + t / 4;
+            const double l = std::log2(1.0 + double(crop.at(x, y)[c]));
+            em += std::pow(std::log2(1.0 + double(dm.at(x, y)[c])) - l, 2);
+            ed += std::pow(std::log2(1.0 + double(dd.at(x, y)[c])) - l, 2);
+          }
+        EXPECT_LE(em, ed * (1 + 1e-6) + 1e-12) << file << " block " << bx << "," << by;
+        better += em < ed;
+      }
+    std::printf("%s: max below default on %d of 144 blocks\n", file.c_str(), better);
   }
 }
 

@@ -147,6 +147,25 @@ TEST(Plot, BenchBc6hHasOnePointPerImageAndQuality) {
   EXPECT_EQ(count_xml_class(d / "bench.svg", "point peer"), 8);
 }
 
+TEST(Plot, BenchBc6hByDefaultCoversTheSyntheticAndTheRealImages) {
+  // No folder: the shared synthetic images (when ../shared is there) and the real-lightmap corpus
+  // of bench/data/real, every image in the table; several folders are read in turn.
+  const auto r = run_cli({"bench", "bc6h", "--codecs", "bc6h", "--qualities", "fast"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const char* real : {"godot42-vermilion_iz.exr", "godot-ragdoll-plain_iz_1024.exr"})
+    EXPECT_NE(r.output.find(real), std::string::npos) << r.output;
+  if (fs::exists(fs::path(AHD_SHARED_DIR) / "data" / "bc6h" / "lightmap_smooth.exr"))
+    for (const char* synthetic : {"lightmap_smooth.exr", "hdr_hard.exr", "lightmap_noisy.exr"})
+      EXPECT_NE(r.output.find(synthetic), std::string::npos) << r.output;
+  const fs::path d = ahd_test::temp_dir("bench_folders");
+  fs::create_directories(d / "empty");
+  const auto bad = run_cli({"bench", "bc6h", (fs::path(AHD_SOURCE_DIR) / "bench" / "data" / "real").string(),
+                            (d / "empty").string(), "--codecs", "bc6h", "--qualities", "fast"});
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.output.find("no EXR images in this folder"), std::string::npos) << bad.output;
+  fs::remove_all(d);
+}
+
 TEST(Plot, ReportProfilesHasOnePointPerProfileAndSet) {
   const fs::path d = ahd_test::temp_dir("plot_profiles");
   const auto r = run_cli({"report", "profiles", "--size", "16", "--plot", (d / "profiles.svg").string()});

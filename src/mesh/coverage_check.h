@@ -1,0 +1,51 @@
+// Never silently wrong: the coverage rasterised from a mesh against what the baker itself wrote.
+// A texel is lit when any of its stored SH numbers is non-zero (bakers write exact zeros outside
+// their charts); a mesh whose lightmap UVs are not the ones the bake used covers the wrong texels.
+#pragma once
+#include <ahd/types.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace ahd {
+
+// Bakers are not exact about their own charts, and a comparison must not call that a mismatch:
+// - they dilate every chart into its gutter (Godot 4.2: a ring of up to 3 texels) so that filtering never
+//   reads black: lit texels within kDilation texels of the coverage are the baker's ring;
+// - a chart's unlit part is stored as exact zeros (a dark corner with no bounce light): a black
+//   region of the coverage that touches a lit covered texel (4-connected) is part of a lit chart.
+// What is left is the mismatch: lit texels far from any covered texel (light where the mesh puts
+// nothing) and covered regions that are black throughout (the mesh where the baker put nothing).
+constexpr int kDilation = 3;
+
+struct CoverageComparison {
+  size_t covered = 0;          // texels the mesh covers
+  size_t lit = 0;              // texels the lightmap holds light in
+  size_t both = 0;             // covered and lit
+  size_t ring = 0;             // lit, not covered, within kDilation texels of the coverage
+  size_t lit_outside = 0;      // lit, farther from the coverage
+  size_t dark_in_chart = 0;    // covered, black, in a black region touching lit covered texels
+  size_t covered_black = 0;    // covered, black, in a region with no lit texel
+  // Intersection over union of the mesh's lit charts and the baker's lit charts:
+  // (both + dark_in_chart) / (covered − covered_black + lit_outside). Regions black throughout are
+  // left out of both sets (the lightmap cannot tell a chart that received no light from empty
+  // space) and judged on their own (covered_black). 1 when both are empty.
+  double iou = 1;
+};
+
+// `covered` holds sh.texels() entries (1 = covered), row-major width × height. Pure; cost linear
+// in the texels.
+CoverageComparison compare_coverage(const std::vector<uint8_t>& covered, const ShImage& sh);
+
+// one line of the counts and the agreement.
+std::string describe_coverage(const CoverageComparison& c);
+
+// Why the coverage is not the lightmap's, or "" when it is: the agreement (iou) below 0.9, more
+// than 5 % of the lit texels far outside the coverage, or more than 10 % of the covered texels in
+// black regions. The measured margins are in docs/godot.md (the real Godot 4.2 bake with its own
+// meshes, and the same meshes' UV set 0).
+std::string coverage_mismatch(const CoverageComparison& c);
+
+}  // namespace ahd
