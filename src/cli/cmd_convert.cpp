@@ -291,19 +291,25 @@ BatchRow run_convert(ConvertArgs a, const BatchJob* job = nullptr) {
                       {"read", {{"non_finite_texels", rs.non_finite_texels}, {"coverage_derived", rs.coverage_derived}}}};
   const std::vector<StageCost> read_stage = {{a.input.empty() ? "bake sample" : "read", read_seconds}};
   ConversionRun run;
+  IntermediateFile intermediate;  // none: an earlier NAME.ahd.exr goes with the set it belonged to
   if (pages.size() > 1) {  // an atlas: every page converted alone, planes stacked as array layers
     if (a.keep_intermediate) throw Error("--keep-intermediate holds one page: not available for a multi-page atlas");
     run = run_pages(pages, ro.profile, ro.convert, pkg, read_stage);
   } else {
     std::function<void(const std::vector<FittedLevel>&)> on_fitted;
+    // Kept in memory and published with the set: a conversion that fails or is cancelled after the
+    // fit leaves the previous NAME.ahd.exr as it was.
     if (a.keep_intermediate)
-      on_fitted = [&](const std::vector<FittedLevel>& levels) { write_intermediate(out.sibling(".ahd.exr"), levels, ro.convert.fit); };
+      on_fitted = [&](const std::vector<FittedLevel>& levels) {
+        intermediate.bytes = encode_intermediate(out.sibling(".ahd.exr"), levels, ro.convert.fit);
+      };
     run = run_conversion(std::move(pages[0]), ro.profile, ro.convert, pkg, read_stage, on_fitted);
   }
   {
     std::unique_lock<std::mutex> l;
     if (job && job->publish_lock) l = std::unique_lock<std::mutex>(*job->publish_lock);
-    publish_conversion(out, std::move(run.output.files));  // the summary needs the manifest, not the bytes
+    // The summary needs the manifest, not the bytes.
+    publish_conversion(out, std::move(run.output.files), std::move(intermediate));
   }
   if (!a.conv.quiet) print_conversion(source, out, run, ro.convert.closed_loop, rs.non_finite_texels);
   BatchRow row;
@@ -355,6 +361,15 @@ size_t header_texels(const std::string& file) {
 void run_batch(const ConvertArgs& a, const std::vector<std::string>& inputs) {
   const std::vector<std::string> files = batch_files(inputs);
   const fs::path dir = a.output.empty() ? fs::path("ahdpack-out") : fs::path(a.output);
+  {
+    // `-o out.ktx2` with several inputs is a mistake for `-o OUTDIR/`, not a folder to create.
+    std::error_code ec;
+    std::string ext = dir.extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    if ((ext == ".ktx2" || ext == ".dds") && a.output.back() != '/' && !fs::is_directory(dir, ec))
+      throw file_error(a.output, "names one output file, but " + std::to_string(files.size()) +
+                                     " inputs are converted: give a folder (-o OUTDIR/)");
+  }
   const char* ext = a.conv.container == "dds" ? ".dds" : ".ktx2";
   struct Done {
     std::string file;

@@ -9,13 +9,17 @@
 //
 // The folder is written whole or not at all: everything goes to a hidden temporary folder beside
 // DIR, renamed to DIR at the end. An existing DIR is replaced only when it is empty or an earlier
-// preview (it holds the marker file), never any other folder.
+// preview (it holds the marker file), never any other folder. The temporary folder is removed on
+// every failure, and on SIGINT/SIGTERM: they raise the CLI's interrupt flag (progress.h), checked
+// between the files, and the preview then stops as a failure does ("cancelled: nothing was written").
+//
+// The report is untrusted text: read_report_file bounds its size and nesting, and every value of it
+// reaches the page through one escaping function (markup.h html_escape).
 #include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
@@ -23,9 +27,12 @@
 #include "cli/preview_3d.h"
 #include "cli/preview_html.h"
 #include "cli/preview_images.h"
+#include "cli/progress.h"
+#include "cli/report_file.h"
 #include "core/error.h"
 #include "fit/ahd_decode.h"
 #include "io/image_io.h"
+#include "io/output_set.h"
 
 namespace ahd::cli {
 namespace fs = std::filesystem;
@@ -84,31 +91,39 @@ void publish_folder(const fs::path& tmp, const fs::path& out) {
   if (ec) throw file_error(out.string(), "cannot write: " + ec.message());
 }
 
+// Stops the preview at the next file once SIGINT/SIGTERM arrived (the temporary folder goes).
+void check_interrupt() {
+  if (interrupt_flag()->load()) throw Cancelled();
+}
+
 void run_preview(const PreviewArgs& a) {
+  install_interrupt_handler();
   const ConversionView v = read_conversion(a.manifest);
   const Manifest& m = v.manifest;
   PreviewPage page;
   page.name = fs::path(a.manifest).stem().string();
   page.manifest = m;
   fs::path report_path = fs::path(a.manifest).parent_path() / (page.name + ".report.json");
-  if (fs::exists(report_path)) {
-    std::ifstream f(report_path);
-    page.report = nlohmann::json::parse(f, nullptr, false);
-    if (page.report.is_discarded() || !page.report.is_object()) throw file_error(report_path.string(), "is not a report");
-  }
+  std::error_code ec;
+  if (fs::exists(report_path, ec)) page.report = read_report_file(report_path.string());
   ShImage sh;
   if (!a.source.empty()) sh = read_source_for(a.source, v);
 
   if (a.out.empty()) throw Error("-o needs a folder name");
   fs::path out = fs::absolute(a.out).lexically_normal();
   if (!out.has_filename()) out = out.parent_path();  // "DIR/" or "."
-  std::error_code ec;
   if (!fs::is_directory(out.parent_path(), ec)) throw file_error(out.parent_path().string(), "no such folder");
   TempDir tmp{out.parent_path() / ("." + out.filename().string() + ".ahdtmp-" + std::to_string(getpid()) + "-preview")};
   fs::remove_all(tmp.path, ec);
-  if (!fs::create_directory(tmp.path, ec)) throw file_error(tmp.path.string(), "cannot create: " + ec.message());
+  if (!fs::create_directory(tmp.path, ec))
+    throw file_error(out.string(), "cannot create its temporary folder beside it (" + ec.message() + ")");
 
-  auto png = [&](const std::string& file, const ImageF& img) { write_image((tmp.path / file).string(), img); };
+  // Files inside the temporary folder are new files: the folder's rename publishes them all.
+  auto write = [&](const std::string& file, const std::vector<uint8_t>& bytes) {
+    check_interrupt();
+    write_new_file((tmp.path / file).string(), bytes);
+  };
+  auto png = [&](const std::string& file, const ImageF& img) { write(file, encode_image((tmp.path / file).string(), img)); };
   const DecodedPlanes& l0 = v.levels[0];
   const double white = white_point(l0.iz);
   page.white = white;
@@ -145,8 +160,10 @@ void run_preview(const PreviewArgs& a) {
     page.error_hemisphere = summarise_map(e.hemisphere);
   }
   page.view3d_html = write_preview_3d(tmp.path, {a.manifest, a.mesh, a.uv_set, a.source.empty() ? nullptr : &sh});
-  write_file_atomic((tmp.path / "index.html").string(), preview_html(page));
-  write_file_atomic((tmp.path / kMarker).string(), std::string("written by ahdpack preview\n"));
+  const std::string html = preview_html(page), marker = "written by ahdpack preview\n";
+  write("index.html", std::vector<uint8_t>(html.begin(), html.end()));
+  write(kMarker, std::vector<uint8_t>(marker.begin(), marker.end()));
+  check_interrupt();
   publish_folder(tmp.path, out);
   tmp.keep = true;
   std::printf("ahdpack preview: %s -> %s/index.html (%zu level(s)%s)\n", a.manifest.c_str(), out.string().c_str(),

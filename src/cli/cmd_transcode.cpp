@@ -2,6 +2,8 @@
 // profile or container from the lossless intermediate (`convert --keep-intermediate`), without
 // reading the baker files or fitting directions and I_z again. The closed loop still refits each
 // texel's ratio against its decoded direction and I_z, which is what closed-loop quantisation is.
+#include <filesystem>
+
 #include "api/options.h"
 #include "cli/commands.h"
 #include "cli/conversion_args.h"
@@ -13,6 +15,7 @@
 #include "pipeline/run.h"
 
 namespace ahd::cli {
+namespace fs = std::filesystem;
 
 void add_transcode_command(CLI::App& app) {
   struct Args {
@@ -44,7 +47,11 @@ void add_transcode_command(CLI::App& app) {
     ro.package.world_frame = !levels[0].sh.normals.empty();
     ro.package.report_extra = {{"source", a->input + " (intermediate)"}};
     ConversionRun run = run_transcode(levels, profile, ro.convert, ro.package, {{"read", read_seconds}});
-    publish_conversion(out, std::move(run.output.files));  // the summary needs the manifest, not the bytes
+    // Transcoding NAME.ahd.exr into NAME itself keeps it: the new set has the same fit.
+    std::error_code ec;
+    IntermediateFile im;
+    im.keep_existing = fs::equivalent(a->input, out.sibling(".ahd.exr"), ec);
+    publish_conversion(out, std::move(run.output.files), std::move(im));  // the summary needs the manifest
     if (!a->conv.quiet) print_conversion("transcode " + a->input, out, run, ro.convert.closed_loop, 0);
   });
 }

@@ -11,6 +11,7 @@ std::string xml_escape(const std::string& s) {
     else if (c == '<') o += "&lt;";
     else if (c == '>') o += "&gt;";
     else if (c == '"') o += "&quot;";
+    else if (c == '\'') o += "&#39;";
     else o += c;
   }
   return o;

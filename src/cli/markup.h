@@ -4,7 +4,8 @@
 
 namespace ahd::cli {
 
-// `s` with &, <, > and " escaped: safe inside XML/HTML text and double-quoted attributes.
+// `s` with &, <, >, " and ' escaped: safe inside XML/HTML text and quoted attributes (never inside
+// <script> or <style>, where the page puts none of its data).
 std::string xml_escape(const std::string& s);
 
 // One number printed with a printf format taking one double (e.g. "%.3g").

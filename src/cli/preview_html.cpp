@@ -11,6 +11,8 @@
 namespace ahd::cli {
 namespace {
 
+// Every text that reaches the page goes through this one function (names, report keys and values,
+// manifest strings): the report and manifest are files anyone can edit.
 std::string esc(const std::string& s) { return xml_escape(s); }
 std::string fmt(double v, const char* f = "%.3g") { return format_number(v, f); }
 
@@ -61,10 +63,10 @@ std::string error_table(const nlohmann::json& e) {
   for (auto it = e.begin(); it != e.end(); ++it) {
     const auto& r = *it;
     if (!r.is_object()) continue;
-    o += "<tr><th>" + esc(it.key()) + "</th><td>" + (r.contains("texels") ? r["texels"].dump() : "") + "</td>" +
+    o += "<tr><th>" + esc(it.key()) + "</th><td>" + (r.contains("texels") ? json_html(r["texels"]) : "") + "</td>" +
          cell(r, "relative", "mean") + cell(r, "relative", "p99") + cell(r, "relative", "max") + cell(r, "log2", "mean") +
          cell(r, "log2", "p99") + cell(r, "iz_relative", "p99") + cell(r, "iz_relative", "max") + "<td>" +
-         (r.contains("negative_texels") ? r["negative_texels"].dump() : "") + "</td></tr>";
+         (r.contains("negative_texels") ? json_html(r["negative_texels"]) : "") + "</td></tr>";
   }
   return o + "</table>";
 }

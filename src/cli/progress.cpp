@@ -45,7 +45,10 @@ struct TerminalProgress {
 
 const std::atomic<bool>* interrupt_flag() { return &g_interrupted; }
 
-void install_interrupt_handler() { std::signal(SIGINT, on_sigint); }
+void install_interrupt_handler() {
+  std::signal(SIGINT, on_sigint);
+  std::signal(SIGTERM, on_sigint);
+}
 
 void attach_terminal_progress(ConversionOptions* options, bool quiet) {
   install_interrupt_handler();

@@ -9,8 +9,8 @@
 
 namespace ahd::cli {
 
-// The flag SIGINT raises (installed by install_interrupt_handler): conversions pass it as their
-// cancel flag, stop at their next step, and nothing is published.
+// The flag SIGINT or SIGTERM raises (installed by install_interrupt_handler): conversions pass it
+// as their cancel flag, stop at their next step, and nothing is published.
 const std::atomic<bool>* interrupt_flag();
 void install_interrupt_handler();
 

@@ -1,5 +1,6 @@
 #include "io/ahd_intermediate.h"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include <cmath>
@@ -14,6 +15,7 @@
 #include "fit/direction_refine.h"
 #include "io/image_file.h"
 #include "io/image_io.h"
+#include "io/output_set.h"
 #include "pipeline/manifest.h"
 
 namespace ahd {
@@ -61,16 +63,18 @@ std::vector<float> pack_level(const FittedLevel& l, int nch) {
 
 }  // namespace
 
-void write_intermediate(const std::string& path, const std::vector<FittedLevel>& levels, const FitOptions& fit) {
+std::vector<uint8_t> encode_intermediate(const std::string& path, const std::vector<FittedLevel>& levels,
+                                         const FitOptions& fit) {
   if (levels.empty()) throw Error("write_intermediate: no levels");
   const int coeffs = levels[0].sh.coeffs;
   const bool normals = !levels[0].sh.normals.empty();
   const std::vector<std::string> names = channel_names(coeffs, normals);
   const int nch = int(names.size());
-  if (!fs::path(path).parent_path().empty()) fs::create_directories(fs::path(path).parent_path());
-  const fs::path tmp = temp_path_for(path);
-  auto out = OIIO::ImageOutput::create(tmp.string());
-  if (!out) throw file_error(path, "no EXR writer");
+  auto out = OIIO::ImageOutput::create("x.exr");
+  if (!out || !out->supports("ioproxy")) throw file_error(path, "no EXR writer to memory");
+  std::vector<uint8_t> bytes;
+  OIIO::Filesystem::IOVecOutput proxy(bytes);
+  if (!out->set_ioproxy(&proxy)) throw file_error(path, "no EXR writer to memory");
   for (size_t l = 0; l < levels.size(); ++l) {
     const ShImage& sh = levels[l].sh;
     OIIO::ImageSpec spec(sh.width, sh.height, nch, OIIO::TypeDesc::FLOAT);
@@ -95,16 +99,21 @@ void write_intermediate(const std::string& path, const std::vector<FittedLevel>&
     const auto mode = l == 0 ? OIIO::ImageOutput::Create : OIIO::ImageOutput::AppendMIPLevel;
     if (l == 0 && levels.size() > 1 && !out->supports("mipmap")) throw file_error(path, "EXR writer lacks mipmaps");
     const std::vector<float> px = pack_level(levels[l], nch);
-    if (!out->open(tmp.string(), spec, mode) || !out->write_image(OIIO::TypeDesc::FLOAT, px.data())) {
-      std::string why = out->geterror();
-      out.reset();
-      fs::remove(tmp);
+    if (!out->open("x.exr", spec, mode) || !out->write_image(OIIO::TypeDesc::FLOAT, px.data())) {
+      const std::string why = out->geterror();
       throw file_error(path, "cannot write intermediate (" + why.substr(0, why.find('\n')) + ")");
     }
   }
-  out->close();
+  if (!out->close()) {
+    const std::string why = out->geterror();
+    throw file_error(path, "cannot write intermediate (" + why.substr(0, why.find('\n')) + ")");
+  }
   out.reset();
-  publish_temp_file(tmp.string(), path);
+  return bytes;
+}
+
+void write_intermediate(const std::string& path, const std::vector<FittedLevel>& levels, const FitOptions& fit) {
+  publish_file(path, encode_intermediate(path, levels, fit));
 }
 
 std::vector<FittedLevel> read_intermediate(const std::string& path, FitOptions* fit) {

@@ -3,6 +3,7 @@
 // `convert --keep-intermediate` writes it; `transcode` re-quantises it for another profile or
 // container without reading the baker files or fitting directions again.
 #pragma once
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -12,7 +13,12 @@ namespace ahd {
 
 constexpr int kIntermediateVersion = 1;
 
-// Writes all levels (atomic). Throws ahd::Error.
+// All levels as the bytes of the intermediate EXR, in memory (the size of the file: for a set,
+// convert publishes them with the planes, io/output_set.h). Throws ahd::Error naming `path`.
+std::vector<uint8_t> encode_intermediate(const std::string& path, const std::vector<FittedLevel>& levels,
+                                         const FitOptions& fit);
+
+// encode_intermediate published alone at `path` (io/output_set.h's publish_file). Throws ahd::Error.
 void write_intermediate(const std::string& path, const std::vector<FittedLevel>& levels, const FitOptions& fit);
 
 // Reads and validates (version, channel set, mip chain sizes). Throws ahd::Error("<path>: <cause>").

@@ -1,6 +1,7 @@
 #include "io/image_io.h"
 
 #include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include <cstdio>
@@ -13,6 +14,7 @@
 #include "containers/limits.h"
 #include "io/image_file.h"
 #include "core/error.h"
+#include "io/output_set.h"
 
 namespace ahd {
 namespace fs = std::filesystem;
@@ -70,27 +72,7 @@ std::string temp_path_for(const std::string& path) {
   return (p.parent_path() / ("." + p.filename().string() + tag + p.extension().string())).string();
 }
 
-void publish_temp_file(const std::string& tmp, const std::string& path) {
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    fs::remove(tmp);
-    throw file_error(path, "cannot rename temporary file (" + ec.message() + ")");
-  }
-}
 
-namespace {
-
-void ensure_parent_dir(const std::string& path) {
-  fs::path parent = fs::path(path).parent_path();
-  if (!parent.empty()) {
-    std::error_code ec;
-    fs::create_directories(parent, ec);
-    if (ec) throw file_error(path, "cannot create folder " + parent.string() + " (" + ec.message() + ")");
-  }
-}
-
-}  // namespace
 
 namespace {
 
@@ -192,9 +174,8 @@ void read_image_rows(const std::string& path, int part, ImageFileInfo* info_out,
   }
 }
 
-void write_image(const std::string& path, const ImageF& img, bool half_float,
-                 const std::vector<std::string>& channel_names) {
-  ensure_parent_dir(path);
+std::vector<uint8_t> encode_image(const std::string& path, const ImageF& img, bool half_float,
+                                  const std::vector<std::string>& channel_names) {
   std::string ext = fs::path(path).extension().string();
   for (auto& ch : ext) ch = char(std::tolower(ch));
   OIIO::TypeDesc fmt = OIIO::TypeDesc::FLOAT;
@@ -209,38 +190,51 @@ void write_image(const std::string& path, const ImageF& img, bool half_float,
   }
   if (ext == ".exr") spec.attribute("compression", "zip");
   spec.attribute("oiio:UnassociatedAlpha", 1);  // store the numbers as given (see open_input)
-  const std::string tmp = temp_path_for(path);
-  auto out = OIIO::ImageOutput::create(tmp);
+  auto out = OIIO::ImageOutput::create(path);
   if (!out) throw file_error(path, "no image writer for this extension");
-  if (!out->open(tmp, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, img.data.data())) {
-    std::string why = out->geterror();
-    out.reset();
-    fs::remove(tmp);
+  std::vector<uint8_t> bytes;
+  auto fail = [&](std::unique_ptr<OIIO::ImageOutput>& o) {
+    std::string why = o->geterror();
     throw file_error(path, "cannot write image (" + why.substr(0, why.find('\n')) + ")");
+  };
+  if (out->supports("ioproxy")) {  // EXR, PNG, …: straight into memory
+    OIIO::Filesystem::IOVecOutput proxy(bytes);
+    if (!out->set_ioproxy(&proxy) || !out->open(path, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, img.data.data()) ||
+        !out->close())
+      fail(out);
+    return bytes;
   }
-  out->close();
+  // A writer without I/O proxies (OIIO 2.4: TGA, HDR): a private temporary file in the system's
+  // temporary folder, its writer's errors checked, read back whole and removed.
+  const std::string tmp = temp_path_for((fs::temp_directory_path() / fs::path(path).filename()).string());
+  const bool ok = out->open(tmp, spec) && out->write_image(OIIO::TypeDesc::FLOAT, img.data.data()) && out->close();
+  if (!ok) {
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    fail(out);
+  }
   out.reset();
-  publish_temp_file(tmp, path);
+  try {
+    bytes = read_file_bytes(tmp);
+  } catch (...) {
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    throw;
+  }
+  std::error_code ec;
+  fs::remove(tmp, ec);
+  return bytes;
 }
 
-void write_file_atomic(const std::string& path, const std::vector<uint8_t>& bytes) {
-  ensure_parent_dir(path);
-  const std::string tmp = temp_path_for(path);
-  {
-    std::ofstream f(tmp, std::ios::binary);
-    if (!f) throw file_error(path, "cannot open for writing");
-    f.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
-    if (!f) {
-      f.close();
-      fs::remove(tmp);
-      throw file_error(path, "write failed");
-    }
-  }
-  publish_temp_file(tmp, path);
+void write_image(const std::string& path, const ImageF& img, bool half_float,
+                 const std::vector<std::string>& channel_names) {
+  publish_file(path, encode_image(path, img, half_float, channel_names));
 }
+
+void write_file_atomic(const std::string& path, std::vector<uint8_t> bytes) { publish_file(path, std::move(bytes)); }
 
 void write_file_atomic(const std::string& path, const std::string& text) {
-  write_file_atomic(path, std::vector<uint8_t>(text.begin(), text.end()));
+  publish_file(path, std::vector<uint8_t>(text.begin(), text.end()));
 }
 
 std::vector<uint8_t> read_file_bytes(const std::string& path, size_t max_bytes) {

@@ -43,20 +43,25 @@ void read_image_rows(const std::string& path, int part, ImageFileInfo* info,
                      const std::function<void(int y0, int y1, const float* rows)>& fn,
                      const std::function<void(const ImageFileInfo&)>& on_header = {});
 
-// Writes a float image as EXR (half when `half_float`, else float), or PNG/TGA/HDR by extension
-// (8-bit formats clamp to [0,1] and round). Channel names default to R,G,B,A / Y. The file is
-// written to a temporary name and renamed at the end, so a failure leaves no partial file.
+// A float image as the bytes of an EXR (half when `half_float`, else float), or PNG/TGA/HDR by
+// the extension of `path` (8-bit formats clamp to [0,1] and round), in memory. Channel names default
+// to R,G,B,A / Y. Throws ahd::Error naming `path`.
+std::vector<uint8_t> encode_image(const std::string& path, const ImageF& img, bool half_float = false,
+                                  const std::vector<std::string>& channel_names = {});
+
+// encode_image published at `path` by io/output_set.h's publish_file: a temporary in the same
+// folder, every write checked (a full disk is an error), fsync, rename; the previous file stays
+// whole on any failure or SIGINT/SIGTERM.
 void write_image(const std::string& path, const ImageF& img, bool half_float = false,
                  const std::vector<std::string>& channel_names = {});
 
-// Writes bytes to `path` through a temporary file in the same folder and an atomic rename.
-void write_file_atomic(const std::string& path, const std::vector<uint8_t>& bytes);
+// Writes bytes to `path` as write_image does (publish_file).
+void write_file_atomic(const std::string& path, std::vector<uint8_t> bytes);
 void write_file_atomic(const std::string& path, const std::string& text);
 
-// The two halves of every atomic write: a temporary name next to `path` (same file system), and
-// the rename that publishes it — on failure the temporary file is removed and ahd::Error thrown.
+// A temporary name next to `path` (same file system): ".<name>.ahdtmp-<pid>-<random><ext>", the
+// form io/output_set.h writes, recognises and removes when its process is gone.
 std::string temp_path_for(const std::string& path);
-void publish_temp_file(const std::string& tmp, const std::string& path);
 
 // Reads a whole file once. Throws ahd::Error("<path>: <cause>"): missing, not a regular file (a
 // device such as /dev/zero would never end), over max_bytes, or shorter than its size said.

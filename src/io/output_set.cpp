@@ -1,6 +1,7 @@
 #include "io/output_set.h"
 
 #include <fcntl.h>
+#include <sys/file.h>
 #include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -10,6 +11,8 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <memory>
+#include <mutex>
 #include <regex>
 #include <set>
 
@@ -22,17 +25,23 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Temporaries to unlink if SIGINT/SIGTERM arrives during publish_output_set. Fixed storage: the
-// handler may only call async-signal-safe functions (unlink, signal, raise).
-constexpr int kMaxTemps = 64;
-char g_temps[kMaxTemps][4096];
-std::atomic<int> g_temp_count{0};
-std::atomic<bool> g_temp_live[kMaxTemps];
+// What to undo if SIGINT/SIGTERM arrives during a publish. Fixed storage: the handler may only call
+// async-signal-safe functions (unlink, rename, signal, raise). Each slot: kUnlink removes a[i]
+// (a temporary, or a member renamed before the commit), kRestore renames a[i] back to b[i] (an
+// annex moved aside).
+constexpr int kMaxSlots = 64;
+enum : int { kIdle = 0, kUnlink = 1, kRestore = 2 };
+char g_a[kMaxSlots][4096], g_b[kMaxSlots][4096];
+std::atomic<int> g_state[kMaxSlots];
+std::atomic<int> g_slots{0};
 
 extern "C" void on_interrupt(int sig) {
-  const int n = g_temp_count.load();
-  for (int i = 0; i < n && i < kMaxTemps; ++i)
-    if (g_temp_live[i].load()) ::unlink(g_temps[i]);
+  const int n = g_slots.load();
+  for (int i = 0; i < n && i < kMaxSlots; ++i) {
+    const int st = g_state[i].load();
+    if (st == kUnlink) ::unlink(g_a[i]);
+    else if (st == kRestore) ::rename(g_a[i], g_b[i]);
+  }
   ::signal(sig, SIG_DFL);
   ::raise(sig);
 }
@@ -41,7 +50,8 @@ extern "C" void on_interrupt(int sig) {
 struct InterruptGuard {
   struct sigaction old_int {}, old_term {};
   InterruptGuard() {
-    g_temp_count.store(0);
+    for (auto& s : g_state) s.store(kIdle);
+    g_slots.store(0);
     struct sigaction sa {};
     sa.sa_handler = on_interrupt;
     sigemptyset(&sa.sa_mask);
@@ -51,19 +61,48 @@ struct InterruptGuard {
   ~InterruptGuard() {
     sigaction(SIGINT, &old_int, nullptr);
     sigaction(SIGTERM, &old_term, nullptr);
-    g_temp_count.store(0);
+    for (auto& s : g_state) s.store(kIdle);
+    g_slots.store(0);
   }
-  // Returns the slot (or -1 when full: the file is then only cleaned up by the next run).
-  int add(const std::string& path) {
-    const int i = g_temp_count.load();
-    if (i >= kMaxTemps || path.size() >= sizeof g_temps[0]) return -1;
-    std::memcpy(g_temps[i], path.c_str(), path.size() + 1);
-    g_temp_live[i].store(true);
-    g_temp_count.store(i + 1);
+  // A new slot (or -1 when full or the path is too long: that file is then only cleaned up by the
+  // next run, as a stale temporary).
+  int add() {
+    const int i = g_slots.load();
+    if (i >= kMaxSlots) return -1;
+    g_slots.store(i + 1);
     return i;
   }
-  static void drop(int slot) {
-    if (slot >= 0) g_temp_live[slot].store(false);
+  // The slot's action from now on. The state goes idle while the paths change, so the handler
+  // never reads a half-written path.
+  static void set(int slot, int state, const std::string& a = {}, const std::string& b = {}) {
+    if (slot < 0) return;
+    g_state[slot].store(kIdle);
+    if (state == kIdle) return;
+    if (a.size() >= sizeof g_a[0] || b.size() >= sizeof g_b[0]) return;
+    std::memcpy(g_a[slot], a.c_str(), a.size() + 1);
+    std::memcpy(g_b[slot], b.c_str(), b.size() + 1);
+    g_state[slot].store(state);
+  }
+};
+
+// The folder's flock, held for the whole publish of a set (released by close).
+struct FolderLock {
+  int fd = -1;
+  explicit FolderLock(const fs::path& dir) {
+    fd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd < 0) throw file_error(dir.string(), "cannot open the folder (" + std::string(std::strerror(errno)) + ")");
+    while (::flock(fd, LOCK_EX) != 0) {
+      if (errno == EINTR) continue;
+      // A file system without locks (some network mounts): publish unlocked rather than not at all.
+      if (errno == ENOLCK || errno == EBADF || errno == EINVAL || errno == EOPNOTSUPP) break;
+      const int e = errno;
+      ::close(fd);
+      fd = -1;
+      throw file_error(dir.string(), "cannot lock the folder (" + std::string(std::strerror(e)) + ")");
+    }
+  }
+  ~FolderLock() {
+    if (fd >= 0) ::close(fd);
   }
 };
 
@@ -125,16 +164,28 @@ void fsync_dir(const fs::path& dir) {
   ::close(fd);
 }
 
-long kill_before_rename_hook() {
+// AHDPACK_TEST_KILL_BEFORE_RENAME="k" (SIGKILL), "k:INT" or "k:TERM": the signal this process sends
+// itself before rename k.
+struct KillHook {
+  long index = -1;
+  int sig = SIGKILL;
+};
+
+KillHook kill_before_rename_hook() {
+  KillHook h;
   const char* s = std::getenv("AHDPACK_TEST_KILL_BEFORE_RENAME");
-  if (!s || !*s) return -1;
+  if (!s || !*s) return h;
   char* end = nullptr;
   const long v = std::strtol(s, &end, 10);
-  return *end == '\0' && v >= 0 ? v : -1;
+  const std::string sig = *end == ':' ? end + 1 : "";
+  if (v < 0 || (*end != '\0' && *end != ':')) return h;
+  h.index = v;
+  h.sig = sig == "INT" ? SIGINT : sig == "TERM" ? SIGTERM : SIGKILL;
+  return h;
 }
 
-void maybe_kill(long hook, size_t index) {
-  if (hook >= 0 && size_t(hook) == index) ::kill(::getpid(), SIGKILL);
+void maybe_kill(const KillHook& hook, size_t index) {
+  if (hook.index >= 0 && size_t(hook.index) == index) ::kill(::getpid(), hook.sig);
 }
 
 }  // namespace
@@ -162,83 +213,145 @@ size_t remove_stale_temporaries(const std::string& dir) {
 }
 
 
-std::vector<std::string> superseded_planes(const std::string& dir, const std::string& name,
-                                           const std::vector<FileToPublish>& keep) {
-  std::set<std::string> kept;
-  for (const auto& f : keep) kept.insert(fs::path(f.path).filename().string());
-  std::vector<std::string> out;
-  std::error_code ec;
-  fs::directory_iterator it(dir.empty() ? "." : dir, ec), end;
-  for (; !ec && it != end; it.increment(ec)) {
-    const std::string fn = it->path().filename().string();
-    if (fn.size() <= name.size() + 1 || fn.compare(0, name.size() + 1, name + ".") != 0 || kept.count(fn)) continue;
-    static const std::regex re(R"(^(iz|dir|ratio|dirratio|coverage)(\.[0-9a-f]{12})?\.(ktx2|dds)$)");
-    if (std::regex_match(fn.substr(name.size() + 1), re)) out.push_back((fs::path(dir) / fn).string());
-  }
-  return out;
-}
+namespace {
 
-void publish_output_set(const std::vector<FileToPublish>& files, const std::vector<std::string>& superseded) {
-  if (files.empty()) return;
-  std::set<fs::path> dirs;
-  for (const auto& f : files) {
-    const fs::path parent = fs::path(f.path).parent_path();
-    std::error_code ec;
-    if (!parent.empty()) fs::create_directories(parent, ec);
-    if (ec) throw file_error(f.path, "cannot create folder " + parent.string() + " (" + ec.message() + ")");
-    if (fs::is_directory(f.path, ec)) throw file_error(f.path, "is a folder");
-    dirs.insert(parent);
+std::mutex g_publish_mutex;  // one publish per process at a time: the signal clean-up is process-wide
+
+// Renames with the kill hook in front of each; `count` numbers every rename of one publish.
+struct Renamer {
+  KillHook hook = kill_before_rename_hook();
+  size_t count = 0;
+  void operator()(const std::string& from, const std::string& to) {
+    maybe_kill(hook, count++);
+    if (::rename(from.c_str(), to.c_str()) != 0)
+      throw file_error(to, "cannot rename its temporary file (" + errno_text(errno) + ")");
   }
-  for (const auto& d : dirs) remove_stale_temporaries(d.string());
+};
+
+}  // namespace
+
+void publish_output_set(const OutputSet& set) {
+  std::lock_guard<std::mutex> process_lock(g_publish_mutex);
+  std::vector<const FileToPublish*> files;  // members, commit, annexes: the order of the writes
+  for (const auto& f : set.members) files.push_back(&f);
+  files.push_back(&set.commit);
+  for (const auto& f : set.annexes) files.push_back(&f);
+  const fs::path dir = fs::path(set.commit.path).parent_path();
+  {
+    std::error_code ec;
+    if (!dir.empty()) fs::create_directories(dir, ec);
+    if (ec) throw file_error(set.commit.path, "cannot create folder " + dir.string() + " (" + ec.message() + ")");
+  }
+  for (const FileToPublish* f : files) {
+    std::error_code ec;
+    if (fs::path(f->path).parent_path() != dir) throw Error("publish_output_set: " + f->path + " is not beside " + set.commit.path);
+    if (fs::is_directory(f->path, ec)) throw file_error(f->path, "is a folder");
+  }
+  const bool is_set = !set.members.empty() || !set.annexes.empty() || !set.annex_names.empty() || set.superseded;
+  std::unique_ptr<FolderLock> folder_lock;
+  if (is_set) folder_lock = std::make_unique<FolderLock>(dir);
+  remove_stale_temporaries(dir.string());
+  const std::vector<std::string> superseded = set.superseded ? set.superseded() : std::vector<std::string>{};
+
+  std::set<std::string> published;
+  for (const FileToPublish* f : files) published.insert(fs::path(f->path).lexically_normal().string());
 
   InterruptGuard guard;
-  std::vector<std::string> temps(files.size());
-  std::vector<int> slots(files.size(), -1);
-  size_t renamed = 0;
-  std::vector<std::string> created;  // final names that did not exist before this publish
-  auto clean_up = [&]() {
-    for (size_t i = renamed; i < files.size(); ++i)
-      if (!temps[i].empty()) {
-        ::unlink(temps[i].c_str());
-        InterruptGuard::drop(slots[i]);
-      }
-    for (const auto& p : created) ::unlink(p.c_str());
+  const size_t n = files.size(), n_members = set.members.size();
+  std::vector<std::string> temps(n);
+  std::vector<int> slots(n, -1);
+  std::vector<bool> renamed(n, false);
+  std::vector<std::string> created;  // members new to the folder, renamed before the commit
+  std::vector<int> created_slots;
+  struct Aside {
+    std::string final_path, tmp;
+    int slot;
   };
-  try {
-    for (size_t i = 0; i < files.size(); ++i) {
-      temps[i] = temp_path_for(files[i].path);
-      slots[i] = guard.add(temps[i]);
-      write_synced(temps[i], files[i].path, files[i].bytes, injected_write_fault(i));
+  std::vector<Aside> aside;  // previous annexes moved out of the way
+  bool committed = false;
+  auto undo = [&]() {
+    for (size_t i = 0; i < n; ++i)
+      if (!temps[i].empty() && !renamed[i]) ::unlink(temps[i].c_str());
+    if (committed) {
+      for (const Aside& a : aside) ::unlink(a.tmp.c_str());
+      return;
     }
-    const long hook = kill_before_rename_hook();
-    for (; renamed < files.size(); ++renamed) {
-      maybe_kill(hook, renamed);
-      const std::string& path = files[renamed].path;
+    for (const auto& p : created) ::unlink(p.c_str());
+    for (const Aside& a : aside) ::rename(a.tmp.c_str(), a.final_path.c_str());
+  };
+  Renamer rename;
+  try {
+    for (size_t i = 0; i < n; ++i) {
+      temps[i] = temp_path_for(files[i]->path);
+      slots[i] = guard.add();
+      InterruptGuard::set(slots[i], kUnlink, temps[i]);
+      write_synced(temps[i], files[i]->path, files[i]->bytes, injected_write_fault(i));
+    }
+    for (size_t i = 0; i < n_members; ++i) {
+      const std::string& path = files[i]->path;
       std::error_code ec;
       const bool existed = fs::exists(path, ec);
-      if (::rename(temps[renamed].c_str(), path.c_str()) != 0)
-        throw file_error(path, "cannot rename its temporary file (" + errno_text(errno) + ")");
-      InterruptGuard::drop(slots[renamed]);
-      // Only the manifest (last) makes the new files part of a set; before it, files new to the
-      // folder are orphans to remove on failure, files that replaced identical ones stay.
-      if (!existed && renamed + 1 < files.size()) created.push_back(path);
+      rename(temps[i], path);
+      renamed[i] = true;
+      // New to the folder: an orphan to remove if the commit does not happen. A member that replaced
+      // a file had identical bytes (content-addressed) and stays.
+      InterruptGuard::set(slots[i], existed ? kIdle : kUnlink, path);
+      if (!existed) created.push_back(path);
+    }
+    for (const std::string& name : set.annex_names) {
+      std::error_code ec;
+      if (!fs::exists(fs::symlink_status(name, ec))) continue;
+      if (fs::is_directory(name, ec)) throw file_error(name, "is a folder");
+      Aside a{name, temp_path_for(name), guard.add()};
+      InterruptGuard::set(a.slot, kRestore, a.tmp, a.final_path);
+      rename(name, a.tmp);
+      aside.push_back(a);
+    }
+    rename(temps[n_members], set.commit.path);  // the commit point
+    renamed[n_members] = true;
+    committed = true;
+    for (size_t i = 0; i <= n_members; ++i) InterruptGuard::set(slots[i], kIdle);
+    for (const Aside& a : aside) InterruptGuard::set(a.slot, kUnlink, a.tmp);
+    // From the commit on, a signal finishes the clean-up the new set needs: the superseded files go.
+    for (const std::string& f : superseded)
+      if (!published.count(fs::path(f).lexically_normal().string())) InterruptGuard::set(guard.add(), kUnlink, f);
+    for (size_t i = n_members + 1; i < n; ++i) {
+      rename(temps[i], files[i]->path);
+      renamed[i] = true;
+      InterruptGuard::set(slots[i], kIdle);
     }
   } catch (...) {
-    clean_up();
+    undo();
+    fsync_dir(dir);
     throw;
   }
-  for (const auto& d : dirs) fsync_dir(d);
-  maybe_kill(kill_before_rename_hook(), files.size());
-  std::set<std::string> published;
-  for (const auto& f : files) published.insert(fs::path(f.path).lexically_normal().string());
+  for (const Aside& a : aside) ::unlink(a.tmp.c_str());
+  fsync_dir(dir);
+  maybe_kill(rename.hook, rename.count);
   bool removed = false;
   for (const auto& s : superseded) {
     if (published.count(fs::path(s).lexically_normal().string())) continue;
     std::error_code ec;
     removed |= fs::remove(s, ec);
   }
-  if (removed)
-    for (const auto& d : dirs) fsync_dir(d);
+  if (removed) fsync_dir(dir);
+}
+
+void publish_output_set(const std::vector<FileToPublish>& files, const std::vector<std::string>& superseded) {
+  if (files.empty()) return;
+  OutputSet set;
+  set.members.assign(files.begin(), files.end() - 1);
+  set.commit = files.back();
+  if (!superseded.empty()) set.superseded = [superseded] { return superseded; };
+  publish_output_set(set);
+}
+
+void write_new_file(const std::string& path, const std::vector<uint8_t>& bytes) { write_synced(path, path, bytes); }
+
+void publish_file(const std::string& path, std::vector<uint8_t> bytes) {
+  OutputSet set;
+  set.commit = {path, std::move(bytes)};
+  publish_output_set(set);
 }
 
 }  // namespace ahd

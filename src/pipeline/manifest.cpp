@@ -104,8 +104,7 @@ Manifest manifest_from_json(const std::string& text, const std::string& path) {
       if (!names.insert(mp.name).second) throw file_error(path, "plane " + mp.name + " listed twice");
       mp.file = p.at("file").get<std::string>();
       // A plain file name beside the manifest: no folders, no hidden or special names.
-      if (mp.file.empty() || mp.file[0] == '.' || mp.file.find_first_of("/\\:") != std::string::npos ||
-          mp.file.find('\0') != std::string::npos)
+      if (!is_plain_file_name(mp.file))
         throw file_error(path, "plane file must be a plain name beside the manifest: " + mp.file);
       if (!files.insert(mp.file).second) throw file_error(path, "file " + mp.file + " named by two planes");
       if (!format_from_name(p.at("format").get<std::string>(), &mp.format))
@@ -200,6 +199,10 @@ std::vector<std::pair<std::string, std::string>> plane_metadata(const Manifest& 
       {"ahd.iz_scale", iz_scale_text(m.iz_scale)},
       {"ahd.directional", m.directional ? "1" : "0"},
   };
+}
+
+bool is_plain_file_name(const std::string& s) {
+  return !s.empty() && s[0] != '.' && s.find_first_of(std::string("/\\:\0", 4)) == std::string::npos;
 }
 
 }  // namespace ahd

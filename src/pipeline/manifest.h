@@ -42,6 +42,10 @@ struct Manifest {
 
 std::string manifest_to_json(const Manifest& m);
 
+// The rule for a plane's file name in a manifest (and so for a set's NAME, io and cli): a plain name
+// beside the manifest — not empty, not hidden, no '/', '\\', ':' or NUL.
+bool is_plain_file_name(const std::string& s);
+
 // Parses and validates as strictly as a container: known, unique plane roles whose formats fit them
 // (plane_format_problem), plain file names beside the manifest, every plane of the manifest's size
 // and level count, sizes within max_image_size(), a byte size and SHA-256 per plane. Throws
