@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cmath>
 
+#include "core/cpu.h"
 #include "core/parallel.h"
 
 #ifdef __SSE2__
@@ -13,8 +14,6 @@
 namespace ahd {
 namespace {
 
-std::atomic<bool> g_scalar_bc4{false};
-bool scalar_bc4_forced() { return g_scalar_bc4.load(std::memory_order_relaxed); }
 
 uint64_t read_indices(const uint8_t* b) {
   uint64_t v = 0;
@@ -58,7 +57,7 @@ float assign(const float v[16], const float pal[8], uint8_t idx[16]) {
       _mm_storeu_si128(reinterpret_cast<__m128i*>(bi + 4 * q), k_best[q]);
     }
   }
-  if (!scalar_bc4_forced()) {
+  if (cpu::has(cpu::kSse2)) {  // the tests force the plain loops with cpu::disable_for_tests
     float err = 0;
     for (int i = 0; i < 16; ++i) {
       idx[i] = uint8_t(bi[i]);
@@ -133,7 +132,6 @@ struct InterpolationTable {
 
 }  // namespace
 
-void bc4_force_scalar(bool scalar) { g_scalar_bc4.store(scalar, std::memory_order_relaxed); }
 
 void bc4_palette(uint8_t r0, uint8_t r1, float pal[8]) {
   static const InterpolationTable by7(7), by5(5);

@@ -12,9 +12,6 @@ namespace ahd {
 // Exact palette values of a block, in [0,1], as the specification defines them.
 void bc4_palette(uint8_t r0, uint8_t r1, float palette[8]);
 
-// true = the encoder's index step runs its plain scalar loops instead of SSE2 (tests: both
-// write the same bytes).
-void bc4_force_scalar(bool scalar);
 
 // Decodes to floats in [0,1] (exact spec values). Safe on any 8 bytes.
 void bc4_decode_block(const uint8_t block[8], float out[16]);

@@ -6,6 +6,7 @@
 #include <random>
 
 #include "codecs/bc4.h"
+#include "core/cpu.h"
 #include "codecs/bc5.h"
 
 using namespace ahd;
@@ -130,9 +131,9 @@ TEST(Bc4, Sse2AndScalarIndexStepsWriteTheSameBytes) {
         img.at(x, y)[c] = v;
       }
   for (int effort = 0; effort < 3; ++effort) {
-    bc4_force_scalar(true);
+    cpu::disable_for_tests(cpu::kAllSimd);
     const std::vector<uint8_t> s4 = bc4_encode_image(img, 1, 1, effort), s5 = bc5_encode_image(img, 1, effort);
-    bc4_force_scalar(false);
+    cpu::disable_for_tests(0);
     EXPECT_EQ(s4, bc4_encode_image(img, 1, 1, effort)) << effort;
     EXPECT_EQ(s5, bc5_encode_image(img, 1, effort)) << effort;
   }

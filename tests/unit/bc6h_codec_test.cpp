@@ -460,13 +460,13 @@ TEST(Bc6h, RealLightmapsBeatBasisUniversal) {
     for (Bc6hQuality q : {Bc6hQuality::Fast, Bc6hQuality::Default}) {
       Bc6hOptions oq;
       oq.quality = q;
-      bc6h::force_scalar(true);
+      cpu::disable_for_tests(cpu::kAllSimd);
       const std::vector<uint8_t> scalar = bc6h_encode_image(crop, oq);
-      bc6h::force_scalar(false);
+      cpu::disable_for_tests(0);
       EXPECT_EQ(scalar, bc6h_encode_image(crop, oq)) << im.file << " " << bc6h_quality_name(q);
-      bc6h::force_avx2(true);
+      cpu::disable_for_tests(cpu::kAboveAvx2);
       EXPECT_EQ(scalar, bc6h_encode_image(crop, oq)) << im.file << " " << bc6h_quality_name(q) << " AVX2";
-      bc6h::force_avx2(false);
+      cpu::disable_for_tests(0);
     }
     ImageF small(32, 32, 3);
     for (int y = 0; y < 32; ++y)
