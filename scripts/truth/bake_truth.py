@@ -1,4 +1,4 @@
-# Path-traced ground truth for ahdpack's accuracy table (docs/accuracy-truth.md).
+# Path-traced ground truth for ahdpack's accuracy table (docs/accuracy-real-lighting.md).
 #
 #   apt-get install blender python3-numpy        # Debian's Blender 3.4 (Cycles on the CPU)
 #   blender -b --python scripts/truth/bake_truth.py -- --scene area --out tests/data/truth/area

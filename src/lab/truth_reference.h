@@ -1,4 +1,4 @@
-// A path-traced reference (scripts/truth/bake_truth.py, docs/accuracy.md "Against real lighting"):
+// A path-traced reference (scripts/truth/bake_truth.py, docs/accuracy-real-lighting.md):
 // per lightmap texel, Cycles' irradiance for a fixed set of tangent-space normals, some of which are
 // held out as ground truth, plus the irradiance at a bumpy normal-mapped normal field. Lab code: the
 // `report truth` command measures every representation against it (lab/truth_file.h reads one).
