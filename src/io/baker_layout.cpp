@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "core/large_buffer.h"
 #include "core/parallel.h"
+#include "io/input_record.h"
 #include "sh/sh.h"
 #include "core/json_number.h"
 #include "io/paths.h"
@@ -149,6 +150,7 @@ LayoutPreset load_layout(const std::string& name_or_path) {
     for (const auto& n : list_layouts()) known += (known.empty() ? "" : ", ") + n;
     throw file_error(path, "unknown layout '" + name_or_path + "' (known: " + known + ")");
   }
+  note_input_file(path);
   LayoutPreset p;
   try {
     const json j = json::parse(f);

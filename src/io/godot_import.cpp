@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "io/input_record.h"
 
 namespace ahd {
 namespace fs = std::filesystem;
@@ -41,6 +42,7 @@ GodotImport read_godot_import(const std::string& exr_path) {
   const std::string path = exr_path + ".import";
   std::ifstream f(path);
   if (!f) return gi;
+  note_input_file(path);
   gi.found = true;
   std::string line, section;
   while (std::getline(f, line)) {
@@ -66,6 +68,7 @@ std::string godot_project_version(const std::string& path, std::string* project_
     const fs::path p = dir / "project.godot";
     if (fs::exists(p)) {
       std::ifstream f(p);
+      if (f) note_input_file(p.string());
       std::string line;
       while (std::getline(f, line)) {
         // config/features=PackedStringArray("4.2", "Forward Plus")
@@ -94,6 +97,7 @@ std::vector<std::string> godot_resource_names(const std::string& path) {
   std::vector<std::string> names;
   std::ifstream f(path, std::ios::binary);
   char magic[4] = {};
+  if (f) note_input_file(path);
   if (!f || !f.read(magic, 4) || std::string(magic, 4) != "RSRC") return names;
   // Property names are stored as length-prefixed identifiers; collecting the printable runs of
   // identifier characters finds them without decoding the resource's values.

@@ -12,6 +12,7 @@
 
 #include "containers/limits.h"
 #include "core/error.h"
+#include "io/input_record.h"
 
 namespace ahd {
 namespace fs = std::filesystem;
@@ -32,6 +33,7 @@ std::unique_ptr<OIIO::ImageInput> open_input(const std::string& path) {
     why = why.substr(0, why.find('\n'));
     throw file_error(path, "cannot read image (" + why + ")");
   }
+  note_input_file(path);  // every image read, header or pixels, comes through here
   return in;
 }
 
@@ -227,6 +229,7 @@ std::vector<uint8_t> read_file_bytes(const std::string& path, size_t max_bytes) 
   if (size > max_bytes) throw file_error(path, "file too large");
   std::ifstream f(path, std::ios::binary);
   if (!f) throw file_error(path, "cannot open");
+  note_input_file(path);
   std::vector<uint8_t> bytes(size);
   f.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(size));
   if (!f) throw file_error(path, "read failed");

@@ -1,6 +1,7 @@
 #include "io/mesh_io.h"
 
 #include <algorithm>
+#include <assimp/DefaultIOSystem.h>
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
@@ -9,6 +10,7 @@
 #include <filesystem>
 
 #include "core/error.h"
+#include "io/input_record.h"
 
 namespace ahd {
 namespace fs = std::filesystem;
@@ -28,7 +30,20 @@ std::string mesh_name(const aiMesh* m, unsigned index) {
 
 bool has_triangles(const aiMesh* m) { return (m->mPrimitiveTypes & aiPrimitiveType_TRIANGLE) != 0; }
 
+// Assimp's own file system with every file it opens noted (io/input_record.h): a .gltf pulls in its
+// .bin buffers, an .obj its .mtl, through here.
+class RecordingIOSystem : public Assimp::DefaultIOSystem {
+ public:
+  Assimp::IOStream* Open(const char* file, const char* mode) override {
+    Assimp::IOStream* s = DefaultIOSystem::Open(file, mode);
+    if (s && file) note_input_file(file);
+    return s;
+  }
+};
+
 }  // namespace
+
+void record_assimp_reads(Assimp::Importer* importer) { importer->SetIOHandler(new RecordingIOSystem); }
 
 MeshTriangles read_mesh_lightmap(const std::string& path, int uv_set, MeshReadInfo* info) {
   if (!fs::exists(path)) throw file_error(path, "file not found");
@@ -40,6 +55,7 @@ MeshTriangles read_mesh_lightmap(const std::string& path, int uv_set, MeshReadIn
   if (uv_set < -1) throw file_error(path, "UV set must be ≥ 0");
 
   Assimp::Importer importer;
+  record_assimp_reads(&importer);
   // No aiProcess_FlipUVs: Assimp already stores glTF's v as 1 − v, so both formats arrive v-up.
   // PreTransformVertices bakes node matrices into the vertices (normals by the inverse transpose).
   const aiScene* scene = importer.ReadFile(

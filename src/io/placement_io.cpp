@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "io/input_record.h"
 #include "core/json_number.h"
 
 namespace ahd {
@@ -110,6 +111,7 @@ std::vector<Placement> read_unity(const std::string& path, std::istream& in) {
 std::vector<Placement> read_placements(const std::string& path) {
   std::ifstream f(path, std::ios::binary);
   if (!f) throw file_error(path, "file not found");
+  note_input_file(path);
   std::stringstream ss;
   ss << f.rdbuf();
   const std::string text = ss.str();

@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "io/paths.h"
+#include "io/input_record.h"
 
 namespace ahd {
 
@@ -22,6 +23,7 @@ Profile load_profile(const std::string& name_or_path) {
     for (const auto& n : list_profiles()) known += (known.empty() ? "" : ", ") + n;
     throw file_error(path, "unknown profile '" + name_or_path + "' (known: " + known + ")");
   }
+  note_input_file(path);
   std::stringstream text;
   text << f.rdbuf();
   return profile_from_json(text.str(), path);

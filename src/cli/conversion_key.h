@@ -1,0 +1,35 @@
+// The key of a conversion (`convert --print-key`, `convert --cache`): SHA-256 over everything that
+// decides its output bytes — and nothing else, so that a cache is shared between checkouts,
+// machines and thread counts:
+//   - a format line (bump kKeyFormat when what the key covers changes) and the tool version;
+//   - every option that changes the outputs (ConversionOptions minus threads/progress/cancel, the
+//     input options of cli/conversion_input.h, the built-in sample's size/order/seed);
+//   - the output's stem and container (they are in the file names and the manifest);
+//   - every file the conversion read (io/input_record.h: the baker's images, .exr.import, .lmbake,
+//     project.godot, meshes and their buffers, placements, the profile and layout preset files),
+//     in the order read, by content (size and SHA-256), not by path.
+// Paths are not in the key: the report's "source" line and seconds are those of the run that filled
+// a cache entry (the manifest and planes never name a path).
+#pragma once
+#include <ahd/convert.h>
+
+#include <string>
+
+#include "cli/conversion_input.h"
+#include "io/input_record.h"
+
+namespace ahd::cli {
+
+// Raise when the fields below, or the bytes the same inputs give, change without a version bump.
+inline constexpr int kKeyFormat = 1;
+
+// The text the key hashes, one "field value" per line (readable: `--print-key --verbose`
+// prints it). Reads every recorded file again to hash it; throws ahd::Error naming a file that
+// can no longer be read.
+std::string conversion_key_text(const InputArgs& in, const ConversionOptions& o, const std::string& out_name,
+                                const InputRecord& record);
+
+// sha256 of conversion_key_text: 64 lower-case hex digits.
+std::string conversion_key(const std::string& key_text);
+
+}  // namespace ahd::cli
