@@ -78,7 +78,70 @@ const OutputFile* cached_manifest(const std::vector<OutputFile>& files, const Ou
   return manifest;
 }
 
+BatchRow row_of(const Manifest& m) {
+  BatchRow row;
+  row.width = int(m.width), row.height = int(m.height), row.planes = m.planes.size(), row.directional = m.directional;
+  return row;
+}
+
+// --cache's direct lookup (io/conversion_cache.h): what this command read last time, if every file
+// it probed is as it was then, gives the conversion key without reading an image. The hit's files
+// and the files read, or nullopt (then the input is read as without a cache).
+struct DirectHit {
+  std::vector<OutputFile> files;
+  InputsRecord inputs;
+  std::string key;
+};
+std::optional<DirectHit> direct_lookup(const ConversionCache& cache, const std::string& command_key, const OutputPaths& out) {
+  std::optional<InputsRecord> rec = cache.lookup_inputs(command_key);
+  if (!rec) return std::nullopt;
+  for (const InputProbe& p : rec->probes)
+    if (probe_type(p.path) != p.type) return std::nullopt;
+  DirectHit h;
+  try {
+    h.key = conversion_key(rec->options_text + input_files_text(rec->files));
+  } catch (const Error&) {
+    return std::nullopt;  // a file it read is gone: read again (and fail there, naming it)
+  }
+  std::optional<std::vector<OutputFile>> files = cache.lookup(h.key);
+  if (!files || !cached_manifest(*files, out)) return std::nullopt;
+  h.files = std::move(*files);
+  h.inputs = std::move(*rec);
+  return h;
+}
+
 BatchRow run_convert(ConvertArgs a, const BatchJob* job = nullptr) {
+  const auto publish = [&](const OutputPaths& out, std::vector<OutputFile> files) {
+    std::unique_lock<std::mutex> l;
+    if (job && job->publish_lock) l = std::unique_lock<std::mutex>(*job->publish_lock);
+    publish_conversion(out, std::move(files));
+  };
+  const auto print_hit = [&](const std::string& source, const std::string& key, const ConversionCache& cache,
+                             const OutputPaths& out, size_t n) {
+    if (a.conv.quiet) return;
+    std::printf("ahdpack: %s\n", source.c_str());
+    std::printf("cache hit %s (%s): %zu files -> %s\n", key.c_str(), cache.entry_path(key).c_str(), n,
+                out.sibling(".json").c_str());
+  };
+  const ConversionCache cache(a.cache, a.cache.empty() ? 0 : parse_byte_size(a.cache_max_size, "--cache-max-size"));
+  std::string cmd_key;
+  if (!a.cache.empty() && !a.output.empty() && !a.print_key) {
+    const OutputPaths out = output_paths(a.output);
+    ConversionOptions given = conversion_options(a.conv);
+    given.container = out.kind;
+    cmd_key = command_key(a, given, out.name, a.conv.profile);
+    if (std::optional<DirectHit> h = direct_lookup(cache, cmd_key, out)) {
+      const Manifest m = manifest_from_json(std::string(cached_manifest(h->files, out)->bytes.begin(),
+                                                        cached_manifest(h->files, out)->bytes.end()),
+                                            out.sibling(".json"));
+      const size_t n = h->files.size();
+      publish(out, std::move(h->files));
+      if (!a.depfile.empty()) write_depfile(a.depfile, out.sibling(".json"), h->inputs.files);
+      print_hit(h->inputs.source, h->key, cache, out, n);
+      return row_of(m);
+    }
+  }
+
   // Everything read from here to the end of the block is noted in `record` (io/input_record.h):
   // the one list the depfile names and the key hashes. Nothing read after it is an input.
   InputRecord record;
@@ -117,33 +180,30 @@ BatchRow run_convert(ConvertArgs a, const BatchJob* job = nullptr) {
     std::printf("%s\n", key.c_str());
     return {};
   }
-  const auto publish = [&](std::vector<OutputFile> files) {
-    std::unique_lock<std::mutex> l;
-    if (job && job->publish_lock) l = std::unique_lock<std::mutex>(*job->publish_lock);
-    publish_conversion(out, std::move(files));
+  // What the direct lookup of the next run of this command needs (best effort, as the store).
+  const auto remember_inputs = [&]() {
+    if (cmd_key.empty()) return;
+    try {
+      cache.store_inputs(cmd_key, {conversion_options_text(a, co, out.name), source, record.files, record.probes});
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "ahdpack: warning: %s (the inputs are not recorded in the cache)\n", e.what());
+    }
   };
   const auto write_deps = [&]() {
     if (!a.depfile.empty()) write_depfile(a.depfile, out.sibling(".json"), record.files);
   };
 
-  const ConversionCache cache(a.cache, a.cache.empty() ? 0 : parse_byte_size(a.cache_max_size, "--cache-max-size"));
   if (!a.cache.empty()) {
     std::optional<std::vector<OutputFile>> hit = cache.lookup(key);
     const OutputFile* mf = hit ? cached_manifest(*hit, out) : nullptr;
     if (mf) {  // a hit: the stored files, published exactly as a conversion's (cli/output.h)
-      const std::string manifest_path = out.sibling(".json");
-      const Manifest m = manifest_from_json(std::string(mf->bytes.begin(), mf->bytes.end()), manifest_path);
+      const Manifest m = manifest_from_json(std::string(mf->bytes.begin(), mf->bytes.end()), out.sibling(".json"));
       const size_t n = hit->size();
-      publish(std::move(*hit));
+      publish(out, std::move(*hit));
       write_deps();
-      if (!a.conv.quiet) {
-        std::printf("ahdpack: %s\n", source.c_str());
-        std::printf("cache hit %s (%s): %zu files -> %s\n", key.c_str(), cache.entry_path(key).c_str(), n,
-                    manifest_path.c_str());
-      }
-      BatchRow row;
-      row.width = int(m.width), row.height = int(m.height), row.planes = m.planes.size(), row.directional = m.directional;
-      return row;
+      remember_inputs();
+      print_hit(source, key, cache, out, n);
+      return row_of(m);
     }
   }
 
@@ -165,7 +225,7 @@ BatchRow run_convert(ConvertArgs a, const BatchJob* job = nullptr) {
   }
   std::vector<OutputFile> to_store;
   if (!a.cache.empty()) to_store = run.output.files;
-  publish(std::move(run.output.files));  // the summary needs the manifest, not the bytes
+  publish(out, std::move(run.output.files));  // the summary needs the manifest, not the bytes
   write_deps();
   if (!a.conv.quiet) print_conversion(source, out, run, ro.convert.closed_loop, rs.non_finite_texels);
   if (!a.cache.empty()) {
@@ -179,6 +239,7 @@ BatchRow run_convert(ConvertArgs a, const BatchJob* job = nullptr) {
     } catch (const std::exception& e) {
       std::fprintf(stderr, "ahdpack: warning: %s (the conversion is not cached)\n", e.what());
     }
+    remember_inputs();
   }
   BatchRow row;
   row.width = int(run.output.manifest.width);

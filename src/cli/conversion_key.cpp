@@ -1,9 +1,13 @@
 #include "cli/conversion_key.h"
 
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <vector>
 
 #include "containers/sha256.h"
-#include "io/image_io.h"
+#include "core/error.h"
+#include "io/paths.h"
 
 #ifndef AHD_VERSION_STRING
 #error "AHD_VERSION_STRING must be defined (CMakeLists.txt)"
@@ -21,8 +25,7 @@ std::string num(double v) {
 
 }  // namespace
 
-std::string conversion_key_text(const InputArgs& in, const ConversionOptions& o, const std::string& out_name,
-                                const InputRecord& record) {
+std::string conversion_options_text(const InputArgs& in, const ConversionOptions& o, const std::string& out_name) {
   std::string t = "ahdpack-conversion-key " + std::to_string(kKeyFormat) + "\n";
   t += "version " AHD_VERSION_STRING "\n";
   // Output naming.
@@ -54,11 +57,52 @@ std::string conversion_key_text(const InputArgs& in, const ConversionOptions& o,
   t += "mesh " + std::to_string(int(!in.mesh.empty())) + " uv_set " + std::to_string(in.uv_set) + "\n";
   t += "placement " + std::to_string(int(!in.placement.empty())) + "\n";
   t += "pages " + std::to_string(in.pages) + "\n";
-  for (const std::string& f : record.files) {
-    const std::vector<uint8_t> bytes = read_file_bytes(f);
-    t += "read " + std::to_string(bytes.size()) + " " + sha256_hex(bytes.data(), bytes.size()) + "\n";
+  return t;
+}
+
+// A file's content hash: SHA-256 of its 4 MiB chunks' SHA-256 digests (with the size beside it, as
+// collision-resistant as SHA-256 of the whole), read through one reused buffer: a cache hit on a
+// large EXR hashes it without holding it in memory.
+static std::string file_digest(const std::string& path, uint64_t* size) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw file_error(path, "cannot open (it was read a moment ago)");
+  std::vector<uint8_t> buf(size_t(4) << 20);
+  std::string digests;
+  *size = 0;
+  while (f) {
+    f.read(reinterpret_cast<char*>(buf.data()), std::streamsize(buf.size()));
+    const size_t n = size_t(f.gcount());
+    if (n == 0) break;
+    digests += sha256_hex(buf.data(), n);
+    *size += n;
+  }
+  if (f.bad()) throw file_error(path, "read failed");
+  return sha256_hex(reinterpret_cast<const uint8_t*>(digests.data()), digests.size());
+}
+
+std::string input_files_text(const std::vector<std::string>& files) {
+  std::string t;
+  for (const std::string& f : files) {
+    uint64_t size = 0;
+    const std::string digest = file_digest(f, &size);
+    t += "read " + std::to_string(size) + " " + digest + "\n";
   }
   return t;
+}
+
+std::string conversion_key_text(const InputArgs& in, const ConversionOptions& o, const std::string& out_name,
+                                const InputRecord& record) {
+  return conversion_options_text(in, o, out_name) + input_files_text(record.files);
+}
+
+std::string command_key(const InputArgs& given, const ConversionOptions& o, const std::string& out_name,
+                        const std::string& profile_arg) {
+  std::error_code ec;
+  std::string t = "ahdpack-command-key " + std::to_string(kKeyFormat) + "\n" + conversion_options_text(given, o, out_name);
+  t += "input_path " + given.input + "\nlayout_arg " + given.layout + "\nnormals_path " + given.normals + "\nmesh_path " +
+       given.mesh + "\nplacement_path " + given.placement + "\nprofile_arg " + profile_arg + "\ncwd " +
+       std::filesystem::current_path(ec).string() + "\nformats " + formats_dir() + "\n";
+  return conversion_key(t);
 }
 
 std::string conversion_key(const std::string& key_text) {

@@ -375,7 +375,7 @@ void attach_world_normals(ShImage& sh, const LayoutNormals& normals) {
 
 std::string layout_base(const LayoutPreset& layout, const std::string& input) {
   if (layout.canonical || layout.files.empty()) return input;
-  if (fs::exists(expand_pattern(layout.files[0].pattern, input))) return input;
+  if (probe_input_file(expand_pattern(layout.files[0].pattern, input))) return input;
   // The longest matching suffix first, so "_L1x.tga" is not mistaken for a shorter one.
   std::string best;
   for (const LayoutFile& lf : layout.files) {

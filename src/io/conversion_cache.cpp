@@ -5,6 +5,7 @@
 #include <cctype>
 #include <cstring>
 #include <filesystem>
+#include <sstream>
 
 #include "containers/sha256.h"
 #include "core/error.h"
@@ -18,6 +19,7 @@ namespace {
 
 constexpr const char* kMagic = "ahdpack-cache 1\n";
 constexpr const char* kExt = ".ahdcache";
+constexpr const char* kInputsExt = ".ahdinputs";
 constexpr size_t kMaxFiles = 4096;
 constexpr uint64_t kMaxEntryBytes = uint64_t(1) << 36;  // refuse to read anything larger
 
@@ -154,7 +156,7 @@ CacheStats ConversionCache::store(const std::string& key, const std::vector<Outp
       if (now - mtime > std::chrono::hours(1)) fs::remove(e.path(), e2);
       continue;
     }
-    if (e.path().extension() != kExt) continue;
+    if (e.path().extension() != kExt && e.path().extension() != kInputsExt) continue;
     const uint64_t bytes = e.file_size(e2);
     if (e2) continue;
     entries.push_back({e.path(), mtime, bytes});
@@ -173,6 +175,71 @@ CacheStats ConversionCache::store(const std::string& key, const std::vector<Outp
     st.bytes -= e.bytes, --st.entries;
   }
   return st;
+}
+
+std::optional<InputsRecord> ConversionCache::lookup_inputs(const std::string& command_key) const {
+  if (!is_key(command_key)) return std::nullopt;
+  const std::string path = (fs::path(dir_) / (command_key + kInputsExt)).string();
+  std::vector<uint8_t> b;
+  try {
+    b = read_file_bytes(path, size_t(1) << 24);
+  } catch (const Error&) {
+    return std::nullopt;
+  }
+  const std::string text(b.begin(), b.end());
+  const size_t tail = text.rfind("sha256 ");
+  if (tail == std::string::npos || text.size() != tail + 7 + 64 + 1 || text.back() != '\n') return std::nullopt;
+  if (sha256_hex(b.data(), tail) != text.substr(tail + 7, 64)) return std::nullopt;
+  std::istringstream in(text.substr(0, tail));
+  std::string line;
+  if (!std::getline(in, line) || line != "ahdpack-inputs 1") return std::nullopt;
+  if (!std::getline(in, line) || line != "key " + command_key) return std::nullopt;
+  InputsRecord r;
+  while (std::getline(in, line)) {
+    if (line.rfind("opt ", 0) == 0) r.options_text += line.substr(4) + "\n";
+    else if (line.rfind("source ", 0) == 0) r.source = line.substr(7);
+    else if (line.rfind("file ", 0) == 0) r.files.push_back(line.substr(5));
+    else if (line.rfind("probe ", 0) == 0) {
+      const size_t sp = line.find(' ', 6);
+      if (sp == std::string::npos || sp == 6 || sp - 6 > 3) return std::nullopt;
+      InputProbe p;
+      for (size_t i = 6; i < sp; ++i) {
+        if (line[i] < '0' || line[i] > '9') return std::nullopt;
+        p.type = p.type * 10 + (line[i] - '0');
+      }
+      p.path = line.substr(sp + 1);
+      r.probes.push_back(std::move(p));
+    } else {
+      return std::nullopt;
+    }
+  }
+  if (r.options_text.empty()) return std::nullopt;
+  std::error_code ec;
+  fs::last_write_time(path, fs::file_time_type::clock::now(), ec);
+  return r;
+}
+
+void ConversionCache::store_inputs(const std::string& command_key, const InputsRecord& r) const {
+  if (!is_key(command_key)) throw Error("cache: not a key: " + command_key);
+  const auto one_line = [](const std::string& s) { return s.find_first_of("\n\r") == std::string::npos; };
+  for (const std::string& f : r.files)
+    if (!one_line(f)) return;
+  for (const InputProbe& p : r.probes)
+    if (!one_line(p.path)) return;
+  std::string t = "ahdpack-inputs 1\nkey " + command_key + "\n";
+  std::string source = r.source;
+  for (char& c : source)
+    if (c == '\n' || c == '\r') c = ' ';
+  t += "source " + source + "\n";
+  std::istringstream opts(r.options_text);
+  std::string line;
+  while (std::getline(opts, line)) t += "opt " + line + "\n";
+  for (const std::string& f : r.files) t += "file " + f + "\n";
+  for (const InputProbe& p : r.probes) t += "probe " + std::to_string(p.type) + " " + p.path + "\n";
+  t += "sha256 " + sha256_hex(reinterpret_cast<const uint8_t*>(t.data()), t.size()) + "\n";
+  std::error_code ec;
+  fs::create_directories(dir_, ec);
+  write_file_atomic((fs::path(dir_) / (command_key + kInputsExt)).string(), t);
 }
 
 uint64_t parse_byte_size(const std::string& text, const std::string& option) {

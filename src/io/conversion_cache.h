@@ -10,7 +10,14 @@
 // add up to the file's length, every file's SHA-256 — and treats any mismatch (a truncated or
 // corrupt entry, another tool's file) as a miss, which then replaces it.
 //
-// Bounded: after each store, when the *.ahdcache files of DIR total more than max_bytes, the least
+// A conversion's inputs are only known by reading them, which for a large EXR costs a good part of
+// a conversion; so DIR also keeps, per command (the arguments as given, the working directory),
+// what that command read and which files it found present or absent (<command_key>.ahdinputs).
+// A later run of the same command first checks every probe (same file types), then hashes the
+// listed files: the conversion key a full read would compute, without decoding an image. Any
+// difference — a probe changed, a file gone — falls back to reading.
+//
+// Bounded: after each store, when the *.ahdcache and *.ahdinputs files of DIR total more than max_bytes, the least
 // recently used (oldest modification time; a hit refreshes it) are removed until they fit — never
 // the entry just stored. Temporaries older than an hour (writers that died) are removed too.
 #pragma once
@@ -21,7 +28,19 @@
 #include <string>
 #include <vector>
 
+#include "io/input_record.h"
+
 namespace ahd {
+
+// What a conversion read and probed (io/input_record.h), stored under its command key
+// (cli/conversion_key.h command_key) beside the entries: `options_text` is the option part of the
+// conversion key, `source` the summary's description of the input.
+struct InputsRecord {
+  std::string options_text;
+  std::string source;
+  std::vector<std::string> files;
+  std::vector<InputProbe> probes;
+};
 
 struct CacheStats {
   size_t entries = 0;
@@ -44,6 +63,13 @@ class ConversionCache {
   CacheStats store(const std::string& key, const std::vector<OutputFile>& files) const;
 
   std::string entry_path(const std::string& key) const;
+
+  // The inputs record stored under `command_key` (DIR/<command_key>.ahdinputs), or nullopt when
+  // missing or malformed (its own SHA-256 is checked). Never throws except std::bad_alloc.
+  std::optional<InputsRecord> lookup_inputs(const std::string& command_key) const;
+  // Stores it (temporary + rename). Throws ahd::Error when it cannot be written; a record holding
+  // a path with a line break is not stored.
+  void store_inputs(const std::string& command_key, const InputsRecord& record) const;
 
   // The serialised entry (exposed for tests) and its reader (nullopt unless well-formed for `key`).
   static std::vector<uint8_t> encode(const std::string& key, const std::vector<OutputFile>& files);

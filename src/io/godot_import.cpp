@@ -40,6 +40,7 @@ int positive_int(const std::string& file, const std::string& key, const std::str
 GodotImport read_godot_import(const std::string& exr_path) {
   GodotImport gi;
   const std::string path = exr_path + ".import";
+  if (!probe_regular_file(path)) return gi;  // absent: a fact the conversion depends on, too
   std::ifstream f(path);
   if (!f) return gi;
   note_input_file(path);
@@ -66,7 +67,7 @@ std::string godot_project_version(const std::string& path, std::string* project_
   fs::path dir = fs::absolute(path).parent_path();
   for (int up = 0; up < 32 && !dir.empty(); ++up) {
     const fs::path p = dir / "project.godot";
-    if (fs::exists(p)) {
+    if (probe_input_file(p.string())) {
       std::ifstream f(p);
       if (f) note_input_file(p.string());
       std::string line;
@@ -95,6 +96,7 @@ int godot_version_packs_l1(const std::string& version) {
 
 std::vector<std::string> godot_resource_names(const std::string& path) {
   std::vector<std::string> names;
+  if (!probe_regular_file(path)) return names;
   std::ifstream f(path, std::ios::binary);
   char magic[4] = {};
   if (f) note_input_file(path);

@@ -1,6 +1,7 @@
 #include "io/input_record.h"
 
 #include <algorithm>
+#include <filesystem>
 
 namespace ahd {
 
@@ -18,5 +19,28 @@ void note_input_file(const std::string& path) {
   // A conversion reads a few dozen files at most (a 64-page atlas's images): a linear scan is fine.
   if (std::find(r->files.begin(), r->files.end(), path) == r->files.end()) r->files.push_back(path);
 }
+
+int probe_type(const std::string& path) {
+  std::error_code ec;
+  const std::filesystem::file_status st = std::filesystem::status(path, ec);
+  return ec ? int(std::filesystem::file_type::not_found) : int(st.type());
+}
+
+namespace {
+int probe(const std::string& path) {
+  const int type = probe_type(path);
+  InputRecord* r = current_record;
+  if (r && std::none_of(r->probes.begin(), r->probes.end(), [&](const InputProbe& p) { return p.path == path; }))
+    r->probes.push_back({path, type});
+  return type;
+}
+}  // namespace
+
+bool probe_input_file(const std::string& path) {
+  const int t = probe(path);
+  return t != int(std::filesystem::file_type::not_found) && t != int(std::filesystem::file_type::none);
+}
+
+bool probe_regular_file(const std::string& path) { return probe(path) == int(std::filesystem::file_type::regular); }
 
 }  // namespace ahd

@@ -21,10 +21,20 @@
 
 namespace ahd {
 
+// An existence test a reader's decision rests on (is NAME.exr.import beside it? which baker's
+// files are present?): `convert --cache` replays them to reuse a conversion without reading it.
+struct InputProbe {
+  std::string path;
+  int type = 0;  // std::filesystem::file_type of the path when probed (not_found = absent)
+  bool operator==(const InputProbe&) const = default;
+};
+
 struct InputRecord {
   // Files in the order first read, each once, as the reader named them (relative paths stay
   // relative to the working directory).
   std::vector<std::string> files;
+  // Existence tests in the order made, each path once (its first result).
+  std::vector<InputProbe> probes;
 };
 
 // Opens a recording scope on this thread; scopes nest (the inner one records, then the outer one
@@ -43,5 +53,15 @@ class RecordInputs {
 // Adds `path` to this thread's current record (once; later reads of the same path are not added
 // again). No-op outside a RecordInputs scope. Never throws except std::bad_alloc.
 void note_input_file(const std::string& path);
+
+// std::filesystem::exists / is_regular_file that also note the test in the current record. Readers
+// use these (not std::filesystem) wherever a file's presence changes what is read or how: a test
+// not noted would let `--cache` reuse a conversion after a file appeared that a new run would read.
+// Never throw (an unreadable path counts as absent).
+bool probe_input_file(const std::string& path);
+bool probe_regular_file(const std::string& path);
+
+// The type a path has now, as InputProbe::type records it.
+int probe_type(const std::string& path);
 
 }  // namespace ahd

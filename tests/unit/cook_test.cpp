@@ -253,7 +253,8 @@ TEST(Cook, TruncatedOrCorruptCacheEntryIsIgnoredAndReplaced) {
   const std::vector<std::string> args = {"convert", in, "-o", (d / "o" / "s.ktx2").string(), "--cache", cache};
   ASSERT_EQ(run_cli(args).exit_code, 0);
   fs::path entry;
-  for (const auto& e : fs::directory_iterator(cache)) entry = e.path();
+  for (const auto& e : fs::directory_iterator(cache))
+    if (e.path().extension() == ".ahdcache") entry = e.path();
   const std::string good = slurp(entry);
   const std::string key = entry.stem().string();
   ASSERT_TRUE(ConversionCache::decode(key, std::vector<uint8_t>(good.begin(), good.end())));
@@ -271,6 +272,33 @@ TEST(Cook, TruncatedOrCorruptCacheEntryIsIgnoredAndReplaced) {
     for (const auto& [name, bytes] : folder_files(d / "o"))
       if (name != "s.report.json") EXPECT_EQ(bytes, expected.at(name)) << name;
   }
+  fs::remove_all(d);
+}
+
+// The second run of a command finds its conversion without reading the images (the direct lookup
+// of io/conversion_cache.h) — unless a file it found absent has appeared: a .lmbake that now says
+// how the L1 is stored must be read, so the run reads again and misses.
+TEST(Cook, CacheDirectLookupRereadsWhenAProbedFileAppears) {
+  const fs::path d = ahd_test::temp_dir("cook_direct");
+  const GodotSet g(d, 1);
+  const std::string lmbake = slurp(d / "World.lmbake");
+  fs::remove(d / "World.lmbake");
+  const std::vector<std::string> args = {"convert", g.exr, "--normals", g.normals, "-o", (d / "o" / "w.ktx2").string(),
+                                         "--cache", (d / "cache").string(), "--depfile", (d / "o" / "w.d").string()};
+  auto r = run_cli(args);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "cache: stored")) << r.output;
+  const std::string deps = slurp(d / "o" / "w.d");
+  EXPECT_FALSE(contains(deps, "World.lmbake")) << deps;
+  r = run_cli(args);
+  EXPECT_TRUE(contains(r.output, "cache hit")) << r.output;
+  EXPECT_EQ(slurp(d / "o" / "w.d"), deps);  // the direct hit names the same files
+  spit(d / "World.lmbake", lmbake);
+  r = run_cli(args);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "World.lmbake: has _uses_packed_directional")) << r.output;  // read again
+  EXPECT_TRUE(contains(r.output, "cache: stored")) << r.output;
+  EXPECT_TRUE(contains(slurp(d / "o" / "w.d"), "World.lmbake"));
   fs::remove_all(d);
 }
 
@@ -292,6 +320,10 @@ TEST(Cook, TwoProcessesFillingOneCacheLeaveItConsistent) {
   size_t entries = 0;
   for (const auto& e : fs::directory_iterator(cache)) {
     const std::string name = e.path().filename().string();
+    if (e.path().extension() == ".ahdinputs") {  // what each command read (the direct lookup)
+      EXPECT_TRUE(ConversionCache(cache, 0).lookup_inputs(e.path().stem().string())) << name;
+      continue;
+    }
     EXPECT_EQ(e.path().extension(), ".ahdcache") << name << " left behind";
     const std::string bytes = slurp(e.path());
     EXPECT_TRUE(ConversionCache::decode(e.path().stem().string(), std::vector<uint8_t>(bytes.begin(), bytes.end()))) << name;
