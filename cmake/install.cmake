@@ -18,4 +18,13 @@ install(FILES ${CMAKE_CURRENT_BINARY_DIR}/ahdpackConfig.cmake ${CMAKE_CURRENT_BI
 if(AHD_BUILD_CLI)
   install(TARGETS ahdpack RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
   install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/formats/ DESTINATION ${CMAKE_INSTALL_DATADIR}/ahdpack/formats)
+  # three.js (MIT) for the 3D view of `ahdpack preview`, from the lockfile-pinned npm package that
+  # scripts/setup.sh installs; the installed tool finds it at <formats>/../three (preview_3d.h).
+  # Without it the preview page is the static one with a note.
+  set(AHD_THREE_DIR ${CMAKE_CURRENT_SOURCE_DIR}/tests/tools/node_modules/three)
+  if(EXISTS ${AHD_THREE_DIR}/build/three.module.js)
+    install(FILES ${AHD_THREE_DIR}/build/three.core.js ${AHD_THREE_DIR}/build/three.module.js
+      DESTINATION ${CMAKE_INSTALL_DATADIR}/ahdpack/three/build)
+    install(FILES ${AHD_THREE_DIR}/LICENSE ${AHD_THREE_DIR}/package.json DESTINATION ${CMAKE_INSTALL_DATADIR}/ahdpack/three)
+  endif()
 endif()

@@ -23,9 +23,11 @@ export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:halt_on_error=1"
 export LSAN_OPTIONS="suppressions=$PWD/fuzz/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 # The consumer test installs the package and builds a program with the default compiler: not an
-# instrumented build's job; the preview page test (PreviewChromium.*) runs a browser, not our code.
+# instrumented build's job; the preview page test (PreviewChromium.*) and the three.js render test
+# (ThreeRender.*, convert + a browser) run a browser, not our code (Preview3d.* stays: it runs
+# the 3D view's writer, src/cli/preview_3d.cpp).
 # Two accuracy measurements run only in the normal suite: they repeat code the instrumented suite
 # already runs (BC6H `max` on the hard 8×8 and gradient inputs, the closed-form fit on every fit
 # test) on thousands more inputs, and took 2 of its 7 minutes of tests.
 ctest --test-dir build-asan --output-on-failure -j "$(nproc)" \
-  -E "^(Consumer|PreviewChromium)\\.|^Bc6h\\.MaxOnCropsOfTheSharedImages$|^Fit\\.ClosedFormTMatchesBruteForceSearch$"
+  -E "^(Consumer|PreviewChromium|ThreeRender)\\.|^Bc6h\\.MaxOnCropsOfTheSharedImages$|^Fit\\.ClosedFormTMatchesBruteForceSearch$"

@@ -11,10 +11,10 @@ PKGS=(
   libosmesa6-dev libgl1-mesa-dri libgl-dev
   glslang-tools spirv-cross
   clang-14 libclang-rt-14-dev   # sanitizer build and libFuzzer targets (scripts/sanitize.sh, fuzz.sh)
-  chromium                      # headless test of the `ahdpack preview` page (PreviewChromium.*)
+  chromium                      # headless tests: the `ahdpack preview` page, three.js rendering (ThreeRender.*)
   strace                        # Cook.GodotAtlasDepfileNamesEveryFileRead: the files really opened
 )
-# Node.js is only needed for the independent KTX2 reader (ktx-parse); a machine that
+# Node.js is needed for the independent KTX2 reader (ktx-parse) and the Chromium driver; a machine that
 # already has node+npm (from any source) keeps it, otherwise Debian's are installed.
 command -v npm >/dev/null 2>&1 || PKGS+=(nodejs npm)
 
@@ -30,8 +30,10 @@ if [ ${#missing[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
 
-# The independent KTX2 reader for the tests (tests/tools/package.json, pinned by its lockfile).
+# The tests' node modules (tests/tools/package.json, pinned by its lockfile): the independent KTX2
+# reader (ktx-parse) and three.js, the engine that renders our KTX2 planes in ThreeRender.* and
+# the 3D view of `ahdpack preview`.
 tools="$(dirname "$0")/../tests/tools"
-if [ ! -d "$tools/node_modules/ktx-parse" ]; then
+if [ ! -d "$tools/node_modules/ktx-parse" ] || [ ! -f "$tools/node_modules/three/package.json" ]; then
   (cd "$tools" && npm ci --no-audit --no-fund --loglevel=error >/dev/null)
 fi

@@ -20,6 +20,7 @@
 
 #include "cli/commands.h"
 #include "cli/conversion_view.h"
+#include "cli/preview_3d.h"
 #include "cli/preview_html.h"
 #include "cli/preview_images.h"
 #include "core/error.h"
@@ -35,6 +36,8 @@ constexpr const char* kMarker = ".ahdpack-preview";
 
 struct PreviewArgs {
   std::string manifest, source, out;
+  std::string mesh;  // the 3D view's mesh (preview_3d.h); "" = the sample's plane
+  int uv_set = -1;
 };
 
 // Irradiance of level 0 for one tangent-space unit normal.
@@ -141,6 +144,7 @@ void run_preview(const PreviewArgs& a) {
     page.error_normal = summarise_map(e.normal);
     page.error_hemisphere = summarise_map(e.hemisphere);
   }
+  page.view3d_html = write_preview_3d(tmp.path, {a.manifest, a.mesh, a.uv_set, a.source.empty() ? nullptr : &sh});
   write_file_atomic((tmp.path / "index.html").string(), preview_html(page));
   write_file_atomic((tmp.path / kMarker).string(), std::string("written by ahdpack preview\n"));
   publish_folder(tmp.path, out);
@@ -157,6 +161,8 @@ void add_preview_command(CLI::App& app) {
                                               "irradiance, error heat maps, report");
   c->add_option("manifest", a->manifest, "NAME.json written by convert")->required();
   c->add_option("--source", a->source, "The source SH (canonical EXR) for the error heat maps");
+  c->add_option("--mesh", a->mesh, "The mesh (.glb/.gltf/.obj) the 3D view lights (default: the sample's plane)");
+  c->add_option("--uv-set", a->uv_set, "The mesh's lightmap UV set (default: the second when there are two)");
   c->add_option("-o,--output", a->out, "Output folder (replaced if it holds an earlier preview)")->required();
   c->callback([a]() { run_preview(*a); });
 }

@@ -174,6 +174,7 @@ std::string preview_html(const PreviewPage& p) {
   h += "<div id=\"controls\">Exposure <input type=\"range\" id=\"ev\" min=\"-10\" max=\"6\" step=\"0.25\" value=\"-1\"> "
        "<span id=\"evv\">0</span> EV (0 EV: luminance " + fmt(p.white) + " = white, the p99 of I_z) · status: "
        "<span id=\"status\">loading</span></div>\n";
+  h += p.view3d_html;
 
   h += "<h2>Irradiance, level 0</h2>\n<p>Decoded with the reference decoder (fit/ahd_decode.h) for the surface normal "
        "and for normals tilted 45°; HDR, shown through the exposure control (8-bit log encoding, 16 stops).</p>\n";

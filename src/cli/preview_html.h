@@ -29,6 +29,7 @@ struct PreviewPage {
   std::vector<std::pair<std::string, std::string>> irradiance;  // file, caption
   std::string source;  // empty: no heat maps
   MapSummary error_normal, error_hemisphere;
+  std::string view3d_html;  // escaped HTML from write_preview_3d (preview_3d.h): the link or a note
 };
 
 // The HTML document. Files it names: iz_L<l>.png, dir_L<l>.png, ratio_L<l>.png (directional),

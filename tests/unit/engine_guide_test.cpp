@@ -1,0 +1,45 @@
+// EngineGuide.*: docs/engine-integration.md shows the files the tests run. Every code block marked
+// `<!-- example: PATH -->` must appear verbatim in PATH, and the guide must show the three.js
+// module, the page ThreeRender.* loads and the GLSL decode; those files must be what the render
+// tests use (render_check.html imports ahd_three.js and fetches ahd_decode.glsl).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+namespace fs = std::filesystem;
+
+namespace {
+const fs::path kSource = AHD_SOURCE_DIR;
+std::string read_text(const fs::path& p) {
+  std::ifstream f(p);
+  return std::string(std::istreambuf_iterator<char>(f), {});
+}
+}  // namespace
+
+TEST(EngineGuide, ExamplesAreTheTestedFiles) {
+  const std::string guide = read_text(kSource / "docs" / "engine-integration.md");
+  ASSERT_FALSE(guide.empty());
+  const std::string marker = "<!-- example: ";
+  std::set<std::string> shown;
+  for (size_t k = guide.find(marker); k != std::string::npos; k = guide.find(marker, k + 1)) {
+    const size_t pe = guide.find(" -->", k);
+    const std::string path = guide.substr(k + marker.size(), pe - (k + marker.size()));
+    const size_t open = guide.find("```", pe), body = guide.find('\n', open) + 1, close = guide.find("\n```", body);
+    ASSERT_NE(close, std::string::npos) << path;
+    const std::string code = guide.substr(body, close - body);
+    const std::string file = read_text(kSource / path);
+    ASSERT_FALSE(file.empty()) << path;
+    EXPECT_NE(file.find(code), std::string::npos) << "the guide's block is not in " << path << ":\n" << code;
+    shown.insert(path);
+  }
+  for (const char* p : {"formats/engine/three/ahd_three.js", "docs/examples/three/render_check.html",
+                        "formats/shaders/ahd_decode.glsl"})
+    EXPECT_TRUE(shown.count(p)) << "the guide shows nothing of " << p;
+  const std::string page = read_text(kSource / "docs" / "examples" / "three" / "render_check.html");
+  EXPECT_NE(page.find("from '../ahd/formats/engine/three/ahd_three.js'"), std::string::npos);
+  EXPECT_NE(page.find("fetch('../ahd/formats/shaders/ahd_decode.glsl')"), std::string::npos);
+  EXPECT_NE(read_text(kSource / "tests" / "unit" / "three_render_test.cpp").find("/page/render_check.html"),
+            std::string::npos);
+}
