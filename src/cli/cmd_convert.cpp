@@ -123,6 +123,8 @@ BatchRow run_convert(ConvertArgs a, const BatchJob* job = nullptr) {
     std::printf("cache hit %s (%s): %zu files -> %s\n", key.c_str(), cache.entry_path(key).c_str(), n,
                 out.sibling(".json").c_str());
   };
+  if (!a.cache.empty() && a.keep_intermediate)
+    throw Error("--cache stores the conversion's outputs, not --keep-intermediate's file: use one of them");
   const ConversionCache cache(a.cache, a.cache.empty() ? 0 : parse_byte_size(a.cache_max_size, "--cache-max-size"));
   std::string cmd_key;
   if (!a.cache.empty() && !a.output.empty() && !a.print_key) {
@@ -167,8 +169,6 @@ BatchRow run_convert(ConvertArgs a, const BatchJob* job = nullptr) {
     // Checked before anything is read or written: one clear line, no output.
     ro = resolve_options(co, out.name, load_profile(a.conv.profile));
     check_input_args(a);
-    if (!a.cache.empty() && a.keep_intermediate)
-      throw Error("--cache stores the conversion's outputs, not --keep-intermediate's file: use one of them");
     pages = read_input_pages(a, a.conv.options.threads, &rs, &source);
   }
   if (!a.conv.quiet && !a.print_key) std::fputs(a.notes.c_str(), stdout);

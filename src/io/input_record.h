@@ -7,10 +7,12 @@
 //
 // Hooking in a new reader (a .tscn, .glb, .unwrap_cache…): call note_input_file(path) next to the
 // open — for Assimp, install record_assimp_reads (io/mesh_io.h) so the files a scene pulls in (a
-// .gltf's .bin) are noted too. A read that is not noted is a bug: the depfile would miss it (no
-// rebuild when it changes) and the cache key would not cover it (a stale hit). The test
-// CookTest.GodotDepfileNamesEveryFile catches it for the Godot set. Existence probes (is a
-// NAME.exr.import beside it?) are not reads: only files opened are noted.
+// .gltf's .bin) are noted too — and test for optional files with probe_input_file /
+// probe_regular_file below instead of std::filesystem. A read that is not noted is a bug: the
+// depfile would miss it (no rebuild when it changes) and the cache key would not cover it (a stale
+// hit); an existence test that is not probed lets `--cache` reuse a conversion after the file
+// appeared. The test Cook.GodotAtlasDepfileNamesEveryFileRead compares the depfile with what strace
+// saw the process open, for the Godot set; add a case there for a new reader.
 //
 // The scope is per thread: a batch converts files on several threads at once, each with its own
 // record. Reading happens on the thread that opened the scope (the io readers parallelise over rows

@@ -156,6 +156,38 @@ TEST(Cook, GodotAtlasDepfileNamesEveryFileRead) {
   fs::remove_all(d);
 }
 
+// A mesh's external buffer is read by Assimp, not by us: the recording IOSystem notes it too.
+TEST(Cook, DepfileNamesAMeshAndItsBuffers) {
+  const fs::path d = ahd_test::temp_dir("cook_mesh");
+  const GodotSet g(d, 1);
+  const float v[] = {0, 0, 0, 1, 0, 0, 1, 0, 1, 0, 0, 1,  // positions
+                     0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1, 0,  // normals
+                     0, 0, 1, 0, 1, 1, 0, 1};             // lightmap UVs over the whole atlas
+  const uint16_t idx[] = {0, 1, 2, 0, 2, 3};
+  {
+    std::ofstream b(d / "quad.bin", std::ios::binary);
+    b.write(reinterpret_cast<const char*>(v), sizeof v);
+    b.write(reinterpret_cast<const char*>(idx), sizeof idx);
+  }
+  spit(d / "quad.gltf",
+       R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],)"
+       R"("meshes":[{"primitives":[{"attributes":{"POSITION":0,"NORMAL":1,"TEXCOORD_0":2},"indices":3}]}],)"
+       R"("buffers":[{"uri":"quad.bin","byteLength":140}],"bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":48},)"
+       R"({"buffer":0,"byteOffset":48,"byteLength":48},{"buffer":0,"byteOffset":96,"byteLength":32},)"
+       R"({"buffer":0,"byteOffset":128,"byteLength":12}],"accessors":[{"bufferView":0,"componentType":5126,"count":4,)"
+       R"("type":"VEC3","min":[0,0,0],"max":[1,0,1]},{"bufferView":1,"componentType":5126,"count":4,"type":"VEC3"},)"
+       R"({"bufferView":2,"componentType":5126,"count":4,"type":"VEC2"},{"bufferView":3,"componentType":5123,"count":6,)"
+       R"("type":"SCALAR"}]})");
+  const auto r = run_cli({"convert", g.exr, "--mesh", (d / "quad.gltf").string(), "-o", (d / "o" / "w.ktx2").string(),
+                          "--depfile", (d / "o" / "w.d").string(), "-q"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::set<std::string> deps = depfile_deps(d / "o" / "w.d");
+  EXPECT_TRUE(deps.count(abs_path(d / "quad.gltf"))) << slurp(d / "o" / "w.d");
+  EXPECT_TRUE(deps.count(abs_path(d / "quad.bin"))) << slurp(d / "o" / "w.d");
+  EXPECT_FALSE(deps.count(abs_path(g.normals))) << slurp(d / "o" / "w.d");  // not read: the mesh gives the normals
+  fs::remove_all(d);
+}
+
 TEST(Cook, KeyCoversEveryInputByteAndOption) {
   const fs::path d = ahd_test::temp_dir("cook_key");
   const std::string in = (d / "s.exr").string(), out = (d / "o" / "s.ktx2").string();
