@@ -19,6 +19,12 @@
 # The tool: ${AHDPACK_EXECUTABLE} when set, else the ahdpack target of this build (add_subdirectory),
 # else the installed package's. Its data files (profiles, layout presets) are the ones installed
 # beside it (AHD_FORMATS_DIR), so a conversion never reads a source tree.
+# The depfile names the manifest and the inputs by absolute path; CMP0116 NEW makes the Ninja
+# generator rewrite them to the paths build.ninja uses, whatever the caller's cmake_minimum_required
+# (a function runs with the policies of where it was defined).
+if(POLICY CMP0116)
+  cmake_policy(SET CMP0116 NEW)
+endif()
 function(ahdpack_add_lightmaps target)
   cmake_parse_arguments(PARSE_ARGV 1 ARG "ALL" "PROFILE;OUTPUT_DIR;CONTAINER;CACHE" "INPUTS;OPTIONS")
   if(ARG_UNPARSED_ARGUMENTS)
