@@ -1,7 +1,8 @@
 # install() and the exported package: find_package(ahdpack) → ahdpack::ahd, ahdpack::ahd_sample
 # (static, or shared with BUILD_SHARED_LIBS; public headers <ahd/…>), the shared libahd.so and
 # libahd_sample.so for FFI callers (static builds install them too, not exported to CMake), and the
-# ahdpack command with its data (share/ahdpack/formats). ahd_io and ahd_lab are not installed.
+# ahdpack command with its data (share/ahdpack/formats). ahd_io and ahd_lab are not installed
+# ahdpack_add_lightmaps (cmake/ahdpack_lightmaps.cmake: lightmaps cooked by the build).
 include(CMakePackageConfigHelpers)
 
 install(TARGETS ahd ahd_sample EXPORT ahdpackTargets
@@ -14,11 +15,12 @@ install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/include/ahd DESTINATION ${CMAKE_IN
 install(FILES ${CMAKE_CURRENT_BINARY_DIR}/generated/include/ahd/version.h DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/ahd)
 install(EXPORT ahdpackTargets NAMESPACE ahdpack:: DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/ahdpack)
 configure_package_config_file(${CMAKE_CURRENT_SOURCE_DIR}/cmake/ahdpackConfig.cmake.in
-  ${CMAKE_CURRENT_BINARY_DIR}/ahdpackConfig.cmake INSTALL_DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/ahdpack)
+  ${CMAKE_CURRENT_BINARY_DIR}/ahdpackConfig.cmake INSTALL_DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/ahdpack
+  PATH_VARS CMAKE_INSTALL_BINDIR CMAKE_INSTALL_DATADIR)
 write_basic_package_version_file(${CMAKE_CURRENT_BINARY_DIR}/ahdpackConfigVersion.cmake
   COMPATIBILITY SameMinorVersion)
 install(FILES ${CMAKE_CURRENT_BINARY_DIR}/ahdpackConfig.cmake ${CMAKE_CURRENT_BINARY_DIR}/ahdpackConfigVersion.cmake
-  DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/ahdpack)
+  ${CMAKE_CURRENT_SOURCE_DIR}/cmake/ahdpack_lightmaps.cmake DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/ahdpack)
 if(AHD_BUILD_CLI)
   install(TARGETS ahdpack RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
   install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/formats/ DESTINATION ${CMAKE_INSTALL_DATADIR}/ahdpack/formats)

@@ -15,6 +15,8 @@
 #include "cli/batch_schedule.h"
 #include "cli/commands.h"
 #include "cli/conversion_args.h"
+#include "cli/conversion_input.h"
+#include "cli/conversion_key.h"
 #include "cli/output.h"
 #include "cli/progress.h"
 #include "core/error.h"
@@ -22,7 +24,9 @@
 #include "io/ahd_intermediate.h"
 #include "io/baker_layout.h"
 #include "io/colour_space.h"
-#include "io/godot_scene.h"
+#include "io/conversion_cache.h"
+#include "io/depfile.h"
+#include "io/input_record.h"
 #include "io/image_io.h"
 #include "io/layout_detect.h"
 #include "io/layout_pages.h"
@@ -30,7 +34,7 @@
 #include "io/placement_io.h"
 #include "io/profile_file.h"
 #include "io/sh_exr.h"
-#include "mesh/coverage_check.h"
+#include "pipeline/manifest.h"
 #include "pipeline/run.h"
 #include "sh/sh.h"
 
@@ -39,45 +43,16 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct ConvertArgs {
-  std::string input;
+struct ConvertArgs : InputArgs {
   std::string output;
-  std::string layout;   // baker layout preset (name or .json); input is then the base path
-  std::string normals;  // lightmap-space normals for world-space layouts
-  std::string mesh;     // or: the mesh, rasterised in its lightmap UVs (normals and coverage)
-  int uv_set = -1;      // the mesh's lightmap UV set (−1 = the default rule of io/mesh_io.h)
-  int pages = 0;        // atlas pages of a paged layout (0 = as recorded by the baker)
-  std::string placement;  // per-instance atlas placement of the mesh (JSON or Unity scene)
-  std::string godot_scene;  // or: a Godot scene (.tscn) whose LightmapGI baked the input
-  bool allow_mismatch = false;
-  std::string iz_scale = "E";  // stored I_z: E, E/pi, or a factor times E  // convert even when the mesh's coverage disagrees with the lightmap
-  mutable std::shared_ptr<const GodotSceneMeshes> godot;  // the scene, loaded once for every page
-  // What reading found (detection, pages, overlaps), printed once the input has been read, so that
-  // a failure prints its one error line and nothing else.
-  mutable std::string notes;
-  int sample_size = 256;
-  int sample_order = 2;
-  unsigned seed = 0;
+  std::string iz_scale = "E";  // --iz-scale: stored I_z = E, E/pi, or a factor times E (a conversion option)
   bool keep_intermediate = false;
+  std::string depfile;        // --depfile: the Make/Ninja depfile of every file read
+  std::string cache;          // --cache: the folder of finished conversions (io/conversion_cache.h)
+  std::string cache_max_size = "10G";
+  bool print_key = false;     // --print-key: print the key, convert nothing
   ConversionArgs conv;
 };
-
-// --layout auto, and the default for an input that is not the canonical EXR: the baker's set is
-// detected from the files present and their contents, and what was found is printed with why.
-// Without --layout, an input nothing recognises goes to the canonical reader (its errors).
-void resolve_auto_layout(ConvertArgs* a) {
-  if (a->input.empty() || (!a->layout.empty() && a->layout != "auto")) return;
-  if (a->layout.empty() && is_canonical_sh_file(a->input)) return;
-  std::optional<LayoutDetection> d;
-  if (a->layout == "auto") d = detect_layout(a->input);
-  else d = try_detect_layout(a->input);
-  if (!d) return;
-  a->layout = d->preset == "canonical" ? "" : d->preset;
-  a->input = d->base;
-  a->notes += "layout auto: " + d->preset + " (base " + d->base + ")\n";
-  for (const std::string& r : d->reasons) a->notes += "  because " + r + "\n";
-  for (const std::string& n : d->notes) a->notes += "  note: " + n + "\n";
-}
 
 // --iz-scale: "E" (1), "E/pi" (1/π) or a positive factor.
 double iz_scale_factor(const std::string& s) {
@@ -88,143 +63,6 @@ double iz_scale_factor(const std::string& s) {
   if (end == s.c_str() || *end != '\0' || !(v > 0) || !std::isfinite(v))
     throw Error("--iz-scale takes E, E/pi or a positive factor, not '" + s + "'");
   return v;
-}
-
-// A Godot world-space bake without normals: the scene that baked it, when it lies beside the EXR.
-void find_godot_scene_for_input(ConvertArgs* a) {
-  if (a->layout.empty() || a->input.empty() || !a->normals.empty() || !a->mesh.empty() || !a->godot_scene.empty()) return;
-  const LayoutPreset layout = load_layout(a->layout);
-  if (!layout.world_space || layout.name.rfind("godot", 0) != 0) return;
-  const std::string exr = layout_base(layout, a->input) + ".exr";
-  const std::string scene = find_godot_scene(exr);
-  if (scene.empty()) return;
-  a->godot_scene = scene;
-  a->notes += "godot scene: " + scene + " (its LightmapGI baked " + fs::path(exr).filename().string() +
-              "): meshes, normals and atlas placement from the project\n";
-}
-
-// The baker's files through a layout preset, with normals/coverage from --normals or --mesh.
-// The mesh's triangles for atlas page `page`: as stored, or each instance moved into its atlas
-// rectangle by --placement (overlaps printed; *note says what was placed).
-// What gives the normals and coverage: the mesh file or the Godot scene.
-const std::string& mesh_source(const ConvertArgs& a) { return a.godot_scene.empty() ? a.mesh : a.godot_scene; }
-
-MeshTriangles godot_page_mesh(const ConvertArgs& a, int page, MeshReadInfo* mi, std::string* note) {
-  if (!a.godot) {
-    a.godot = std::make_shared<const GodotSceneMeshes>(load_godot_scene(a.godot_scene));
-    for (const std::string& n : a.godot->notes) a.notes += "godot scene: " + n + "\n";
-  }
-  const GodotSceneMeshes& g = *a.godot;
-  PlacedMesh pm = place_instances(g.scene, g.placements, page, g.lmbake);
-  *mi = {2, 2, int(pm.placed.size()), pm.mesh.indices.size() / 3};
-  *note = ", " + std::to_string(pm.placed.size()) + " of " + std::to_string(g.users) + " lightmap users placed by " + g.lmbake;
-  for (const std::string& o : pm.overlaps) a.notes += "placement: page " + std::to_string(page) + ": instances " + o + " overlap in the atlas\n";
-  return std::move(pm.mesh);
-}
-
-MeshTriangles page_mesh(const ConvertArgs& a, int page, MeshReadInfo* mi, std::string* note) {
-  if (!a.godot_scene.empty()) return godot_page_mesh(a, page, mi, note);
-  if (a.placement.empty()) {
-    // Several instances whose lightmap UVs overlap need their atlas placement: merged, they
-    // would be rasterised on top of each other.
-    const MeshInstances scene = read_mesh_instances(a.mesh, a.uv_set, mi);
-    if (!a.allow_mismatch) {
-      const PlacedMesh all = place_instances(scene, identity_placements(scene, page), page, a.mesh);
-      if (!all.overlaps.empty())
-        throw file_error(a.mesh, std::to_string(all.overlaps.size()) + " pair(s) of instances overlap in UV set " +
-                                     std::to_string(mi->uv_set) + " (first: " + all.overlaps.front() +
-                                     ") and no placement was given: give --placement (JSON or the Unity scene), "
-                                     "--godot-scene for a Godot project, or --allow-mismatch");
-    }
-    return read_mesh_lightmap(a.mesh, a.uv_set, mi);
-  }
-  const MeshInstances scene = read_mesh_instances(a.mesh, a.uv_set, mi);
-  PlacedMesh pm = place_instances(scene, read_placements(a.placement), page, a.placement);
-  *note = ", " + std::to_string(pm.placed.size()) + " instance(s) placed by " + a.placement +
-          (pm.unplaced.empty() ? "" : " (" + std::to_string(pm.unplaced.size()) + " without placement left out)");
-  for (const std::string& o : pm.overlaps) {
-    *note += ", overlap: " + o;
-    a.notes += "placement: page " + std::to_string(page) + ": instances " + o + " overlap in the atlas\n";
-  }
-  return std::move(pm.mesh);
-}
-
-ShImage read_layout_input(const ConvertArgs& a, const LayoutPreset& layout, ReadStats* rs, std::string* source,
-                          int page = 0) {
-  std::string from_mesh;
-  ShImage sh;
-  if (!a.mesh.empty() || !a.godot_scene.empty()) {
-    const std::string& src = mesh_source(a);
-    if (layout.canonical)
-      throw Error("layout " + layout.name + " is the tool's own EXR (coverage and normals inside): --mesh does not apply");
-    // The mesh is rasterised at the lightmap's size, known from the first file's header.
-    int w = 0, h = 0;
-    layout_size(layout, a.input, &w, &h);
-    MeshReadInfo mi;
-    std::string placed;
-    const MeshTriangles mesh = page_mesh(a, page, &mi, &placed);
-    RasterisedNormals rn = rasterise_lightmap_normals(mesh, w, h);
-    mesh_normals_to_layout_axes(layout, &rn.normals);  // glTF's axes → the baker's world
-    size_t covered = 0;
-    for (uint8_t c : rn.coverage) covered += c;
-    const std::vector<uint8_t> mesh_coverage = rn.coverage;
-    if (covered == 0)
-      throw file_error(src, "no triangle covers any texel of the " + std::to_string(w) + "x" + std::to_string(h) +
-                                   " lightmap in UV set " + std::to_string(mi.uv_set) + " (wrong --uv-set?)");
-    // Tangent-space layouts take the coverage only (read_layout uses normals for world space).
-    const LayoutNormals ln{src, w, h, std::move(rn.normals), std::move(rn.coverage)};
-    sh = read_layout(layout, a.input, &ln, rs);
-    // Never silently wrong: the mesh's coverage against what the baker wrote.
-    const CoverageComparison cc = compare_coverage(mesh_coverage, sh);
-    a.notes += "coverage: page " + std::to_string(page) + ": " + describe_coverage(cc) + "\n";
-    // A lightmap lit in every texel (gutters filled) says nothing about its charts.
-    const std::string bad = cc.lit == sh.texels() ? "" : coverage_mismatch(cc);
-    if (!bad.empty() && !a.allow_mismatch)
-      throw file_error(src, "UV set " + std::to_string(mi.uv_set) + " does not match the lightmap (" + bad + "): " +
-                                (a.godot_scene.empty() ? "give the UV set the lightmap was baked with (--uv-set), its atlas "
-                                                         "placement (--placement) or --godot-scene for a Godot project"
-                                                       : "the scene, meshes or unwrap caches are not the ones that baked it") +
-                                "; --allow-mismatch converts anyway");
-    from_mesh = ", " + std::string(layout.world_space ? "normals and coverage" : "coverage") + " from " + src + " (" +
-                std::to_string(mi.triangles) + " triangles, UV set " + std::to_string(mi.uv_set) + ", " +
-                std::to_string(covered) + " texels covered" + placed + ")";
-  } else {
-    sh = read_layout(layout, a.input, a.normals, rs);
-  }
-  *source = a.input + " (layout " + layout.name + ", " + std::to_string(sh.width) + "x" + std::to_string(sh.height) +
-            " " + std::string(sh_order_name(sh.coeffs)) + (sh.normals.empty() ? ", tangent space" : ", world space + normals") +
-            from_mesh + ")";
-  return sh;
-}
-
-// The SH to convert: the built-in sample, a baker's files (--layout) or the canonical EXR.
-ShImage read_input(const ConvertArgs& a, ReadStats* rs, std::string* source) {
-  if (a.input.empty()) {
-    *source = "built-in sample (analytic scene, " + std::to_string(a.sample_size) + "x" + std::to_string(a.sample_size) +
-              (a.sample_order == 2 ? " L2" : " L1") + ", seed " + std::to_string(a.seed) + ")";
-    return bake_sample(a.sample_size, a.sample_order, a.seed, a.conv.options.threads);
-  }
-  if (!a.layout.empty()) return read_layout_input(a, load_layout(a.layout), rs, source);
-  ShImage sh = read_canonical_sh(a.input, rs);
-  *source = a.input + " (" + std::to_string(sh.width) + "x" + std::to_string(sh.height) + " " + std::string(sh_order_name(sh.coeffs)) +
-            (sh.normals.empty() ? ", tangent space)" : ", world space + normals)");
-  return sh;
-}
-
-// The input's atlas pages: one, unless a paged layout (Godot) holds several — then every page, in
-// order, with the count's origin printed and appended to *source.
-std::vector<ShImage> read_input_pages(const ConvertArgs& a, ReadStats* rs, std::string* source) {
-  if (a.layout.empty() || a.input.empty()) {
-    if (a.pages > 1) throw Error("--pages needs a paged layout (Godot's stacked atlas)");
-    return {read_input(a, rs, source)};
-  }
-  const LayoutPreset layout = load_layout(a.layout);
-  const LayoutPages lp = layout_pages(layout, a.input, a.pages);
-  if (!lp.why.empty()) a.notes += "atlas: " + lp.why + "\n";
-  std::vector<ShImage> pages;
-  for (int p = 0; p < lp.pages; ++p) pages.push_back(read_layout_input(a, layout_page(layout, p, lp.pages), rs, source, p));
-  if (lp.pages > 1) *source += ", " + std::to_string(lp.pages) + " atlas pages -> array layers";
-  return pages;
 }
 
 // What one conversion of a batch reports for the summary table.
@@ -243,42 +81,157 @@ struct BatchJob {
   std::mutex* publish_lock = nullptr;
 };
 
+// A cache entry's files are usable as this conversion's outputs when each is named for `out` and
+// one of them is the manifest (an entry is only found by the key, which covers the name: this
+// guards against a hand-edited or foreign folder, never writing outside out.dir).
+const OutputFile* cached_manifest(const std::vector<OutputFile>& files, const OutputPaths& out) {
+  const OutputFile* manifest = nullptr;
+  for (const OutputFile& f : files) {
+    if (f.name.rfind(out.name + ".", 0) != 0) return nullptr;
+    if (f.name == out.name + ".json") manifest = &f;
+  }
+  return manifest;
+}
+
+BatchRow row_of(const Manifest& m) {
+  BatchRow row;
+  row.width = int(m.width), row.height = int(m.height), row.planes = m.planes.size(), row.directional = m.directional;
+  return row;
+}
+
+// --cache's direct lookup (io/conversion_cache.h): what this command read last time, if every file
+// it probed is as it was then, gives the conversion key without reading an image. The hit's files
+// and the files read, or nullopt (then the input is read as without a cache).
+struct DirectHit {
+  std::vector<OutputFile> files;
+  InputsRecord inputs;
+  std::string key;
+};
+std::optional<DirectHit> direct_lookup(const ConversionCache& cache, const std::string& command_key, const OutputPaths& out) {
+  std::optional<InputsRecord> rec = cache.lookup_inputs(command_key);
+  if (!rec) return std::nullopt;
+  for (const InputProbe& p : rec->probes)
+    if (probe_type(p.path) != p.type) return std::nullopt;
+  DirectHit h;
+  try {
+    h.key = conversion_key(rec->options_text + input_files_text(rec->files));
+  } catch (const Error&) {
+    return std::nullopt;  // a file it read is gone: read again (and fail there, naming it)
+  }
+  std::optional<std::vector<OutputFile>> files = cache.lookup(h.key);
+  if (!files || !cached_manifest(*files, out)) return std::nullopt;
+  h.files = std::move(*files);
+  h.inputs = std::move(*rec);
+  return h;
+}
+
 BatchRow run_convert(ConvertArgs a, const BatchJob* job = nullptr) {
-  resolve_auto_layout(&a);
-  find_godot_scene_for_input(&a);
-  const size_t detection_notes = a.notes.size();  // why this path was taken: printed even on failure
-  std::string out_path = a.output;
-  if (out_path.empty())
-    out_path = "ahdpack-out/" + (a.input.empty() ? std::string("sample") : fs::path(a.input).stem().string()) + ".ktx2";
-  const OutputPaths out = output_paths(out_path);
-  ConversionOptions co = conversion_options(a.conv);
-  co.container = out.kind;
-  if (job) co.cancel = interrupt_flag(), co.progress = job->progress;  // the batch installed the handler
-  else attach_terminal_progress(&co, a.conv.quiet);
+  const auto publish = [&](const OutputPaths& out, std::vector<OutputFile> files, IntermediateFile im = {}) {
+    std::unique_lock<std::mutex> l;
+    if (job && job->publish_lock) l = std::unique_lock<std::mutex>(*job->publish_lock);
+    publish_conversion(out, std::move(files), std::move(im));
+  };
+  const auto print_hit = [&](const std::string& source, const std::string& key, const ConversionCache& cache,
+                             const OutputPaths& out, size_t n) {
+    if (a.conv.quiet) return;
+    std::printf("ahdpack: %s\n", source.c_str());
+    std::printf("cache hit %s (%s): %zu files -> %s\n", key.c_str(), cache.entry_path(key).c_str(), n,
+                out.sibling(".json").c_str());
+  };
+  if (!a.cache.empty() && a.keep_intermediate)
+    throw Error("--cache stores the conversion's outputs, not --keep-intermediate's file: use one of them");
+  const ConversionCache cache(a.cache, a.cache.empty() ? 0 : parse_byte_size(a.cache_max_size, "--cache-max-size"));
+  std::string cmd_key;
+  if (!a.cache.empty() && !a.output.empty() && !a.print_key) {
+    const OutputPaths out = output_paths(a.output);
+    ConversionOptions given = conversion_options(a.conv);
+    given.container = out.kind;
+    cmd_key = command_key(a, given, out.name, a.conv.profile, iz_scale_factor(a.iz_scale));
+    if (std::optional<DirectHit> h = direct_lookup(cache, cmd_key, out)) {
+      const Manifest m = manifest_from_json(std::string(cached_manifest(h->files, out)->bytes.begin(),
+                                                        cached_manifest(h->files, out)->bytes.end()),
+                                            out.sibling(".json"));
+      const size_t n = h->files.size();
+      publish(out, std::move(h->files));
+      if (!a.depfile.empty()) write_depfile(a.depfile, out.sibling(".json"), h->inputs.files);
+      print_hit(h->inputs.source, h->key, cache, out, n);
+      return row_of(m);
+    }
+  }
 
-  // Checked before anything is read or written: one clear line, no output.
-  const ResolvedOptions ro = resolve_options(co, out.name, load_profile(a.conv.profile));
-  if (!a.mesh.empty() && !a.normals.empty()) throw Error("--mesh and --normals both give the normals: use one");
-  const double iz_scale = iz_scale_factor(a.iz_scale);
-  if (!a.godot_scene.empty() && (!a.mesh.empty() || !a.normals.empty() || !a.placement.empty()))
-    throw Error("--godot-scene gives the meshes, normals and placement: not with --mesh, --normals or --placement");
-  if (!a.mesh.empty() && a.layout.empty()) throw Error("--mesh needs --layout (a baker's files to pair it with)");
-  if (a.uv_set >= 0 && a.mesh.empty()) throw Error("--uv-set needs --mesh");
-  if (!a.placement.empty() && a.mesh.empty()) throw Error("--placement needs --mesh (the instances it places)");
-
-  const auto t0 = std::chrono::steady_clock::now();
+  // Everything read from here to the end of the block is noted in `record` (io/input_record.h):
+  // the one list the depfile names and the key hashes. Nothing read after it is an input.
+  InputRecord record;
+  OutputPaths out;
+  ConversionOptions co;
+  ResolvedOptions ro;
   ReadStats rs;
   std::string source;
   std::vector<ShImage> pages;
-  try {
-    pages = read_input_pages(a, &rs, &source);
-  } catch (const std::exception&) {
-    // What detection found says why the run took this path: printed before the one error line.
-    if (!a.conv.quiet) std::fputs(a.notes.substr(0, detection_notes).c_str(), stdout), std::fflush(stdout);
-    throw;
+  size_t detection_notes = 0;
+  double iz_scale = 1.0;
+  const auto t0 = std::chrono::steady_clock::now();
+  {
+    const RecordInputs recording(&record);
+    resolve_auto_layout(&a);
+    find_godot_scene_for_input(&a);
+    detection_notes = a.notes.size();  // why this path was taken: printed even on failure
+    std::string out_path = a.output;
+    if (out_path.empty())
+      out_path = "ahdpack-out/" + (a.input.empty() ? std::string("sample") : fs::path(a.input).stem().string()) + ".ktx2";
+    out = output_paths(out_path);
+    co = conversion_options(a.conv);
+    co.container = out.kind;
+    if (job) co.cancel = interrupt_flag(), co.progress = job->progress;  // the batch installed the handler
+    else attach_terminal_progress(&co, a.conv.quiet);
+
+    // Checked before anything is read or written: one clear line, no output.
+    ro = resolve_options(co, out.name, load_profile(a.conv.profile));
+    iz_scale = iz_scale_factor(a.iz_scale);
+    check_input_args(a);
+    try {
+      pages = read_input_pages(a, a.conv.options.threads, &rs, &source);
+    } catch (const std::exception&) {
+      // What detection found says why the run took this path: printed before the one error line.
+      if (!a.conv.quiet && !a.print_key) std::fputs(a.notes.substr(0, detection_notes).c_str(), stdout), std::fflush(stdout);
+      throw;
+    }
   }
-  if (!a.conv.quiet) std::fputs(a.notes.c_str(), stdout);
+  if (!a.conv.quiet && !a.print_key) std::fputs(a.notes.c_str(), stdout);
   const double read_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  std::string key;
+  if (a.print_key || !a.cache.empty()) key = conversion_key(conversion_key_text(a, co, out.name, record, iz_scale));
+  if (a.print_key) {
+    std::printf("%s\n", key.c_str());
+    return {};
+  }
+  // What the direct lookup of the next run of this command needs (best effort, as the store).
+  const auto remember_inputs = [&]() {
+    if (cmd_key.empty()) return;
+    try {
+      cache.store_inputs(cmd_key, {conversion_options_text(a, co, out.name, iz_scale), source, record.files, record.probes});
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "ahdpack: warning: %s (the inputs are not recorded in the cache)\n", e.what());
+    }
+  };
+  const auto write_deps = [&]() {
+    if (!a.depfile.empty()) write_depfile(a.depfile, out.sibling(".json"), record.files);
+  };
+
+  if (!a.cache.empty()) {
+    std::optional<std::vector<OutputFile>> hit = cache.lookup(key);
+    const OutputFile* mf = hit ? cached_manifest(*hit, out) : nullptr;
+    if (mf) {  // a hit: the stored files, published exactly as a conversion's (cli/output.h)
+      const Manifest m = manifest_from_json(std::string(mf->bytes.begin(), mf->bytes.end()), out.sibling(".json"));
+      const size_t n = hit->size();
+      publish(out, std::move(*hit));
+      write_deps();
+      remember_inputs();
+      print_hit(source, key, cache, out, n);
+      return row_of(m);
+    }
+  }
 
   PackageOptions pkg = ro.package;
   pkg.world_frame = !pages[0].normals.empty();
@@ -305,13 +258,24 @@ BatchRow run_convert(ConvertArgs a, const BatchJob* job = nullptr) {
       };
     run = run_conversion(std::move(pages[0]), ro.profile, ro.convert, pkg, read_stage, on_fitted);
   }
-  {
-    std::unique_lock<std::mutex> l;
-    if (job && job->publish_lock) l = std::unique_lock<std::mutex>(*job->publish_lock);
-    // The summary needs the manifest, not the bytes.
-    publish_conversion(out, std::move(run.output.files), std::move(intermediate));
-  }
+  std::vector<OutputFile> to_store;
+  if (!a.cache.empty()) to_store = run.output.files;
+  publish(out, std::move(run.output.files), std::move(intermediate));  // the summary needs the manifest, not the bytes
+  write_deps();
   if (!a.conv.quiet) print_conversion(source, out, run, ro.convert.closed_loop, rs.non_finite_texels);
+  if (!a.cache.empty()) {
+    // The outputs are published: a cache that cannot be written (read-only shared folder, full
+    // disk) costs the next run a conversion, it does not fail this one.
+    try {
+      const CacheStats st = cache.store(key, to_store);
+      if (!a.conv.quiet)
+        std::printf("cache: stored %s (%zu entries, %.1f MiB%s)\n", key.c_str(), st.entries, double(st.bytes) / 1048576.0,
+                    st.evicted ? (", " + std::to_string(st.evicted) + " least recently used evicted").c_str() : "");
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "ahdpack: warning: %s (the conversion is not cached)\n", e.what());
+    }
+    remember_inputs();
+  }
   BatchRow row;
   row.width = int(run.output.manifest.width);
   row.height = int(run.output.manifest.height);
@@ -477,34 +441,22 @@ void add_convert_command(CLI::App& app) {
                 "inputs, the folder OUTDIR/ for all of them (KTX2, or DDS with --container dds)");
   c->add_option("--container", a->conv.container, "Batch: the container of every output (ktx2 or dds)")
       ->check(CLI::IsMember({"ktx2", "dds"}));
-  c->add_option("--layout", a->layout,
-                "Baker layout preset (ahdpack layouts), FILE.json, or auto (the default for an input that is not the "
-                "canonical EXR): the input is then any file of the baker's set, or its base path");
-  c->add_option("--pages", a->pages,
-                "Atlas pages of a stacked layout (Godot: slices/vertical / 4), when NAME.exr.import is not beside it")
-      ->check(CLI::PositiveNumber);
-  c->add_option("--normals", a->normals, "Lightmap-space normal EXR, for world-space layouts");
-  c->add_option("--mesh", a->mesh,
-                "Mesh (.gltf, .glb, .obj) rasterised in its lightmap UVs: the normals (world-space layouts) and the "
-                "coverage (any layout); instead of --normals. Lightmap row 0 = glTF v=0 = OBJ v=1");
-  c->add_option("--uv-set", a->uv_set,
-                "The mesh's lightmap UV set (glTF TEXCOORD_n); default: the second set when the meshes have 2 or "
-                "more, else the first")
-      ->check(CLI::NonNegativeNumber);
-  c->add_option("--placement", a->placement,
-                "Atlas placement of the mesh's instances (node name -> page, scale, offset): ahdpack's JSON or a Unity "
-                "scene (.unity: m_LightmapIndex, m_LightmapTilingOffset); each instance's UVs become uv*scale+offset");
-  c->add_option("--godot-scene", a->godot_scene,
-                "A Godot project's scene (.tscn) holding the LightmapGI that baked the input: every lightmap user's "
-                "mesh (.glb + its .unwrap_cache UV2, or TEXCOORD_1), transform and atlas rectangle (.lmbake); "
-                "found by itself when the .tscn lies beside the EXR");
+  add_input_options(c, a.get());
   c->add_option("--iz-scale", a->iz_scale,
                 "What the iz plane stores: E (irradiance, the default), E/pi (what most engines' lightmaps hold: "
                 "multiply by albedo), or a factor times E; recorded in the manifest and the planes (iz_scale)");
-  c->add_flag("--allow-mismatch", a->allow_mismatch,
-              "Convert even when the mesh's coverage disagrees with the lightmap (lit texels outside it, covered "
-              "texels black, overlapping instances without placement)");
   add_conversion_options(c, &a->conv, true);
+  c->add_option("--depfile", a->depfile,
+                "Also write OUT.d, a Make/Ninja depfile naming every file the conversion read (target: the manifest)");
+  c->add_option("--cache", a->cache,
+                "Folder of finished conversions, shared between runs and processes: reuse the outputs stored under "
+                "the conversion's key (--print-key), or store them");
+  c->add_option("--cache-max-size", a->cache_max_size,
+                "Bound of the --cache folder (bytes, or with a K/M/G/T suffix; 0 = none): least recently used entries "
+                "are evicted past it (default 10G)");
+  c->add_flag("--print-key", a->print_key,
+              "Print the conversion's key (its inputs' bytes, the effective options, the tool version) and convert "
+              "nothing");
   c->add_flag("--keep-intermediate", a->keep_intermediate, "Also write OUT.ahd.exr, the lossless fitted planes for transcode");
   c->add_option("--sample-size", a->sample_size, "Built-in sample: width and height")->check(CLI::Range(1, 8192));
   c->add_option("--sample-order", a->sample_order, "Built-in sample: SH order 1 (L1) or 2 (L2)")->check(CLI::IsMember({1, 2}));
@@ -513,7 +465,11 @@ void add_convert_command(CLI::App& app) {
     std::error_code ec;
     const bool to_folder = !a->output.empty() && (a->output.back() == '/' || fs::is_directory(a->output, ec));
     const bool folder_in = inputs->size() == 1 && fs::is_directory((*inputs)[0], ec);
-    if (inputs->size() > 1 || folder_in || (to_folder && !inputs->empty())) return run_batch(*a, *inputs);
+    if (inputs->size() > 1 || folder_in || (to_folder && !inputs->empty())) {
+      if (!a->depfile.empty() || a->print_key)
+        throw Error(std::string(a->print_key ? "--print-key" : "--depfile") + " describes one conversion: not with several inputs");
+      return run_batch(*a, *inputs);
+    }
     a->input = inputs->empty() ? std::string() : (*inputs)[0];
     run_convert(*a);
   });

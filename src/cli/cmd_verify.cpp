@@ -1,4 +1,5 @@
-// ahdpack verify NAME.json --source IN.exr [--max-rel-p99 X] [--max-log-rmse Y] [--max-iz-rel-p99 Z]
+// ahdpack verify NAME.json --source IN [--layout …] [--normals …|--mesh …] [--max-rel-p99 X] [--max-log-rmse Y]
+//   [--max-iz-rel-p99 Z]: IN and the input options as convert takes them (cli/conversion_input.h)
 // ahdpack verify NAME.json --golden OTHER.json [--max-diff-p99 X] [--max-diff-max Y]
 // A check for users' CI: decodes a conversion (every plane's size and SHA-256 checked first) and
 // compares it with the source SH or with a stored golden conversion. One line per check,
@@ -13,6 +14,7 @@
 #include <cstdio>
 
 #include "cli/commands.h"
+#include "cli/conversion_input.h"
 #include "cli/conversion_view.h"
 #include "core/error.h"
 #include "core/parallel.h"
@@ -22,7 +24,8 @@ namespace ahd::cli {
 namespace {
 
 struct VerifyArgs {
-  std::string manifest, source, golden;
+  std::string manifest, golden;
+  InputArgs source;  // --source and the input options: what convert read
   double max_rel_p99 = 0.30, max_log_rmse = 0.15, max_iz_rel_p99 = 0.05;  // against the source
   double max_diff_p99 = 0.01, max_diff_max = 0.10;                        // against a golden conversion
 };
@@ -80,17 +83,37 @@ std::vector<double> golden_differences(const std::string& a, const std::string& 
 }
 
 void run_verify(const VerifyArgs& a) {
-  if (a.source.empty() == a.golden.empty()) throw Error("verify needs either --source IN.exr or --golden OTHER.json");
+  if (a.source.input.empty() == a.golden.empty())
+    throw Error("verify needs either --source IN (and convert's input options) or --golden OTHER.json");
   Checks c;
   const ConversionView v = read_conversion(a.manifest);
-  if (!a.source.empty()) {
-    const ShImage sh = read_source_for(a.source, v);
-    const ErrorReport e = measure_conversion(sh, v.levels[0], v.manifest.dz_min);
-    std::printf("ahdpack verify: %s against %s (level 0, %zu covered texels)\n", a.manifest.c_str(), a.source.c_str(),
-                e.texels);
-    c.check("rel-p99", e.relative.p99, a.max_rel_p99, "hemisphere relative RMSE, 99th percentile over texels");
-    c.check("log-rmse", e.log2.mean, a.max_log_rmse, "mean over texels of the log2(1+E) RMSE over the hemisphere");
-    c.check("iz-rel-p99", e.normal_rel.p99, a.max_iz_rel_p99, "relative error along the normal, 99th percentile");
+  if (!a.source.input.empty()) {
+    InputArgs in = a.source;
+    resolve_auto_layout(&in);
+    find_godot_scene_for_input(&in);
+    check_input_args(in);
+    ReadStats rs;
+    std::string described;
+    const std::vector<ShImage> pages = read_input_pages(in, 0, &rs, &described);
+    if (pages.size() != v.manifest.layers)
+      throw file_error(a.source.input, "holds " + std::to_string(pages.size()) + " atlas page(s), the conversion " +
+                                           std::to_string(v.manifest.layers));
+    for (size_t p = 0; p < pages.size(); ++p) {
+      const ShImage& sh = pages[p];
+      if (uint32_t(sh.width) != v.manifest.width || uint32_t(sh.height) != v.manifest.height)
+        throw file_error(a.source.input, "is " + std::to_string(sh.width) + "x" + std::to_string(sh.height) +
+                                             ", the conversion is " + std::to_string(v.manifest.width) + "x" +
+                                             std::to_string(v.manifest.height));
+      const ConversionView layer = p == 0 ? ConversionView{} : read_conversion(a.manifest, int(p));
+      const ConversionView& lv = p == 0 ? v : layer;
+      const ErrorReport e = measure_conversion(sh, lv.levels[0], v.manifest.dz_min);
+      const std::string page = pages.size() > 1 ? " page " + std::to_string(p) : "";
+      std::printf("ahdpack verify: %s%s against %s (level 0, %zu covered texels)\n", a.manifest.c_str(), page.c_str(),
+                  described.c_str(), e.texels);
+      c.check("rel-p99", e.relative.p99, a.max_rel_p99, "hemisphere relative RMSE, 99th percentile over texels");
+      c.check("log-rmse", e.log2.mean, a.max_log_rmse, "mean over texels of the log2(1+E) RMSE over the hemisphere");
+      c.check("iz-rel-p99", e.normal_rel.p99, a.max_iz_rel_p99, "relative error along the normal, 99th percentile");
+    }
   } else {
     const ConversionView g = read_conversion(a.golden);
     const Manifest &m = v.manifest, &gm = g.manifest;
@@ -126,7 +149,10 @@ void add_verify_command(CLI::App& app) {
   CLI::App* c = app.add_subcommand("verify", "Check a conversion against its source SH or a golden conversion "
                                              "within bounds (exit 0 = pass, 1 = fail); for CI jobs");
   c->add_option("manifest", a->manifest, "NAME.json written by convert")->required();
-  c->add_option("--source", a->source, "The source SH (canonical EXR)");
+  c->add_option("--source", a->source.input,
+                "The source SH as convert read it: the canonical EXR or any file of a baker's set (with the same "
+                "--layout, --normals, --mesh… as the conversion)");
+  add_input_options(c, &a->source);
   c->add_option("--golden", a->golden, "A stored conversion (its manifest) to compare with");
   c->add_option("--max-rel-p99", a->max_rel_p99, "Bound of the hemisphere relative RMSE p99 (default 0.30)");
   c->add_option("--max-log-rmse", a->max_log_rmse, "Bound of the mean log2 RMSE (default 0.15)");

@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "core/large_buffer.h"
 #include "core/parallel.h"
+#include "io/input_record.h"
 #include "sh/sh.h"
 #include "core/json_number.h"
 #include "io/paths.h"
@@ -149,6 +150,7 @@ LayoutPreset load_layout(const std::string& name_or_path) {
     for (const auto& n : list_layouts()) known += (known.empty() ? "" : ", ") + n;
     throw file_error(path, "unknown layout '" + name_or_path + "' (known: " + known + ")");
   }
+  note_input_file(path);
   LayoutPreset p;
   try {
     const json j = json::parse(f);
@@ -375,7 +377,7 @@ void attach_world_normals(ShImage& sh, const LayoutNormals& normals) {
 
 std::string layout_base(const LayoutPreset& layout, const std::string& input) {
   if (layout.canonical || layout.files.empty()) return input;
-  if (fs::exists(expand_pattern(layout.files[0].pattern, input))) return input;
+  if (probe_input_file(expand_pattern(layout.files[0].pattern, input))) return input;
   // The longest matching suffix first, so "_L1x.tga" is not mistaken for a shorter one.
   std::string best;
   for (const LayoutFile& lf : layout.files) {

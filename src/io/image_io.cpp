@@ -14,6 +14,7 @@
 #include "containers/limits.h"
 #include "io/image_file.h"
 #include "core/error.h"
+#include "io/input_record.h"
 #include "io/output_set.h"
 
 namespace ahd {
@@ -248,6 +249,7 @@ std::vector<uint8_t> read_file_bytes(const std::string& path, size_t max_bytes) 
     throw file_error(path, "file too large (" + std::to_string(size) + " bytes, at most " + std::to_string(max_bytes) + " are read)");
   std::ifstream f(path, std::ios::binary);
   if (!f) throw file_error(path, "cannot open");
+  note_input_file(path);
   std::vector<uint8_t> bytes(size);
   f.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(size));
   if (!f) throw file_error(path, "read failed");

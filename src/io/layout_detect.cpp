@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "core/error.h"
+#include "io/input_record.h"
 #include "io/godot_import.h"
 #include "io/image_io.h"
 
@@ -27,7 +28,7 @@ std::string set_base(const std::string& input, const std::vector<std::string>& s
   for (const std::string& s : suffixes)
     if (ends_with(input, s)) return input.substr(0, input.size() - s.size());
   for (const std::string& s : suffixes)
-    if (fs::exists(input + s)) return input;
+    if (probe_input_file(input + s)) return input;
   return "";
 }
 
@@ -58,7 +59,7 @@ void detect_godot(const std::string& input, Found* found) {
   if (base.empty()) return;
   const std::string exr = base + ".exr";
   const GodotImport gi = read_godot_import(exr);
-  if (!gi.found || gi.importer != "2d_array_texture" || !fs::exists(exr)) return;
+  if (!gi.found || gi.importer != "2d_array_texture" || !probe_input_file(exr)) return;
   LayoutDetection d;
   d.base = base;
   const int slices = std::max(1, gi.slices_vertical);
@@ -84,7 +85,7 @@ void detect_godot(const std::string& input, Found* found) {
   if (!names.empty())
     d.reasons.push_back(file_name(base + ".lmbake") + ": " +
                         (lmbake_packed ? "has _uses_packed_directional (4.4+ format)" : "no _uses_packed_directional (4.0-4.3 format)"));
-  if (fs::exists(base + "_shadow.png")) d.notes.push_back(file_name(base + "_shadow.png") + " (shadowmask) ignored");
+  if (probe_input_file(base + "_shadow.png")) d.notes.push_back(file_name(base + "_shadow.png") + " (shadowmask) ignored");
   double lo = 0, hi = 0;
   godot_l1_range(exr, slices, &lo, &hi);
   const bool is_signed = lo < 0;
@@ -115,9 +116,9 @@ void detect_godot(const std::string& input, Found* found) {
 void detect_bakery(const std::string& input, Found* found) {
   const std::string base = set_base(input, {"_L0.hdr", "_L1x.tga", "_L1y.tga", "_L1z.tga", "_L1.tga"});
   if (base.empty()) return;
-  const bool sh = fs::exists(base + "_L1x.tga") && fs::exists(base + "_L1y.tga") && fs::exists(base + "_L1z.tga");
-  const bool mono = fs::exists(base + "_L1.tga");
-  if (!fs::exists(base + "_L0.hdr") && !sh && !mono) return;
+  const bool sh = probe_input_file(base + "_L1x.tga") && probe_input_file(base + "_L1y.tga") && probe_input_file(base + "_L1z.tga");
+  const bool mono = probe_input_file(base + "_L1.tga");
+  if (!probe_input_file(base + "_L0.hdr") && !sh && !mono) return;
   if (sh && mono)
     throw file_error(input, "ambiguous Bakery set (candidates: bakery-sh, bakery-monosh): both _L1x/_L1y/_L1z.tga and _L1.tga exist; give --layout");
   if (!sh && !mono)
@@ -131,9 +132,9 @@ void detect_bakery(const std::string& input, Found* found) {
 
 void detect_unity(const std::string& input, Found* found) {
   const std::string base = set_base(input, {"_comp_light.exr", "_comp_dir.png", "_comp_shadowmask.png"});
-  if (base.empty() || !fs::exists(base + "_comp_light.exr")) return;
+  if (base.empty() || !probe_input_file(base + "_comp_light.exr")) return;
   LayoutDetection d;
-  if (fs::exists(base + "_comp_dir.png")) {
+  if (probe_input_file(base + "_comp_dir.png")) {
     d.base = base;
     d.preset = "unity-directional";
     d.reasons.push_back(file_name(base) + "_comp_light.exr + _comp_dir.png: Unity directional lightmap");
@@ -142,24 +143,24 @@ void detect_unity(const std::string& input, Found* found) {
     d.preset = "plain";
     d.reasons.push_back(file_name(base) + "_comp_light.exr without _comp_dir.png: Unity non-directional lightmap");
   }
-  if (fs::exists(base + "_comp_shadowmask.png")) d.notes.push_back(file_name(base) + "_comp_shadowmask.png (shadowmask) ignored");
+  if (probe_input_file(base + "_comp_shadowmask.png")) d.notes.push_back(file_name(base) + "_comp_shadowmask.png (shadowmask) ignored");
   found->push_back(d);
 }
 
 void detect_per_file_sets(const std::string& input, Found* found) {
   const std::string rgba = set_base(input, {"_r.exr", "_g.exr", "_b.exr"});
-  if (!rgba.empty() && fs::exists(rgba + "_r.exr") && fs::exists(rgba + "_g.exr") && fs::exists(rgba + "_b.exr"))
+  if (!rgba.empty() && probe_input_file(rgba + "_r.exr") && probe_input_file(rgba + "_g.exr") && probe_input_file(rgba + "_b.exr"))
     found->push_back({"three-rgba", rgba, {file_name(rgba) + "_r/_g/_b.exr: one RGBA image per colour"}, {}});
   std::vector<std::string> sh;
   for (int k = 0; k < 9; ++k) sh.push_back("_sh" + std::to_string(k) + ".exr");
   const std::string per = set_base(input, sh);
-  if (!per.empty() && fs::exists(per + "_sh0.exr"))
+  if (!per.empty() && probe_input_file(per + "_sh0.exr"))
     found->push_back({"per-coefficient", per, {file_name(per) + "_sh0.exr …: one image per coefficient"}, {}});
 }
 
 // The EXR's own channel and part names.
 void detect_exr_contents(const std::string& input, Found* found) {
-  const std::string exr = fs::is_regular_file(input) ? input : fs::exists(input + ".exr") ? input + ".exr" : "";
+  const std::string exr = probe_regular_file(input) ? input : probe_input_file(input + ".exr") ? input + ".exr" : "";
   if (exr.empty() || !ends_with(exr, ".exr")) return;
   const ImageFileInfo info = read_image_info(exr);
   const std::string base = exr.substr(0, exr.size() - 4);
@@ -179,7 +180,7 @@ void detect_exr_contents(const std::string& input, Found* found) {
 }  // namespace
 
 bool is_canonical_sh_file(const std::string& path) {
-  if (!fs::is_regular_file(path)) return false;
+  if (!probe_regular_file(path)) return false;
   try {
     return has(read_image_info(path).channel_names, "sh0.R");
   } catch (const Error&) {
@@ -205,7 +206,7 @@ std::optional<LayoutDetection> try_detect_layout(const std::string& input) {
 
 LayoutDetection detect_layout(const std::string& input) {
   if (auto d = try_detect_layout(input)) return *d;
-  if (!fs::exists(input)) throw file_error(input, "file not found (and no baker's set named after it)");
+  if (!probe_input_file(input)) throw file_error(input, "file not found (and no baker's set named after it)");
   // A lone RGB image could be a plain lightmap, a normal map or Godot's layers without their
   // import file: no guess.
   throw file_error(input, "no SH channels and no baker's files beside it that --layout auto recognises "

@@ -62,6 +62,7 @@ MeshInstances read_mesh_instances(const std::string& path, int uv_set, MeshReadI
   MeshReadInfo mi;
   read_mesh_lightmap(path, uv_set, &mi);
   Assimp::Importer importer;
+  record_assimp_reads(&importer);
   const aiScene* scene = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_ValidateDataStructure);
   if (!scene || !scene->mRootNode) throw file_error(path, "cannot read mesh nodes");
   MeshInstances out;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <assimp/DefaultLogger.hpp>
+#include <assimp/DefaultIOSystem.h>
 #include <assimp/Importer.hpp>
 #include <assimp/LogStream.hpp>
 #include <assimp/postprocess.h>
@@ -14,6 +15,7 @@
 
 #include "core/error.h"
 #include "io/gltf_precheck.h"
+#include "io/input_record.h"
 
 namespace ahd {
 namespace fs = std::filesystem;
@@ -45,7 +47,20 @@ std::mutex g_logger_mutex;
 
 bool has_triangles(const aiMesh* m) { return (m->mPrimitiveTypes & aiPrimitiveType_TRIANGLE) != 0; }
 
+// Assimp's own file system with every file it opens noted (io/input_record.h): a .gltf pulls in its
+// .bin buffers, an .obj its .mtl, through here.
+class RecordingIOSystem : public Assimp::DefaultIOSystem {
+ public:
+  Assimp::IOStream* Open(const char* file, const char* mode) override {
+    Assimp::IOStream* s = DefaultIOSystem::Open(file, mode);
+    if (s && file) note_input_file(file);
+    return s;
+  }
+};
+
 }  // namespace
+
+void record_assimp_reads(Assimp::Importer* importer) { importer->SetIOHandler(new RecordingIOSystem); }
 
 MeshTriangles read_mesh_lightmap(const std::string& path, int uv_set, MeshReadInfo* info) {
   if (!fs::exists(path)) throw file_error(path, "file not found");
@@ -59,6 +74,7 @@ MeshTriangles read_mesh_lightmap(const std::string& path, int uv_set, MeshReadIn
   // Node depth, buffer sizes: refused before Assimp recurses through them (issue 26).
   check_gltf_structure(path);
   Assimp::Importer importer;
+  record_assimp_reads(&importer);
   // No aiProcess_FlipUVs: Assimp already stores glTF's v as 1 − v, so both formats arrive v-up.
   // PreTransformVertices bakes node matrices into the vertices (normals by the inverse transpose).
   const aiScene* scene = nullptr;

@@ -6,7 +6,15 @@
 
 #include "mesh/lightmap_raster.h"
 
+namespace Assimp {
+class Importer;
+}
+
 namespace ahd {
+
+// Makes `importer` note every file it opens in the current input record (io/input_record.h); the
+// importer owns the handler. Every Assimp read of src/io goes through an importer set up so.
+void record_assimp_reads(Assimp::Importer* importer);
 
 // What read_mesh_lightmap found, for messages and reports.
 struct MeshReadInfo {
