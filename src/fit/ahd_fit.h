@@ -40,8 +40,8 @@ struct FitOptions {
   double pair_guard_deg = 4.0;
   // Refined only, over an image (fit_image): d is chosen on the mean SH of the texel's covered
   // (2r+1)² window of this radius r and the colours on the texel's own SH (direction_filter.h; 0 =
-  // each texel's own SH, with the coherence pass). Chosen on path-traced scenes (docs/accuracy.md,
-  // "Against real lighting").
+  // each texel's own SH, with the coherence pass). Chosen on path-traced scenes
+  // (docs/accuracy-real-lighting.md).
   int direction_window = 1;
 };
 

@@ -3,7 +3,7 @@
 // carries the bake's noise, and the direction that best fits one texel's noise is not the one that
 // best fits the light: choosing d on the window's mean and solving the colours on the texel's own
 // SH keeps I_z exact and the colours non-negative while the direction follows the light
-// (docs/accuracy.md, "Against real lighting": error and neighbour angles on path-traced scenes).
+// (docs/accuracy-real-lighting.md: error and neighbour angles on path-traced scenes).
 // Charts are separated by gutters (uncovered texels) in every baker's atlas, so a window of radius 1
 // does not reach across one; where charts touch, only their edge texels mix.
 #pragma once
