@@ -15,6 +15,7 @@
 
 #include "core/error.h"
 #include "io/godot_lmbake.h"
+#include "io/input_record.h"
 #include "io/godot_tscn.h"
 #include "io/godot_unwrap_cache.h"
 
@@ -387,6 +388,7 @@ GodotSceneMeshes load_godot_scene(const std::string& tscn, const std::string& lm
   if (no_mesh) out.notes.push_back(std::to_string(no_mesh) + " lightmap user(s) without a mesh with lightmap UVs here");
   if (grid) out.notes.push_back(std::to_string(grid) + " GridMap cell user(s) not read");
   out.files = L.files;
+  for (const std::string& f : out.files) note_input_file(f);  // the depfile and the cache key (io/input_record.h)
   if (out.scene.instances.empty())
     throw file_error(lmbake, "none of its " + std::to_string(data.users.size()) + " users is a mesh with lightmap UVs in " + tscn +
                                  (out.notes.empty() ? "" : " (" + out.notes.front() + ")"));

@@ -15,6 +15,7 @@
 #include "io/conversion_cache.h"
 #include "io/depfile.h"
 #include "layout_test_scene.h"
+#include "test_data.h"
 
 namespace fs = std::filesystem;
 using namespace ahd;
@@ -448,3 +449,30 @@ TEST(Cook, CmakeNinjaCooksOnlyWhatChanged) {
   EXPECT_TRUE(contains(out, "rc=0\n")) << out;
   fs::remove_all(d);
 }
+
+namespace {
+
+TEST(Cook, GodotSceneDepfileNamesTheProjectFilesItRead) {
+  // The real Godot 4.2 project: the conversion reads world.tscn, the scenes it instances, the
+  // .lmbake, each .glb and its .unwrap_cache; all are inputs a build must know of.
+  const fs::path bake = ahd_test::test_data("bakes/godot42-vermilion/project/scenes");
+  AHD_REQUIRE_DATA(bake / "world.exr");
+  const fs::path out = ahd_test::temp_dir("cook_godot_scene");
+  const auto r = run_cli({"convert", (bake / "world.exr").string(), "-o", (out / "w.ktx2").string(), "--depfile",
+                          (out / "w.d").string(), "-q"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::set<std::string> deps = depfile_deps(out / "w.d");
+  for (const char* f : {"world.exr", "world.exr.import", "world.tscn", "world.lmbake"})
+    EXPECT_TRUE(deps.count(abs_path(bake / f))) << f << " missing from\n" << slurp(out / "w.d");
+  size_t glb = 0, unwrap = 0;
+  for (const std::string& dep : deps) {
+    glb += dep.size() > 4 && dep.compare(dep.size() - 4, 4, ".glb") == 0;
+    unwrap += dep.find(".glb.unwrap_cache") != std::string::npos;
+    EXPECT_TRUE(fs::is_regular_file(dep)) << dep;
+  }
+  EXPECT_GT(glb, 5u) << slurp(out / "w.d");
+  EXPECT_EQ(unwrap, glb) << "every mesh's UV2 comes from its unwrap cache";
+  fs::remove_all(out);
+}
+
+}  // namespace
