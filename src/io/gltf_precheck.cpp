@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/json_depth.h"
 #include "io/image_io.h"
 
 namespace ahd {
@@ -19,25 +20,6 @@ uint32_t rd32(const std::vector<uint8_t>& b, size_t at) {
   return uint32_t(b[at]) | uint32_t(b[at + 1]) << 8 | uint32_t(b[at + 2]) << 16 | uint32_t(b[at + 3]) << 24;
 }
 
-// The deepest nesting of [ and { outside strings: a linear scan, no recursion.
-size_t json_depth(const char* p, size_t n) {
-  size_t depth = 0, deepest = 0;
-  bool in_string = false;
-  for (size_t i = 0; i < n; ++i) {
-    const char c = p[i];
-    if (in_string) {
-      if (c == '\\') ++i;
-      else if (c == '"') in_string = false;
-    } else if (c == '"') {
-      in_string = true;
-    } else if (c == '[' || c == '{') {
-      deepest = std::max(deepest, ++depth);
-    } else if ((c == ']' || c == '}') && depth > 0) {
-      --depth;
-    }
-  }
-  return deepest;
-}
 
 // Bytes a base64 data: URI decodes to (an upper bound is enough: padding is not subtracted).
 uint64_t data_uri_bytes(const std::string& uri) {
@@ -69,7 +51,7 @@ void check_gltf_structure(const std::string& path) {
       bin_bytes = std::min<uint64_t>(rd32(bytes, size_t(at)), bytes.size() - at - 8);
     glb = true;
   }
-  if (json_depth(json_text, json_size) > kMaxGltfJsonDepth)
+  if (json_nesting_depth(json_text, json_size, kMaxGltfJsonDepth) > kMaxGltfJsonDepth)
     throw file_error(path, "JSON nested more than " + std::to_string(kMaxGltfJsonDepth) + " levels deep");
   nlohmann::json j;
   try {
