@@ -7,51 +7,21 @@
 // is I_z, linear between texels.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
-#include <cstdlib>
-#include <filesystem>
-#include <fstream>
-#include <sstream>
-#include <unistd.h>
 
 #include "io/profile_file.h"
 #include "codecs/octahedral.h"
 #include "fit/ahd_decode.h"
+#include "gl_shader.h"
 #include "gl_upload.h"
 #include "pipeline/convert.h"
 #include "sample/analytic_baker.h"
 
 using namespace ahd;
+using namespace ahd_test;
 
 namespace {
-
-std::string read_text(const std::string& path) {
-  std::ifstream f(path);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
-
-GLuint compile(GLenum kind, const std::string& src) {
-  GLuint s = glCreateShader(kind);
-  const char* p = src.c_str();
-  glShaderSource(s, 1, &p, nullptr);
-  glCompileShader(s);
-  GLint ok = 0;
-  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    char log[4096];
-    glGetShaderInfoLog(s, sizeof log, nullptr, log);
-    ADD_FAILURE() << "shader compile failed: " << log;
-  }
-  return s;
-}
-
-const char* kVertex = R"(#version 330 core
-void main() {
-  vec2 p = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2);
-  gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
-})";
 
 const char* kFragmentMain = R"(
 uniform sampler2D t_iz;
@@ -113,28 +83,6 @@ float4 main(float4 pos : SV_Position) : SV_Target {
 
 enum class Lang { Glsl, Hlsl };
 
-// HLSL → SPIR-V (glslang's HLSL front end) → GLSL 330 (spirv-cross). Empty on failure (reported).
-std::string hlsl_to_glsl(const std::string& hlsl) {
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("ahd_hlsl_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  { std::ofstream(dir / "decode.hlsl") << hlsl; }
-  const std::string cmd = "glslangValidator -D -V -S frag -e main -o '" + (dir / "decode.spv").string() + "' '" +
-                          (dir / "decode.hlsl").string() + "' > '" + (dir / "log.txt").string() +
-                          "' 2>&1 && spirv-cross --version 330 --no-es --flatten-ubo '" + (dir / "decode.spv").string() +
-                          "' --output '" + (dir / "decode.glsl").string() + "' >> '" + (dir / "log.txt").string() + "' 2>&1";
-  const int rc = std::system(cmd.c_str());
-  const std::string glsl = read_text((dir / "decode.glsl").string()), log = read_text((dir / "log.txt").string());
-  std::filesystem::remove_all(dir);
-  if (rc != 0) ADD_FAILURE() << "HLSL compile failed (glslang-tools and spirv-cross installed?):\n" << log;
-  return rc == 0 ? glsl : std::string();
-}
-
-std::string fragment_source(Lang lang) {
-  const std::string dir = std::string(AHD_SOURCE_DIR) + "/formats/shaders/";
-  if (lang == Lang::Glsl) return "#version 330 core\n" + read_text(dir + "ahd_decode.glsl") + kFragmentMain;
-  return hlsl_to_glsl(read_text(dir + "ahd_decode.hlsl") + kHlslMain);
-}
-
 // The location of the active uniform whose name contains `part` (spirv-cross names combined
 // samplers SPIRV_Cross_Combined<texture><sampler>).
 GLint uniform_containing(GLuint prog, const std::string& part) {
@@ -183,16 +131,7 @@ RenderResult render_and_compare(Lang lang, const std::string& profile_name, cons
   const PipelineResult r = run_conversion(sh, profile, opt);
 
   // GL program.
-  const std::string fragment = fragment_source(lang);
-  EXPECT_FALSE(fragment.empty());
-  const GLuint prog = glCreateProgram();
-  glAttachShader(prog, compile(GL_VERTEX_SHADER, kVertex));
-  glAttachShader(prog, compile(GL_FRAGMENT_SHADER, fragment));
-  glLinkProgram(prog);
-  GLint linked = 0;
-  glGetProgramiv(prog, GL_LINK_STATUS, &linked);
-  EXPECT_TRUE(linked);
-  glUseProgram(prog);
+  const GLuint prog = full_screen_program(decode_fragment(lang == Lang::Hlsl, kFragmentMain, kHlslMain));
 
   const int G = 16 * 8;  // 8 × 8 sub-texel positions per texel
   GLuint fbo_tex, fbo, vao;

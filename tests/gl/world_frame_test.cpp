@@ -9,34 +9,17 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstdlib>
-#include <filesystem>
-#include <fstream>
-#include <sstream>
-#include <unistd.h>
 
 #include "codecs/octahedral.h"
 #include "fit/ahd_decode.h"
 #include "fit/fit_image.h"
-#include "gl_context.h"
+#include "gl_shader.h"
 #include "sh/sh.h"
 
 using namespace ahd;
+using namespace ahd_test;
 
 namespace {
-
-std::string text_of(const std::string& path) {
-  std::ifstream f(path);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
-
-const char* kVertex = R"(#version 330 core
-void main() {
-  vec2 p = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2);
-  gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
-})";
 
 // Per texel (one pixel each): ng, the world shading normal, iz, (dir uv, ratio).
 const char* kGlslMain = R"(
@@ -67,36 +50,6 @@ float4 main(float4 pos : SV_Position) : SV_Target {
   float3 n = ahd_to_frame(ng, t_n.Load(p).xyz);
   return float4(ahd_irradiance(t_iz.Load(p).rgb, dr.rg, dr.bbb, n, p_dz.x), 1.0);
 })";
-
-std::string hlsl_to_glsl(const std::string& hlsl) {
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("ahd_frame_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  { std::ofstream(dir / "f.hlsl") << hlsl; }
-  const std::string cmd = "glslangValidator -D -V -S frag -e main -o '" + (dir / "f.spv").string() + "' '" +
-                          (dir / "f.hlsl").string() + "' > '" + (dir / "log.txt").string() +
-                          "' 2>&1 && spirv-cross --version 330 --no-es --flatten-ubo '" + (dir / "f.spv").string() +
-                          "' --output '" + (dir / "f.glsl").string() + "' >> '" + (dir / "log.txt").string() + "' 2>&1";
-  const int rc = std::system(cmd.c_str());
-  const std::string glsl = text_of((dir / "f.glsl").string()), log = text_of((dir / "log.txt").string());
-  std::filesystem::remove_all(dir);
-  if (rc != 0) ADD_FAILURE() << "HLSL compile failed:\n" << log;
-  return rc == 0 ? glsl : std::string();
-}
-
-GLuint compile(GLenum kind, const std::string& src) {
-  GLuint s = glCreateShader(kind);
-  const char* p = src.c_str();
-  glShaderSource(s, 1, &p, nullptr);
-  glCompileShader(s);
-  GLint ok = 0;
-  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    char log[4096];
-    glGetShaderInfoLog(s, sizeof log, nullptr, log);
-    ADD_FAILURE() << "shader compile failed: " << log;
-  }
-  return s;
-}
 
 GLuint float_texture(const std::vector<float>& rgba, int w) {
   GLuint t;
@@ -190,15 +143,7 @@ Result decode_on_gl(bool hlsl) {
     t_iz.insert(t_iz.end(), {f.iz[0], f.iz[1], f.iz[2], 0});
     t_dr.insert(t_dr.end(), {uv01[0], uv01[1], f.ratio[0], 0});
   }
-  const std::string dir = std::string(AHD_SOURCE_DIR) + "/formats/shaders/";
-  const std::string frag = hlsl ? hlsl_to_glsl(text_of(dir + "ahd_decode.hlsl") + kHlslMain)
-                                : "#version 330 core\n" + text_of(dir + "ahd_decode.glsl") + kGlslMain;
-  EXPECT_FALSE(frag.empty());
-  const GLuint prog = glCreateProgram();
-  glAttachShader(prog, compile(GL_VERTEX_SHADER, kVertex));
-  glAttachShader(prog, compile(GL_FRAGMENT_SHADER, frag));
-  glLinkProgram(prog);
-  glUseProgram(prog);
+  const GLuint prog = full_screen_program(decode_fragment(hlsl, kGlslMain, kHlslMain));
   const GLuint texs[4] = {float_texture(t_ng, n), float_texture(t_n, n), float_texture(t_iz, n), float_texture(t_dr, n)};
   // Bind by declaration order: samplers named t_ng, t_n, t_iz, t_dr (spirv-cross keeps the names
   // or flattens them to a combined sampler whose name contains them).

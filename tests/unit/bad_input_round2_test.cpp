@@ -26,6 +26,7 @@
 #include <unistd.h>
 
 #include "cli_runner.h"
+#include "file_bytes.h"
 #include "containers/ktx2.h"
 #include "containers/limits.h"
 #include "core/texture.h"
@@ -49,15 +50,11 @@ using namespace ahd;
 
 namespace {
 
-std::vector<uint8_t> slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  return std::vector<uint8_t>(std::istreambuf_iterator<char>(f), {});
-}
-void spit(const fs::path& p, const std::vector<uint8_t>& b) {
-  std::ofstream f(p, std::ios::binary);
-  f.write(reinterpret_cast<const char*>(b.data()), std::streamsize(b.size()));
-}
-void spit(const fs::path& p, const std::string& s) { spit(p, std::vector<uint8_t>(s.begin(), s.end())); }
+using ahd_test::slurp;
+using ahd_test::spit;
+using ahd_test::rd64;
+using ahd_test::wr64;
+
 
 // `call` must throw one ahd::Error of one line starting with "<file>: " and containing `cause`.
 void expect_file_error(const std::function<void()>& call, const std::string& file, const std::string& cause) {
@@ -624,14 +621,6 @@ Texture ktx_texture(uint32_t w, uint32_t h, size_t levels) {
     t.levels.push_back(std::move(lv));
   }
   return t;
-}
-uint64_t rd64(const std::vector<uint8_t>& b, size_t at) {
-  uint64_t v = 0;
-  for (int i = 7; i >= 0; --i) v = v << 8 | b[at + size_t(i)];
-  return v;
-}
-void wr64(std::vector<uint8_t>& b, size_t at, uint64_t v) {
-  for (int i = 0; i < 8; ++i) b[at + size_t(i)] = uint8_t(v >> (8 * i));
 }
 
 }  // namespace

@@ -20,6 +20,7 @@
 #include "io/container_file.h"
 #include "io/profile_file.h"
 #include "cli_runner.h"
+#include "file_bytes.h"
 #include "containers/container.h"
 #include "containers/dds.h"
 #include "containers/ktx2.h"
@@ -41,21 +42,11 @@ using namespace ahd;
 
 namespace {
 
-std::vector<uint8_t> slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  return std::vector<uint8_t>(std::istreambuf_iterator<char>(f), {});
-}
-void spit(const fs::path& p, const std::vector<uint8_t>& b) {
-  std::ofstream f(p, std::ios::binary);
-  f.write(reinterpret_cast<const char*>(b.data()), std::streamsize(b.size()));
-}
-void spit(const fs::path& p, const std::string& s) { spit(p, std::vector<uint8_t>(s.begin(), s.end())); }
-void wr32(std::vector<uint8_t>& b, size_t at, uint32_t v) {
-  for (int i = 0; i < 4; ++i) b[at + i] = uint8_t(v >> (8 * i));
-}
-void wr64(std::vector<uint8_t>& b, size_t at, uint64_t v) {
-  for (int i = 0; i < 8; ++i) b[at + i] = uint8_t(v >> (8 * i));
-}
+using ahd_test::slurp;
+using ahd_test::spit;
+using ahd_test::wr32;
+using ahd_test::wr64;
+
 
 Texture plain_texture(PixelFormat f, uint32_t w, uint32_t h, size_t levels = 1) {
   Texture t;
