@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "cli/commands.h"
+#include "lab/truth_baker_formats.h"
 #include "lab/truth_reference.h"
 #include "lab/truth_file.h"
 #include "fit/ahd_decode.h"
@@ -92,6 +93,14 @@ void report_truth(const std::vector<std::string>& dirs, const std::vector<std::s
     rows.push_back({"L2 SH, float", 108, truth_errors(t, sh_eval(l2))});
     rows.push_back({"L1 SH (the same SH truncated), float", 48, truth_errors(t, sh_eval(l1))});
     rows.push_back({"plain lightmap (I_z only), float", 0, truth_errors(t, plain_eval(l2))});
+    // The bakers' own directional formats from the same SH's L1 part, at their shipped bytes.
+    for (bool q : {false, true}) {
+      const BakerFormatEval mono = mono_sh_format(l2, q), godot = godot_l1_format(l2, q);
+      rows.push_back({q ? "MonoSH (Bakery): L0 BC6H + L1 RGBA8" : "MonoSH (Bakery), float", mono.bytes_per_texel,
+                      truth_errors(t, mono.eval)});
+      rows.push_back({q ? "L1 SH as Godot stores it: 4 BC6H layers" : "L1 SH as Godot stores it, float",
+                      godot.bytes_per_texel, truth_errors(t, godot.eval)});
+    }
     FitOptions lum;
     lum.pair_guard_deg = guard;
     for (DirectionFit df : {DirectionFit::Linear, DirectionFit::Refined}) {
