@@ -1,5 +1,6 @@
 #include "io/sh_exr.h"
 
+#include <atomic>
 #include <cmath>
 #include <map>
 
@@ -57,6 +58,7 @@ ShImage read_canonical_sh(const std::string& path, ReadStats* stats) {
   ShImage img;
   int coeffs = 0, src_of[kShCoeffsL2 * 3] = {}, channels = 0, ci = -1, nx = 0, ny = 0, nz = 0;
   bool has_coverage = false, has_normals = false;
+  std::atomic<size_t> bad_coverage{0};
   auto on_header = [&](const ImageFileInfo& info) {
     if (!info.is_float) throw file_error(path, "SH lightmaps must be half or float EXR data (found 8-bit or integer channels)");
     // The layout path's rule too: float data must be linear Rec.709 as declared (issue 26: a
@@ -95,7 +97,10 @@ ShImage read_canonical_sh(const std::string& path, ReadStats* stats) {
         const float* src = row + size_t(x) * channels;
         float* dst = img.texel(first + x);
         for (int v = 0; v < nv; ++v) dst[v] = src[src_of[v]];
-        if (has_coverage) img.coverage[first + x] = src[ci] > 0.5f;
+        if (has_coverage) {
+          img.coverage[first + x] = src[ci] > 0.5f;
+          if (!std::isfinite(src[ci])) bad_coverage.fetch_add(1, std::memory_order_relaxed);
+        }
       }
     });
     if (!has_normals) return;
@@ -114,6 +119,10 @@ ShImage read_canonical_sh(const std::string& path, ReadStats* stats) {
       for (int a = 0; a < 3; ++a) img.normals[i * 3 + a] = float(n[a]);
     }
   }, on_header);
+  // A NaN coverage would read as "gutter" everywhere and give an empty map without a word.
+  if (const size_t bad = bad_coverage.load())
+    throw file_error(path, "coverage channel is NaN or infinite at " + std::to_string(bad) +
+                               " texels (it must be 1 where a chart covers, 0 in gutters)");
   ReadStats local;
   ReadStats& st = stats ? *stats : local;
   const size_t before = st.non_finite_texels;

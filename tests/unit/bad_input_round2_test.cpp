@@ -680,6 +680,23 @@ TEST(BadInputRound2, NanOr3e38FloodIsRefusedThroughLayoutsLikeCanonical) {
   fs::remove_all(d);
 }
 
+// Weak: a coverage channel of NaN read as "gutter" everywhere: exit 0 and an empty map.
+TEST(BadInputRound2, NanCoverageChannelIsRefusedNotReadAsEmpty) {
+  const fs::path d = ahd_test::temp_dir("r2_nan_coverage");
+  const fs::path p = d / "c.exr";
+  std::vector<std::string> names = sh_names(4);
+  names.push_back("coverage");
+  OIIO::ImageSpec spec(4, 4, int(names.size()), OIIO::TypeDesc::FLOAT);
+  spec.channelnames = names;
+  std::vector<float> px(4 * 4 * names.size(), 0.5f);
+  for (size_t i = 0; i < 16; ++i) px[i * names.size() + 12] = std::numeric_limits<float>::quiet_NaN();
+  auto out = OIIO::ImageOutput::create(p.string());
+  ASSERT_TRUE(out && out->open(p.string(), spec) && out->write_image(OIIO::TypeDesc::FLOAT, px.data()));
+  out->close();
+  expect_file_error([&] { read_canonical_sh(p.string()); }, p.string(), "coverage channel is NaN or infinite at 16 texels");
+  fs::remove_all(d);
+}
+
 // Weak: a canonical EXR declaring Rec.2020 was taken for Rec.709 (the layout path refused it).
 TEST(BadInputRound2, CanonicalExrDeclaringRec2020IsRefusedLikeLayouts) {
   const fs::path d = ahd_test::temp_dir("r2_rec2020");
