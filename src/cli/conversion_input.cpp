@@ -13,6 +13,7 @@
 #include "mesh/lightmap_raster.h"
 #include "sh/sh.h"
 
+#include <cctype>
 #include <filesystem>
 
 namespace ahd::cli {
@@ -38,7 +39,8 @@ void add_input_options(CLI::App* c, InputArgs* a) {
   c->add_option("--godot-scene", a->godot_scene,
                 "A Godot project's scene (.tscn) holding the LightmapGI that baked the input: every lightmap user's "
                 "mesh (.glb + its .unwrap_cache UV2, or TEXCOORD_1), transform and atlas rectangle (.lmbake); "
-                "found by itself when the .tscn lies beside the EXR");
+                "found by itself when the .tscn lies beside the EXR. Or the scene exported from Godot's editor as "
+                "glTF (.glb/.gltf with UV2 as TEXCOORD_1), placed by the NAME.lmbake beside the EXR");
   c->add_flag("--allow-mismatch", a->allow_mismatch,
               "Convert even when the mesh's coverage disagrees with the lightmap (lit texels outside it, covered "
               "texels black, overlapping instances without placement)");
@@ -87,9 +89,22 @@ namespace {
 // What gives the normals and coverage: the mesh file or the Godot scene.
 const std::string& mesh_source(const InputArgs& a) { return a.godot_scene.empty() ? a.mesh : a.godot_scene; }
 
+// A .tscn of the project, or the editor's glTF export of the scene placed by the bake's .lmbake
+// (NAME.lmbake beside NAME.exr, as Godot writes them).
+GodotSceneMeshes load_godot_meshes(const InputArgs& a) {
+  std::string ext = std::filesystem::path(a.godot_scene).extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  if (ext != ".glb" && ext != ".gltf") return load_godot_scene(a.godot_scene);
+  const std::string lmbake = layout_base(load_layout(a.layout), a.input) + ".lmbake";
+  if (!std::filesystem::exists(lmbake))
+    throw file_error(a.godot_scene, "a glTF export is placed by the bake's .lmbake, expected beside the lightmap: " + lmbake +
+                                        " not found");
+  return load_godot_export(a.godot_scene, lmbake);
+}
+
 MeshTriangles godot_page_mesh(const InputArgs& a, int page, MeshReadInfo* mi, std::string* note) {
   if (!a.godot) {
-    a.godot = std::make_shared<const GodotSceneMeshes>(load_godot_scene(a.godot_scene));
+    a.godot = std::make_shared<const GodotSceneMeshes>(load_godot_meshes(a));
     for (const std::string& n : a.godot->notes) a.notes += "godot scene: " + n + "\n";
   }
   const GodotSceneMeshes& g = *a.godot;

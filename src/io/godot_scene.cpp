@@ -324,30 +324,14 @@ void append_world(const MeshTriangles& g, const Affine& m, MeshTriangles* out) {
   for (uint32_t i : g.indices) out->indices.push_back(base + i);
 }
 
-}  // namespace
 
-GodotSceneMeshes load_godot_scene(const std::string& tscn, const std::string& lmbake_override) {
-  Loader L;
-  L.project = project_root(tscn);
-  const int root = L.scene(fs::path(tscn).lexically_normal().string(), -1, 0);
-
-  // The LightmapGI node of the top scene (its light_data names the .lmbake).
-  const GodotTscn top = parse_godot_tscn(read_text(tscn), tscn);
-  int gi = -1;
-  std::string lmbake = lmbake_override;
-  for (const GodotTscnNode& tn : top.nodes) {
-    if (tn.type != "LightmapGI") continue;
-    gi = tn.has_parent ? L.find(root, tn.parent == "." ? tn.name : tn.parent + "/" + tn.name) : root;
-    if (lmbake.empty() && !tn.light_data.empty())
-      if (const GodotTscnExt* e = top.find_ext(tn.light_data)) lmbake = L.resolve(e->path, fs::path(tscn).parent_path());
-    break;
-  }
-  if (gi < 0) throw file_error(tscn, "no LightmapGI node: not the scene that was baked (give the scene holding the LightmapGI)");
-  if (lmbake.empty()) throw file_error(tscn, "the LightmapGI has no light_data (.lmbake): bake it in Godot first");
-
+// The lightmap's users (`data`, read from `lmbake`) as instances of the loaded nodes' geometry, where `resolve`
+// finds a user's node from its path (−1: not in the scene). `from` names the scene in the error.
+template <class Resolve>
+GodotSceneMeshes place_users(Loader& L, const std::string& lmbake, const GodotLightmapData& data, const std::string& from,
+                             const Resolve& resolve) {
   GodotSceneMeshes out;
   out.lmbake = lmbake;
-  const GodotLightmapData data = read_godot_lmbake(lmbake);
   L.files.push_back(lmbake);
   out.users = int(data.users.size());
   int no_node = 0, no_mesh = 0, grid = 0;
@@ -356,7 +340,7 @@ GodotSceneMeshes load_godot_scene(const std::string& tscn, const std::string& lm
       ++grid;
       continue;
     }
-    const int id = u.path.empty() || u.path[0] == '/' ? -1 : L.find(gi, u.path);
+    const int id = u.path.empty() || u.path[0] == '/' ? -1 : resolve(u.path);
     if (id < 0) {
       ++no_node;
       continue;
@@ -390,9 +374,64 @@ GodotSceneMeshes load_godot_scene(const std::string& tscn, const std::string& lm
   out.files = L.files;
   for (const std::string& f : out.files) note_input_file(f);  // the depfile and the cache key (io/input_record.h)
   if (out.scene.instances.empty())
-    throw file_error(lmbake, "none of its " + std::to_string(data.users.size()) + " users is a mesh with lightmap UVs in " + tscn +
+    throw file_error(lmbake, "none of its " + std::to_string(data.users.size()) + " users is a mesh with lightmap UVs in " + from +
                                  (out.notes.empty() ? "" : " (" + out.notes.front() + ")"));
   return out;
+}
+
+}  // namespace
+
+GodotSceneMeshes load_godot_scene(const std::string& tscn, const std::string& lmbake_override) {
+  Loader L;
+  L.project = project_root(tscn);
+  const int root = L.scene(fs::path(tscn).lexically_normal().string(), -1, 0);
+
+  // The LightmapGI node of the top scene (its light_data names the .lmbake).
+  const GodotTscn top = parse_godot_tscn(read_text(tscn), tscn);
+  int gi = -1;
+  std::string lmbake = lmbake_override;
+  for (const GodotTscnNode& tn : top.nodes) {
+    if (tn.type != "LightmapGI") continue;
+    gi = tn.has_parent ? L.find(root, tn.parent == "." ? tn.name : tn.parent + "/" + tn.name) : root;
+    if (lmbake.empty() && !tn.light_data.empty())
+      if (const GodotTscnExt* e = top.find_ext(tn.light_data)) lmbake = L.resolve(e->path, fs::path(tscn).parent_path());
+    break;
+  }
+  if (gi < 0) throw file_error(tscn, "no LightmapGI node: not the scene that was baked (give the scene holding the LightmapGI)");
+  if (lmbake.empty()) throw file_error(tscn, "the LightmapGI has no light_data (.lmbake): bake it in Godot first");
+
+  return place_users(L, lmbake, read_godot_lmbake(lmbake), tscn, [&](const std::string& path) { return L.find(gi, path); });
+}
+
+GodotSceneMeshes load_godot_export(const std::string& gltf, const std::string& lmbake) {
+  Loader L;
+  L.project = fs::absolute(gltf).parent_path();
+  L.mesh_file(fs::path(gltf).lexically_normal().string(), -1);
+  const GodotLightmapData data = read_godot_lmbake(lmbake);
+  // The users' paths are relative to the LightmapGI, which the export may leave out: a path
+  // "../A/B" names A/B under the LightmapGI's parent, any other path a node below the LightmapGI.
+  // Its place is the node under which the most users find a mesh (the first such, nearest the root).
+  const auto resolve_at = [&L](int at, const std::string& path) {
+    return path.rfind("../", 0) == 0 ? L.find(at, path.substr(3)) : L.find(at, path);
+  };
+  if (double(L.nodes.size()) * double(data.users.size()) > 5e7)
+    throw file_error(gltf, "too many nodes (" + std::to_string(L.nodes.size()) + ") for the .lmbake's " +
+                               std::to_string(data.users.size()) + " users to be placed by name");
+  int best = -1, best_found = 0;
+  for (size_t at = 0; at < L.nodes.size(); ++at) {
+    if (L.nodes[at].children.empty()) continue;
+    int found = 0;
+    for (const GodotLightmapUser& u : data.users) {
+      if (u.sub_instance >= 0 || u.path.empty() || u.path[0] == '/') continue;
+      const int id = resolve_at(int(at), u.path);
+      found += id >= 0 && L.nodes[size_t(id)].geometry >= 0;
+    }
+    if (found > best_found) best = int(at), best_found = found;
+  }
+  if (best < 0)
+    throw file_error(gltf, "no node of the .lmbake's users (" + lmbake + ") is a mesh with TEXCOORD_1 here: export the baked "
+                               "scene from Godot's editor (Scene > Export As > glTF 2.0) with its lightmap UVs");
+  return place_users(L, lmbake, data, gltf, [&](const std::string& path) { return resolve_at(best, path); });
 }
 
 std::string find_godot_scene(const std::string& exr) {

@@ -33,6 +33,13 @@ struct GodotSceneMeshes {
 // without a LightmapGI, a cache entry inconsistent with its mesh, or no user with a mesh.
 GodotSceneMeshes load_godot_scene(const std::string& tscn, const std::string& lmbake = "");
 
+// A baked scene exported from Godot's editor as glTF (Scene > Export As > glTF 2.0: the node tree
+// with its names, UV2 as TEXCOORD_1), placed by `lmbake`: for a project without unwrap caches. The
+// users' node paths are resolved from the node under which most of them find a mesh (the export
+// may leave the LightmapGI node out). Throws ahd::Error("<file>: <cause>") like load_godot_scene,
+// and when no user is found in the file.
+GodotSceneMeshes load_godot_export(const std::string& gltf, const std::string& lmbake);
+
 // The scene that baked `exr` (Godot's NAME.exr): a .tscn in the same folder whose text references
 // NAME.lmbake; "" when there is none.
 std::string find_godot_scene(const std::string& exr);

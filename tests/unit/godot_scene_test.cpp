@@ -9,6 +9,10 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
 
 #include "cli_runner.h"
 #include "test_data.h"
@@ -207,6 +211,124 @@ TEST(GodotScene, UnitySceneWithoutLightmapIndexSaysWhyAndWhatToGive) {
 
 // --iz-scale: the iz plane stores iz_scale × E, recorded in the manifest and the plane metadata;
 // the direction and ratio do not change (the SH is linear in the light).
+namespace {
+
+// The editor's glTF export of the baked scene as Godot writes it (Scene > Export As > glTF 2.0): the
+// node tree with the users' names, UV2 as TEXCOORD_1 (v down). Made here from the project's own
+// files (load_godot_scene): one node per user along its path, identity transforms, world-space
+// vertices. `prefix` is put before every name (a non-matching export).
+void write_gltf_export(const GodotSceneMeshes& g, const fs::path& gltf, const std::string& prefix) {
+  nlohmann::json j;
+  j["asset"] = {{"version", "2.0"}};
+  j["scene"] = 0;
+  j["nodes"] = nlohmann::json::array({{{"name", prefix + "World"}, {"children", nlohmann::json::array()}}});
+  j["meshes"] = j["accessors"] = j["bufferViews"] = nlohmann::json::array();
+  std::vector<uint8_t> bin;
+  std::map<std::string, int> node_of;
+  const auto view = [&](const void* data, size_t bytes, int target) {
+    const size_t at = bin.size();
+    bin.insert(bin.end(), static_cast<const uint8_t*>(data), static_cast<const uint8_t*>(data) + bytes);
+    while (bin.size() % 4) bin.push_back(0);
+    j["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", at}, {"byteLength", bytes}, {"target", target}});
+    return int(j["bufferViews"].size() - 1);
+  };
+  const auto accessor = [&](int bv, size_t count, int type, const char* kind) {
+    j["accessors"].push_back({{"bufferView", bv}, {"componentType", type}, {"count", count}, {"type", kind}});
+    return int(j["accessors"].size() - 1);
+  };
+  for (const MeshInstance& inst : g.scene.instances) {
+    std::string path = inst.node;
+    while (path.rfind("../", 0) == 0) path = path.substr(3);
+    int parent = 0;
+    std::string sofar;
+    std::stringstream ss(path);
+    for (std::string step; std::getline(ss, step, '/');) {
+      sofar += "/" + step;
+      auto it = node_of.find(sofar);
+      if (it == node_of.end()) {
+        j["nodes"].push_back({{"name", prefix + step}});
+        it = node_of.emplace(sofar, int(j["nodes"].size() - 1)).first;
+        j["nodes"][size_t(parent)]["children"].push_back(it->second);
+      }
+      parent = it->second;
+    }
+    const MeshTriangles& m = g.scene.mesh;
+    std::vector<float> pos(m.positions.begin() + std::ptrdiff_t(inst.first_vertex * 3),
+                           m.positions.begin() + std::ptrdiff_t((inst.first_vertex + inst.vertices) * 3));
+    std::vector<float> nrm(m.normals.begin() + std::ptrdiff_t(inst.first_vertex * 3),
+                           m.normals.begin() + std::ptrdiff_t((inst.first_vertex + inst.vertices) * 3));
+    std::vector<float> uv;
+    for (size_t v = inst.first_vertex; v < inst.first_vertex + inst.vertices; ++v)
+      uv.insert(uv.end(), {m.uv[v * 2], 1.0f - m.uv[v * 2 + 1]});  // glTF: v down
+    std::vector<uint32_t> idx;
+    for (size_t k = inst.first_index; k < inst.first_index + inst.indices; ++k) idx.push_back(m.indices[k] - uint32_t(inst.first_vertex));
+    const size_t n = inst.vertices;
+    const int p = accessor(view(pos.data(), pos.size() * 4, 34962), n, 5126, "VEC3");
+    float lo[3] = {1e30f, 1e30f, 1e30f}, hi[3] = {-1e30f, -1e30f, -1e30f};
+    for (size_t v = 0; v < n; ++v)
+      for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], pos[v * 3 + a]), hi[a] = std::max(hi[a], pos[v * 3 + a]);
+    j["accessors"][size_t(p)]["min"] = {lo[0], lo[1], lo[2]};
+    j["accessors"][size_t(p)]["max"] = {hi[0], hi[1], hi[2]};
+    const int nr = accessor(view(nrm.data(), nrm.size() * 4, 34962), n, 5126, "VEC3");
+    const int t = accessor(view(uv.data(), uv.size() * 4, 34962), n, 5126, "VEC2");
+    const int ix = accessor(view(idx.data(), idx.size() * 4, 34963), idx.size(), 5125, "SCALAR");
+    j["meshes"].push_back({{"primitives", {{{"attributes", {{"POSITION", p}, {"NORMAL", nr}, {"TEXCOORD_0", t}, {"TEXCOORD_1", t}}},
+                                             {"indices", ix}}}}});
+    j["nodes"][size_t(parent)]["mesh"] = int(j["meshes"].size() - 1);
+  }
+  const fs::path bin_path = fs::path(gltf).replace_extension(".bin");
+  j["buffers"] = {{{"uri", bin_path.filename().string()}, {"byteLength", bin.size()}}};
+  j["scenes"] = {{{"nodes", {0}}}};
+  std::ofstream(gltf) << j.dump();
+  std::ofstream(bin_path, std::ios::binary).write(reinterpret_cast<const char*>(bin.data()), std::streamsize(bin.size()));
+}
+
+}  // namespace
+
+// Issue 25: a project without unwrap caches gives its scene as the editor's glTF export plus the
+// .lmbake. The export's users are found by name and placed as the project's own files place them.
+TEST(GodotScene, EditorGltfExportPlacedByTheLmbakeMatchesTheProject) {
+  NEED_BAKE();
+  const fs::path dir = ahd_test::temp_dir("godot_export");
+  const GodotSceneMeshes project = load_godot_scene((kScenes / "world.tscn").string());
+  write_gltf_export(project, dir / "world_export.gltf", "");
+  const std::string lmbake = (kBake / "world.lmbake").string();
+  const GodotSceneMeshes exported = load_godot_export((dir / "world_export.gltf").string(), lmbake);
+  EXPECT_EQ(project.scene.instances.size(), 55u);
+  ASSERT_EQ(exported.scene.instances.size(), project.scene.instances.size());
+  ASSERT_EQ(exported.scene.mesh.positions.size(), project.scene.mesh.positions.size());
+  double worst = 0;
+  for (size_t k = 0; k < project.scene.mesh.positions.size(); ++k)
+    worst = std::max(worst, double(std::abs(exported.scene.mesh.positions[k] - project.scene.mesh.positions[k])));
+  for (size_t k = 0; k < project.scene.mesh.uv.size(); ++k)
+    worst = std::max(worst, double(std::abs(exported.scene.mesh.uv[k] - project.scene.mesh.uv[k])));
+  EXPECT_LT(worst, 1e-5);
+  const RasterisedNormals a = rasterise_lightmap_normals(place_instances(project.scene, project.placements, 0, lmbake).mesh, 512, 512);
+  const RasterisedNormals b = rasterise_lightmap_normals(place_instances(exported.scene, exported.placements, 0, lmbake).mesh, 512, 512);
+  size_t differ = 0, covered = 0;
+  for (size_t i = 0; i < a.coverage.size(); ++i) differ += a.coverage[i] != b.coverage[i], covered += a.coverage[i];
+  EXPECT_LT(double(differ), 1e-3 * double(covered)) << differ << " of " << covered;
+
+  // The command: --godot-scene takes the export, the .lmbake beside the EXR places it.
+  fs::copy_file(kBake / "world.exr", dir / "world.exr");
+  fs::copy_file(kBake / "world.exr.import", dir / "world.exr.import");
+  fs::copy_file(kBake / "world.lmbake", dir / "world.lmbake");
+  const auto r = ahd_test::run_cli({"convert", (dir / "world.exr").string(), "--godot-scene", (dir / "world_export.gltf").string(),
+                                    "-o", (dir / "out/w.ktx2").string(), "--levels", "1"});
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "55 of 55 lightmap users placed by")) << r.output;
+
+  // An export whose names are not the scene's: one line naming the file and what to do.
+  write_gltf_export(project, dir / "renamed.gltf", "X");
+  try {
+    load_godot_export((dir / "renamed.gltf").string(), lmbake);
+    ADD_FAILURE() << "accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()).rfind((dir / "renamed.gltf").string() + ": no node of the .lmbake's users", 0), 0u) << e.what();
+  }
+  fs::remove_all(dir);
+}
+
 TEST(IzScale, StoredScaleIsAppliedAndRecorded) {
   const fs::path dir = ahd_test::temp_dir("iz_scale");
   const auto run = [&](const std::vector<std::string>& extra, const std::string& out) {
