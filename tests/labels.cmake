@@ -16,12 +16,18 @@
 # A new test lands in `unit` unless a pattern below names it.
 
 set(_judge "^(Bc6hJudge|PackedFloatMesa|RgtcMesa|Profiles/ShaderRender|KtxParse|PreviewChromium|ThreeRender|DecodeVsRuntime)\\.|^Container\\.OpenImageIOReadsOurDds$")
-set(_integration "^(Cli|Golden|Verify|Plot|Preview|Preview3d|BenchConvert|Consumer|OutputSet)\\.|^Atlas\\.(RealGodot42|FourPageGodotAtlas|UnknownPageCount)|^BadInput\\.Cli|^Placement\\.ConvertWith|^MeshRaster\\.(BadMeshes|ConvertWithMesh|MeshAxes)|^DirectionPlanes\\.(PlainLightmapWritesOnlyIz|KeepAndDrop)|^Layout\\.GodotPackedMatchesSource|^(OutputFaults|Cook|GodotScene)\\.|^BadInputRound2\\.(CatalogueUnderThreeGib|BadMaxSizeEnvironment|InputReplacedWhileRead)")
+set(_integration "^(Python|Cli|Golden|Verify|Plot|Preview|Preview3d|BenchConvert|Consumer|OutputSet)\\.|^Atlas\\.(RealGodot42|FourPageGodotAtlas|UnknownPageCount)|^BadInput\\.Cli|^Placement\\.ConvertWith|^MeshRaster\\.(BadMeshes|ConvertWithMesh|MeshAxes)|^DirectionPlanes\\.(PlainLightmapWritesOnlyIz|KeepAndDrop)|^Layout\\.GodotPackedMatchesSource|^(OutputFaults|Cook|GodotScene)\\.|^BadInputRound2\\.(CatalogueUnderThreeGib|BadMaxSizeEnvironment|InputReplacedWhileRead)")
 set(_accuracy "^Truth\\.|^FitWindow\\.NoisyScene|^Bc6h\\.(SharedImagesBeatTheFastestPublicEncoder|MaxOnCropsOfTheSharedImages|FastBeatsTheRealTimePeerOnTheSharedImages)$|^Fit\\.(ClosedFormTMatchesBruteForceSearch|MillionRandomTexels)|^FitRefine\\.(ErrorRatiosAgainstUnconstrainedLeastSquares|IssueMeasureSampledDirections|NeverWorseThanTheLinearDirectionPerTexel|MillionRandomTexels|FilteredErrorOnTheAnalyticScene|PairGuardBounds|CoherencePass)|^ErrorEstimate\\.(AgreesWithFullMeasurement|ConversionEstimateAgrees)|^Bc4\\.EncoderIsCloseToExhaustiveSearch$")
-set(_slow "^(Consumer|BenchConvert|Truth)\\.|^Atlas\\.FourPageGodotAtlas|^Cli\\.(BatchOfSmallFiles|EveryProfileAndContainer)|^Bc6h\\.MaxOnCrops|^OutputSet\\.KilledBeforeEachRename|^OutputFaults\\.(HundredPairs|SignalBetweenRenames|KilledAtEveryRename)|^Cook\\.KeyCoversEveryInput")
-set(_nosan "^(Consumer|PreviewChromium|ThreeRender|Truth)\\.|^OutputFaults\\.HundredPairsOfConcurrentConversions|^Bc6h\\.MaxOnCropsOfTheSharedImages$|^Fit\\.ClosedFormTMatchesBruteForceSearch$")
+set(_slow "^(Python|Consumer|BenchConvert|Truth)\\.|^Atlas\\.FourPageGodotAtlas|^Cli\\.(BatchOfSmallFiles|EveryProfileAndContainer)|^Bc6h\\.MaxOnCrops|^OutputSet\\.KilledBeforeEachRename|^OutputFaults\\.(HundredPairs|SignalBetweenRenames|KilledAtEveryRename)|^Cook\\.KeyCoversEveryInput")
+set(_nosan "^(Python|Consumer|PreviewChromium|ThreeRender|Truth)\\.|^OutputFaults\\.HundredPairsOfConcurrentConversions|^Bc6h\\.MaxOnCropsOfTheSharedImages$|^Fit\\.ClosedFormTMatchesBruteForceSearch$")
 
-foreach(_t IN LISTS ahd_tests_TESTS ahd_gl_tests_TESTS)
+# The tests tests/CMakeLists.txt adds by name (scripts, not gtest), labelled by the same patterns.
+# Python.*: the ctypes script loads the shared libraries, which an uninstrumented python3 cannot
+# when they are built with ASan (nosan).
+set(_script_tests Python.CtypesConvertOfTheSampleMatchesCli Consumer.InstalledPackageMatchesCli
+  Consumer.InstalledCommandRunsFromAMovedPrefix)
+
+foreach(_t IN LISTS ahd_tests_TESTS ahd_gl_tests_TESTS _script_tests)
   if(_t MATCHES "${_judge}")
     set(_labels judge)
   elseif(_t MATCHES "${_integration}")
