@@ -1655,7 +1655,16 @@ std::vector<uint8_t> bc6h_encode_image(const ImageF& img, const Bc6hOptions& opt
         }
         gather(blk, rgb[i], valid[i]);
       }
+      // Each of the n blocks was written above (copied or gathered); GCC 12 cannot see it through
+      // the loop's `continue` and warns that the const pointer may read uninitialised floats.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
       floats_to_half(rgb[0], h[0], 48 * n);
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif
       if (opt.quality == Bc6hQuality::Fast) return encode_blocks_fast(h[0], rgb[0], valid[0], n, &out[g * kBatch * 16]);
       OneRegionFit fits[kBatch];
       fit_blocks_fast(h[0], rgb[0], valid[0], n, fits);

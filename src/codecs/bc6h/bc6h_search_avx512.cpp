@@ -10,7 +10,9 @@
 // GCC 12's AVX-512 intrinsics start their unmasked forms from _mm512_undefined_*(), which its
 // -Wuninitialized reports once per inlined use (a known false positive of the header).
 #pragma GCC diagnostic ignored "-Wuninitialized"
+#ifndef __clang__  // clang has no such group (and warns on an unknown one)
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 #include <immintrin.h>
 
 namespace ahd::bc6h {
