@@ -14,20 +14,16 @@
 #                suite already covers on fewer inputs, the hundred concurrent conversions (a race
 #                test: ASan finds no races, and instrumented it takes minutes)
 # A new test lands in `unit` unless a pattern below names it.
+# The script tests (add_test in tests/CMakeLists.txt: Consumer.*, Python.*, Docs.*) are labelled
+# there, beside their add_test: ctest includes this file before it defines them.
 
 set(_judge "^(Bc6hJudge|PackedFloatMesa|RgtcMesa|Profiles/ShaderRender|KtxParse|PreviewChromium|ThreeRender|DecodeVsRuntime)\\.|^Container\\.OpenImageIOReadsOurDds$")
-set(_integration "^(Python|Cli|Golden|Verify|Plot|Preview|Preview3d|BenchConvert|Consumer|OutputSet)\\.|^Atlas\\.(RealGodot42|FourPageGodotAtlas|UnknownPageCount)|^BadInput\\.Cli|^Placement\\.ConvertWith|^MeshRaster\\.(BadMeshes|ConvertWithMesh|MeshAxes)|^DirectionPlanes\\.(PlainLightmapWritesOnlyIz|KeepAndDrop)|^Layout\\.GodotPackedMatchesSource|^(OutputFaults|Cook|GodotScene)\\.|^BadInputRound2\\.(CatalogueUnderThreeGib|BadMaxSizeEnvironment|InputReplacedWhileRead)")
+set(_integration "^(Cli|Golden|Verify|Plot|Preview|Preview3d|BenchConvert|Consumer|OutputSet)\\.|^Atlas\\.(RealGodot42|FourPageGodotAtlas|UnknownPageCount)|^BadInput\\.Cli|^Placement\\.ConvertWith|^MeshRaster\\.(BadMeshes|ConvertWithMesh|MeshAxes)|^DirectionPlanes\\.(PlainLightmapWritesOnlyIz|KeepAndDrop)|^Layout\\.GodotPackedMatchesSource|^(OutputFaults|Cook|GodotScene)\\.|^BadInputRound2\\.(CatalogueUnderThreeGib|BadMaxSizeEnvironment|InputReplacedWhileRead)")
 set(_accuracy "^Truth\\.|^FitWindow\\.NoisyScene|^Bc6h\\.(SharedImagesBeatTheFastestPublicEncoder|MaxOnCropsOfTheSharedImages|FastBeatsTheRealTimePeerOnTheSharedImages)$|^Fit\\.(ClosedFormTMatchesBruteForceSearch|MillionRandomTexels)|^FitRefine\\.(ErrorRatiosAgainstUnconstrainedLeastSquares|IssueMeasureSampledDirections|NeverWorseThanTheLinearDirectionPerTexel|MillionRandomTexels|FilteredErrorOnTheAnalyticScene|PairGuardBounds|CoherencePass)|^ErrorEstimate\\.(AgreesWithFullMeasurement|ConversionEstimateAgrees)|^Bc4\\.EncoderIsCloseToExhaustiveSearch$")
-set(_slow "^(Python|Consumer|BenchConvert|Truth)\\.|^Atlas\\.FourPageGodotAtlas|^Cli\\.(BatchOfSmallFiles|EveryProfileAndContainer)|^Bc6h\\.MaxOnCrops|^OutputSet\\.KilledBeforeEachRename|^OutputFaults\\.(HundredPairs|SignalBetweenRenames|KilledAtEveryRename)|^Cook\\.KeyCoversEveryInput")
-set(_nosan "^(Python|Consumer|PreviewChromium|ThreeRender|Truth)\\.|^OutputFaults\\.HundredPairsOfConcurrentConversions|^Bc6h\\.MaxOnCropsOfTheSharedImages$|^Fit\\.ClosedFormTMatchesBruteForceSearch$")
+set(_slow "^(Consumer|BenchConvert|Truth)\\.|^Atlas\\.FourPageGodotAtlas|^Cli\\.(BatchOfSmallFiles|EveryProfileAndContainer)|^Bc6h\\.MaxOnCrops|^OutputSet\\.KilledBeforeEachRename|^OutputFaults\\.(HundredPairs|SignalBetweenRenames|KilledAtEveryRename)|^Cook\\.KeyCoversEveryInput")
+set(_nosan "^(Consumer|PreviewChromium|ThreeRender|Truth)\\.|^OutputFaults\\.HundredPairsOfConcurrentConversions|^Bc6h\\.MaxOnCropsOfTheSharedImages$|^Fit\\.ClosedFormTMatchesBruteForceSearch$")
 
-# The tests tests/CMakeLists.txt adds by name (scripts, not gtest), labelled by the same patterns.
-# Python.*: the ctypes script loads the shared libraries, which an uninstrumented python3 cannot
-# when they are built with ASan (nosan).
-set(_script_tests Python.CtypesConvertOfTheSampleMatchesCli Consumer.InstalledPackageMatchesCli
-  Consumer.InstalledCommandRunsFromAMovedPrefix)
-
-foreach(_t IN LISTS ahd_tests_TESTS ahd_gl_tests_TESTS _script_tests)
+foreach(_t IN LISTS ahd_tests_TESTS ahd_gl_tests_TESTS)
   if(_t MATCHES "${_judge}")
     set(_labels judge)
   elseif(_t MATCHES "${_integration}")
