@@ -107,47 +107,80 @@ AhdFit fit_texel(const IrradiancePoly p[3], const FitOptions& opt, float linear_
   return out;
 }
 
-void fit_texels(const IrradiancePoly* p, int n, const FitOptions& opt, AhdFit* out, float* linear_d) {
-  // Per texel up to the refinement; the texels to refine then go through refine_direction_lanes
-  // together (their dependent chains overlap), and each gets its colours.
+namespace {
+
+// fit_texels up to the colours: per texel up to the refinement; the texels to refine then go
+// through refine_direction_lanes together (their dependent chains overlap). A texel whose
+// irradiance is constant is fitted whole into out[k] (done[k]).
+struct DirectionStage {
   double d[kRefineLanes][3], iz[kRefineLanes][3];
   uint8_t flags[kRefineLanes];
   bool negative[kRefineLanes], refine[kRefineLanes] = {}, done[kRefineLanes] = {};
+  int lane_of[kRefineLanes];
+  LuneMoments m[kRefineLanes];
+};
+
+void direction_stage(const IrradiancePoly* p, int n, const FitOptions& opt, AhdFit* out, float* linear_d,
+                     DirectionStage& s) {
   const IrradiancePoly* lp[kRefineLanes];
   const double* liz[kRefineLanes];
   double* ld[kRefineLanes];
-  int lane_of[kRefineLanes], nl = 0;
+  int nl = 0;
   for (int k = 0; k < n; ++k) {
     const IrradiancePoly* pk = p + 3 * k;
     float* lin = linear_d ? linear_d + 3 * k : nullptr;
-    const bool directional = optimal_direction(pk, opt, d[k]);
+    const bool directional = optimal_direction(pk, opt, s.d[k]);
     // Irradiance the same for every normal (a plain lightmap, or no L1/L2 at this texel): the pure
     // ambient lobe is exact, so there is nothing to fit (and plain maps skip the per-channel solve).
     if (!directional && irradiance_is_constant(pk)) {
       if (lin) lin[0] = 0.0f, lin[1] = 0.0f, lin[2] = 1.0f;  // optimal_direction's z
       out[k] = fit_texel_constant(pk, opt);
-      done[k] = true;
+      s.done[k] = true;
       continue;
     }
-    flags[k] = directional ? 0 : kFitNoDirection;
+    s.flags[k] = directional ? 0 : kFitNoDirection;
     // Decoding divides by d_z: grazing / below-horizon directions are tilted up (ahd_decode.h).
-    if (tilt_above_horizon(d[k], opt.dz_min)) flags[k] |= kFitDirClamped;
+    if (tilt_above_horizon(s.d[k], opt.dz_min)) s.flags[k] |= kFitDirClamped;
     if (lin)
-      for (int i = 0; i < 3; ++i) lin[i] = float(d[k][i]);  // = linear_direction(p, opt)
+      for (int i = 0; i < 3; ++i) lin[i] = float(s.d[k][i]);  // = linear_direction(p, opt)
     double ez[3];
     irradiance_along_z(pk, ez);
-    usable_iz(ez, iz[k], &flags[k], &negative[k]);
+    usable_iz(ez, s.iz[k], &s.flags[k], &s.negative[k]);
     // Refinement keeps d_z ≥ dz_min itself; kFitDirClamped still says whether the linear d needed it.
-    refine[k] = directional && opt.direction_fit == DirectionFit::Refined;
-    if (refine[k]) lp[nl] = pk, liz[nl] = iz[k], ld[nl] = d[k], lane_of[k] = nl++;
+    s.refine[k] = directional && opt.direction_fit == DirectionFit::Refined;
+    if (s.refine[k]) lp[nl] = pk, liz[nl] = s.iz[k], ld[nl] = s.d[k], s.lane_of[k] = nl++;
   }
-  LuneMoments m[kRefineLanes];
-  if (nl) refine_direction_lanes(nl, lp, liz, opt, ld, m);
+  if (nl) refine_direction_lanes(nl, lp, liz, opt, ld, s.m);
+}
+
+}  // namespace
+
+void fit_texels(const IrradiancePoly* p, int n, const FitOptions& opt, AhdFit* out, float* linear_d) {
+  DirectionStage s;
+  direction_stage(p, n, opt, out, linear_d, s);
   for (int k = 0; k < n; ++k) {
-    if (done[k]) continue;
+    if (s.done[k]) continue;
     const IrradiancePoly* pk = p + 3 * k;
-    out[k] = refine[k] ? fit_colours(pk, d[k], iz[k], opt, &m[lane_of[k]]) : fit_colours(pk, d[k], iz[k], opt);
-    out[k].flags |= flags[k] | (negative[k] ? kFitNegativeIz : 0);
+    out[k] = s.refine[k] ? fit_colours(pk, s.d[k], s.iz[k], opt, &s.m[s.lane_of[k]]) : fit_colours(pk, s.d[k], s.iz[k], opt);
+    out[k].flags |= s.flags[k] | (s.negative[k] ? kFitNegativeIz : 0);
+  }
+}
+
+void fit_directions(const IrradiancePoly* p, int n, const FitOptions& opt, FitDirection* out, float* linear_d) {
+  DirectionStage s;
+  AhdFit whole[kRefineLanes];
+  direction_stage(p, n, opt, whole, linear_d, s);
+  for (int k = 0; k < n; ++k) {
+    FitDirection& o = out[k];
+    o.constant = s.done[k];
+    if (s.done[k]) {
+      for (int i = 0; i < 3; ++i) o.d[i] = whole[k].d[i], o.iz[i] = whole[k].iz[i];
+      o.flags = whole[k].flags;
+      continue;
+    }
+    // As fit_colours stores them; the flags fit_texels adds to the colours' (all but kFitBlack).
+    for (int i = 0; i < 3; ++i) o.d[i] = float(s.d[k][i]), o.iz[i] = float(s.iz[k][i]);
+    o.flags = s.flags[k] | (s.negative[k] ? kFitNegativeIz : 0);
   }
 }
 

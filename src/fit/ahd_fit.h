@@ -119,6 +119,20 @@ AhdFit fit_texel(const IrradiancePoly p[3], const FitOptions& opt, float linear_
 // searches in lockstep (faster per texel).
 void fit_texels(const IrradiancePoly* p, int n, const FitOptions& opt, AhdFit* out, float* linear_d);
 
+// What fit_texels decides before the colours: the direction, I_z and the direction stage's flags of
+// each texel, without solving its colours (the windowed fit, fit_image.cpp, solves them on other
+// SH). For texel k, with f = fit_texels' out[k]: d and iz are f.d and f.iz bit for bit, and flags
+// is f.flags without kFitBlack (which the colour solve adds), except where `constant` (irradiance
+// the same for every normal: fit_texel_constant's texel, whose flags are f.flags whole). linear_d
+// as fit_texels writes it. The same bytes at any n ≤ 4.
+struct FitDirection {
+  float d[3];
+  float iz[3];
+  uint8_t flags;
+  bool constant;
+};
+void fit_directions(const IrradiancePoly* p, int n, const FitOptions& opt, FitDirection* out, float* linear_d);
+
 // What fit_texel returns for a texel whose irradiance is the same for every normal (only e0
 // nonzero: every texel of an L0 image): the pure ambient lobe, exact with nothing to solve —
 // I_z = E(z) (non-finite or negative → 0, flagged), d = z, ratio = 1, flag kFitNoDirection.

@@ -45,9 +45,11 @@ namespace {
 
 // A texel of the windowed refined fit: the direction `win` chose on the window's mean SH, the
 // colours solved on the texel's own SH at that d with the texel's own I_z (exact), its own rules
-// for I_z. `own` is the texel's linear fit; a texel with no direction in either stays that fit.
-AhdFit windowed_texel(const IrradiancePoly own_p[3], const AhdFit& win, const AhdFit& own, const FitOptions& opt) {
-  if ((win.flags & kFitNoDirection) && (own.flags & kFitNoDirection)) return own;
+// for I_z. `own` is the texel's linear fit's direction stage (fit_directions); a texel with no
+// direction in either stays its linear fit (own_p's, with `linear` options).
+AhdFit windowed_texel(const IrradiancePoly own_p[3], const FitDirection& win, const FitDirection& own,
+                      const FitOptions& opt, const FitOptions& linear) {
+  if ((win.flags & kFitNoDirection) && (own.flags & kFitNoDirection)) return fit_texel(own_p, linear);
   const double d[3] = {win.d[0], win.d[1], win.d[2]};
   const double iz[3] = {own.iz[0], own.iz[1], own.iz[2]};
   AhdFit f = fit_colours(own_p, d, iz, opt);
@@ -57,7 +59,7 @@ AhdFit windowed_texel(const IrradiancePoly own_p[3], const AhdFit& win, const Ah
 
 }  // namespace
 
-AhdImage fit_image(const ShImage& sh, const FitOptions& opt, int threads, FitStats* stats) {
+AhdImage fit_image(const ShImage& sh, const FitOptions& opt, int threads, FitStats* stats, bool skip_uncovered) {
   AhdImage out = make_ahd_image(sh.width, sh.height, opt.ratio_form == RatioForm::Luminance);
   out.coverage = sh.coverage;
   const bool refined = opt.direction_fit == DirectionFit::Refined;
@@ -70,28 +72,41 @@ AhdImage fit_image(const ShImage& sh, const FitOptions& opt, int threads, FitSta
   const bool windowed = refined && opt.direction_window > 0 && sh.width > 1 && sh.height > 1;
   std::vector<float> own_linear_d(guard && windowed ? sh.texels() * 3 : 0);  // the windowed guard's second field
   // Texels in groups of kGroup: fit_texels runs a group's refinements in lockstep (the same bytes
-  // as one at a time, so the grouping and the threads' chunks do not change the output).
-  constexpr size_t kGroup = 4;
-  const size_t groups = (sh.texels() + kGroup - 1) / kGroup;
+  // as one at a time, so the grouping and the threads' chunks do not change the output). With
+  // skip_uncovered a group gathers the next covered texels of its block.
+  constexpr size_t kGroup = 4, kBlock = 256;
+  const size_t texels = sh.texels(), blocks = (texels + kBlock - 1) / kBlock;
   FitOptions linear = opt;
   linear.direction_fit = DirectionFit::Linear;
-  parallel_for(groups, threads, 1024 / kGroup, [&](size_t g) {
-    const size_t i0 = g * kGroup;
-    const int n = int(std::min(kGroup, sh.texels() - i0));
-    IrradiancePoly p[3 * kGroup];
-    for (int k = 0; k < n; ++k) local_polys(sh, i0 + k, &p[3 * k]);
-    AhdFit f[kGroup];
-    if (!windowed) {
-      fit_texels(p, n, opt, f, guard ? &linear_d[i0 * 3] : nullptr);
-      for (int k = 0; k < n; ++k) out.set_texel(i0 + k, f[k]);
-      return;
+  parallel_for(blocks, threads, 4, [&](size_t b) {
+    const size_t end = std::min(texels, (b + 1) * kBlock);
+    for (size_t next = b * kBlock; next < end;) {
+      size_t at[kGroup];
+      int n = 0;
+      for (; next < end && n < int(kGroup); ++next)
+        if (!skip_uncovered || sh.coverage[next]) at[n++] = next;
+      IrradiancePoly p[3 * kGroup];
+      for (int k = 0; k < n; ++k) local_polys(sh, at[k], &p[3 * k]);
+      float lin[3 * kGroup], own_lin[3 * kGroup];
+      if (!windowed) {
+        AhdFit f[kGroup];
+        fit_texels(p, n, opt, f, guard ? lin : nullptr);
+        for (int k = 0; k < n; ++k) out.set_texel(at[k], f[k]);
+      } else {
+        // Only the directions of the window's refined fit and of the texel's own linear fit are kept
+        // (windowed_texel): their colours are not solved.
+        IrradiancePoly w[3 * kGroup];
+        for (int k = 0; k < n; ++k) window_local_polys(sh, at[k], opt.direction_window, &w[3 * k]);
+        FitDirection fw[kGroup], fo[kGroup];
+        fit_directions(w, n, opt, fw, guard ? lin : nullptr);  // the guard's field: the window's linear d
+        fit_directions(p, n, linear, fo, guard ? own_lin : nullptr);
+        for (int k = 0; k < n; ++k) out.set_texel(at[k], windowed_texel(&p[3 * k], fw[k], fo[k], opt, linear));
+        if (guard)
+          for (int k = 0; k < n; ++k) std::copy_n(own_lin + 3 * k, 3, &own_linear_d[at[k] * 3]);
+      }
+      if (guard)
+        for (int k = 0; k < n; ++k) std::copy_n(lin + 3 * k, 3, &linear_d[at[k] * 3]);
     }
-    IrradiancePoly w[3 * kGroup];
-    for (int k = 0; k < n; ++k) window_local_polys(sh, i0 + k, opt.direction_window, &w[3 * k]);
-    AhdFit fw[kGroup];
-    fit_texels(w, n, opt, fw, guard ? &linear_d[i0 * 3] : nullptr);  // the guard's field: the window's linear d
-    fit_texels(p, n, linear, f, guard ? &own_linear_d[i0 * 3] : nullptr);
-    for (int k = 0; k < n; ++k) out.set_texel(i0 + k, windowed_texel(&p[3 * k], fw[k], f[k], opt));
   });
   if (refined && !windowed && opt.coherence_tolerance > 0) smooth_directions(sh, opt, threads, &out);
   size_t reverted = 0;
@@ -103,7 +118,10 @@ AhdImage fit_image(const ShImage& sh, const FitOptions& opt, int threads, FitSta
     IrradiancePoly p[3], w[3];
     local_polys(sh, i, p);
     window_local_polys(sh, i, opt.direction_window, w);
-    return windowed_texel(p, fit_texel(w, linear), fit_texel(p, linear), opt);
+    FitDirection fw, fo;
+    fit_directions(w, 1, linear, &fw, nullptr);
+    fit_directions(p, 1, linear, &fo, nullptr);
+    return windowed_texel(p, fw, fo, opt, linear);
   };
   if (guard) reverted = guard_direction_pairs(sh, opt, linear_d, threads, &out, windowed ? std::function<AhdFit(size_t)>(windowed_linear) : nullptr,
                                               windowed ? &own_linear_d : nullptr);

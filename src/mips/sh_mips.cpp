@@ -227,7 +227,8 @@ std::vector<FittedLevel> fit_mip_chain(ShImage&& level0, const FitOptions& opt, 
 
 FittedLevel fit_level(ShImage&& sh, const FitOptions& opt, int threads, FitStats* stats, DilateStats* dilate_stats) {
   check_image(sh);
-  AhdImage a = fit_image(sh, opt, threads, stats);
+  // Uncovered texels are not fitted: dilation replaces them from the covered ones alone.
+  AhdImage a = fit_image(sh, opt, threads, stats, /*skip_uncovered=*/true);
   dilate_ahd(a, opt.dz_min, threads, dilate_stats);
   return {std::move(sh), std::move(a)};
 }

@@ -29,6 +29,7 @@
 #include "cli/output.h"
 #include "core/error.h"
 #include "core/parallel.h"
+#include "fit/direction_refine.h"
 #include "fit/hemisphere_error.h"
 #include "io/baker_layout.h"
 #include "io/image_io.h"
@@ -179,7 +180,9 @@ std::string fmt(const char* f, double v) {
 }
 
 // The conversion of one case, in the child: what `ahdpack convert IN -o OUT --profile pc-bc` runs.
-std::string convert_case(const Case& c, const std::string& out_dir, int threads, bool full_measure) {
+// direction_fit: "linear" or "refined"; empty keeps the conversion's default.
+std::string convert_case(const Case& c, const std::string& out_dir, int threads, bool full_measure,
+                         const std::string& direction_fit) {
   reset_peak_rss();
   const long baseline_kb = status_kb("VmRSS");
   std::ostringstream o;
@@ -190,6 +193,8 @@ std::string convert_case(const Case& c, const std::string& out_dir, int threads,
   co.profile = "pc-bc";
   co.threads = threads;
   co.measure = full_measure ? Measure::Full : Measure::Estimate;
+  if (!direction_fit.empty() && !parse_direction_fit(direction_fit, &co.direction_fit))
+    throw Error("--direction-fit must be 'linear' or 'refined'");
   const OutputPaths out = output_paths(out_dir + "/" + fs::path(c.file).stem().string() + ".ktx2");
   ResolvedOptions ro = resolve_options(co, out.name);
   auto t_start = Clock::now();
@@ -253,6 +258,7 @@ void add_bench_convert_command(CLI::App& bench) {
     int threads = 0;
     std::string dir;
     bool full_measure = false;
+    std::vector<std::string> direction_fit;  // empty: the conversion's default only
     std::string child;  // internal: "read", "l2" or "plain" — measure one case in this process
     std::string child_file, child_out;
   };
@@ -271,6 +277,10 @@ void add_bench_convert_command(CLI::App& bench) {
   c->add_option("--threads", a->threads, "Worker threads (0 = all)");
   c->add_option("--dir", a->dir, "Folder for the generated inputs and outputs (default: a fresh temp folder, removed after)");
   c->add_flag("--full-measure", a->full_measure, "Measure every texel (--measure full) instead of the default estimate");
+  c->add_option("--direction-fit", a->direction_fit,
+                "Direction fits to convert each input with, one row each (linear, refined; default: the "
+                "conversion's default only), e.g. --direction-fit linear refined to compare them")
+      ->check(CLI::IsMember({"linear", "refined"}));
   c->add_option("--child", a->child)->group("");  // hidden: the measuring child process
   c->add_option("--child-file", a->child_file)->group("");
   c->add_option("--child-out", a->child_out)->group("");
@@ -280,7 +290,8 @@ void add_bench_convert_command(CLI::App& bench) {
       if (cs.plain) cs.base = cs.file.substr(0, cs.file.size() - 4);  // the layout's base: FILE without ".exr"
       try {
         std::fputs((a->child == "read" || a->child == "read-huge" ? oiio_read_case(cs, a->child == "read-huge")
-                                       : convert_case(cs, a->child_out, resolve_threads(a->threads), a->full_measure))
+                                       : convert_case(cs, a->child_out, resolve_threads(a->threads), a->full_measure,
+                                                      a->direction_fit.empty() ? std::string() : a->direction_fit[0]))
                        .c_str(),
                    stdout);
       } catch (const std::exception& e) {
@@ -322,29 +333,40 @@ void add_bench_convert_command(CLI::App& bench) {
                 a->full_measure ? ", full error measurement" : ", error estimate (the default)");
     std::printf("%-12s %8s %9s %9s %7s %9s %10s %8s %9s %10s\n", "input", "MTexels", "total s", "OIIO s", "ratio",
                 "MTexel/s", "peak MB", "B/texel", "x input", "estimate");
+    // One OpenImageIO read per input, then one conversion per requested direction fit (the rows of
+    // one input share the read they are divided by).
+    std::vector<std::string> fits = a->direction_fit;
+    if (fits.empty()) fits.push_back("");
     for (const Case& cs : cases) {
       const auto rd = run_child({"--child", "read", "--child-file", cs.file});
       const auto rh = run_child({"--child", "read-huge", "--child-file", cs.file});
-      std::vector<std::string> args = {"--child", cs.plain ? "plain" : "l2", "--child-file", cs.file, "--child-out",
-                                       (dir / "out").string(), "--threads", std::to_string(threads)};
-      if (a->full_measure) args.push_back("--full-measure");
-      const auto cv = run_child(args);
-      const double texels = cs.size ? double(cs.size) * cs.size : double(cs.width) * cs.height, total = std::stod(cv.at("total"));
-      const double oiio = std::stod(rd.at("seconds")), est = std::stod(cv.at("estimate"));
-      const double peak = std::stod(cv.at("peak_rss_kb")) * 1024.0;
-      const double decoded = texels * (cs.plain ? 3 : cs.coeffs * 3) * 4.0;  // the input as float: RGB, or the SH
-      std::printf("%-12s %8.2f %9.2f %9.2f %7.2f %9.2f %10.1f %8.1f %9.2f %5.2fs %.1f%%\n", cs.label.c_str(), texels / 1e6,
-                  total, oiio, total / oiio, texels / 1e6 / total, peak / 1048576.0, peak / texels, peak / decoded, est,
-                  100.0 * est / total);
-      std::printf("    stages: %s\n", cv.at("stages").c_str());
-      std::printf("    peak while reading: %.1f B/texel (x%.2f input)\n", std::stod(cv.at("read_peak_kb")) * 1024.0 / texels,
-                  std::stod(cv.at("read_peak_kb")) * 1024.0 / decoded);
-      std::printf("    CPU seconds (all threads, load-independent): conversion %.2f, OIIO read %.2f, ratio %.2f\n",
-                  std::stod(cv.at("cpu")), std::stod(rd.at("cpu")), std::stod(cv.at("cpu")) / std::stod(rd.at("cpu")));
-      std::printf("    OIIO read alone: peak %.1f MB above baseline (%.1f B/texel)\n",
-                  std::stod(rd.at("peak_rss_kb")) / 1024.0, std::stod(rd.at("peak_rss_kb")) * 1024.0 / texels);
-      std::printf("    OIIO read into a buffer advised for huge pages (as ahdpack reads): %.2f s, total / that %.2f\n",
-                  std::stod(rh.at("seconds")), total / std::stod(rh.at("seconds")));
+      for (const std::string& fit : fits) {
+        std::vector<std::string> args = {"--child", cs.plain ? "plain" : "l2", "--child-file", cs.file, "--child-out",
+                                         (dir / "out").string(), "--threads", std::to_string(threads)};
+        if (a->full_measure) args.push_back("--full-measure");
+        if (!fit.empty()) args.insert(args.end(), {"--direction-fit", fit});
+        const auto cv = run_child(args);
+        const std::string label = fit.empty() ? cs.label : cs.label + " " + fit;
+        const double texels = cs.size ? double(cs.size) * cs.size : double(cs.width) * cs.height,
+                     total = std::stod(cv.at("total"));
+        const double oiio = std::stod(rd.at("seconds")), est = std::stod(cv.at("estimate"));
+        const double peak = std::stod(cv.at("peak_rss_kb")) * 1024.0;
+        const double decoded = texels * (cs.plain ? 3 : cs.coeffs * 3) * 4.0;  // the input as float: RGB, or the SH
+        std::printf("%-12s %8.2f %9.2f %9.2f %7.2f %9.2f %10.1f %8.1f %9.2f %5.2fs %.1f%%\n", label.c_str(),
+                    texels / 1e6, total, oiio, total / oiio, texels / 1e6 / total, peak / 1048576.0, peak / texels,
+                    peak / decoded, est, 100.0 * est / total);
+        std::printf("    stages: %s\n", cv.at("stages").c_str());
+        std::printf("    peak while reading: %.1f B/texel (x%.2f input)\n",
+                    std::stod(cv.at("read_peak_kb")) * 1024.0 / texels, std::stod(cv.at("read_peak_kb")) * 1024.0 / decoded);
+        std::printf("    CPU seconds (all threads, load-independent): conversion %.2f, OIIO read %.2f, ratio %.2f\n",
+                    std::stod(cv.at("cpu")), std::stod(rd.at("cpu")), std::stod(cv.at("cpu")) / std::stod(rd.at("cpu")));
+        std::printf("    peak / decoded input: %.2f (%.1f MB above baseline, decoded %.1f MB)\n", peak / decoded,
+                    peak / 1048576.0, decoded / 1048576.0);
+        std::printf("    OIIO read alone: peak %.1f MB above baseline (%.1f B/texel)\n",
+                    std::stod(rd.at("peak_rss_kb")) / 1024.0, std::stod(rd.at("peak_rss_kb")) * 1024.0 / texels);
+        std::printf("    OIIO read into a buffer advised for huge pages (as ahdpack reads): %.2f s, total / that %.2f\n",
+                    std::stod(rh.at("seconds")), total / std::stod(rh.at("seconds")));
+      }
     }
     if (own_dir) fs::remove_all(dir);
   });
