@@ -144,7 +144,9 @@ bool encode(const std::string& path, const std::string& temp_path, const std::ve
         *err = "no image writer to memory";
         return false;
       }
-      return write_levels(*out, path, levels, err);
+      const bool ok = write_levels(*out, path, levels, err);
+      out.reset();  // OpenEXR's last writes (the tile offsets) happen here, while the proxy lives
+      return ok;
     }
     // A writer without I/O proxies (OIIO 2.4: TGA, HDR): the caller's private temporary, read back.
     const bool ok = write_levels(*out, temp_path, levels, err);
