@@ -81,6 +81,8 @@ std::string write_odd_exr(bool tiled, OIIO::TypeDesc type) {
     s = OIIO::ImageSpec(37 + p, 29, p == 0 ? int(names.size()) : 3, type);
     s.x = 5;
     s.y = -3;
+    // Parts of one file share their display window (OpenEXR's rule); the data windows differ.
+    s.full_x = 0, s.full_y = 0, s.full_width = 64, s.full_height = 40;
     s.channelnames = p == 0 ? names : std::vector<std::string>{"Y", "RY", "BY"};
     if (tiled) s.tile_width = s.tile_height = 16;
     s.attribute("compression", p == 0 ? "piz" : "zip");
