@@ -60,17 +60,28 @@ class MemStream : public Imf::IStream {
 // OpenImageIO's names of OpenEXR's codecs (the "compression" attribute), for max_expansion.
 const char* codec_name(Imf::Compression c) {
   switch (c) {
-    case Imf::NO_COMPRESSION: return "none";
-    case Imf::RLE_COMPRESSION: return "rle";
-    case Imf::ZIPS_COMPRESSION: return "zips";
-    case Imf::ZIP_COMPRESSION: return "zip";
-    case Imf::PIZ_COMPRESSION: return "piz";
-    case Imf::PXR24_COMPRESSION: return "pxr24";
-    case Imf::B44_COMPRESSION: return "b44";
-    case Imf::B44A_COMPRESSION: return "b44a";
-    case Imf::DWAA_COMPRESSION: return "dwaa";
-    case Imf::DWAB_COMPRESSION: return "dwab";
-    default: return "unknown";
+    case Imf::NO_COMPRESSION:
+      return "none";
+    case Imf::RLE_COMPRESSION:
+      return "rle";
+    case Imf::ZIPS_COMPRESSION:
+      return "zips";
+    case Imf::ZIP_COMPRESSION:
+      return "zip";
+    case Imf::PIZ_COMPRESSION:
+      return "piz";
+    case Imf::PXR24_COMPRESSION:
+      return "pxr24";
+    case Imf::B44_COMPRESSION:
+      return "b44";
+    case Imf::B44A_COMPRESSION:
+      return "b44a";
+    case Imf::DWAA_COMPRESSION:
+      return "dwaa";
+    case Imf::DWAB_COMPRESSION:
+      return "dwab";
+    default:
+      return "unknown";
   }
 }
 
@@ -78,8 +89,8 @@ const char* codec_name(Imf::Compression c) {
 // name up to its last '.'), within a layer the known suffixes first (R, G, B, Y, A, Z, …, case
 // ignored) in this order, then the rest by name.
 int special_rank(const std::string& suffix) {
-  static const char* kSpecial[] = {"R",  "Red", "G",  "Green", "B",  "Blue", "Y",  "real", "imag", "A",    "Alpha",
-                                   "AR", "RA",  "AG", "GA",    "AB", "BA",   "Z",  "Depth", "Zback"};
+  static const char* kSpecial[] = {"R",     "Red", "G",  "Green", "B",  "Blue", "Y",  "real", "imag",  "A",
+                                   "Alpha", "AR",  "RA", "AG",    "GA", "AB",   "BA", "Z",    "Depth", "Zback"};
   for (int i = 0; i < int(sizeof kSpecial / sizeof *kSpecial); ++i) {
     const char* s = kSpecial[i];
     if (suffix.size() == std::strlen(s) &&
@@ -115,8 +126,7 @@ std::vector<std::string> ordered_channels(const Imf::ChannelList& list) {
   return names;
 }
 
-// OpenEXR's process-wide settings, once: its own header bound at our size limit (so a hostile
-// header is refused before OpenEXR sizes its offset tables) and a decoding pool of up to 4 threads
+// OpenEXR's process-wide settings, once: a decoding pool of up to 4 threads
 // (chunks decode independently: the values never depend on the count).
 void configure_openexr() {
   static std::once_flag once;
@@ -124,9 +134,9 @@ void configure_openexr() {
     const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
     Imf::setGlobalThreadCount(int(std::min(hw, 4u)));
   });
-  const int m = int(max_image_size());
-  Imf::Header::setMaxImageSize(m, m);
-  Imf::Header::setMaxTileSize(m, m);
+  // OpenEXR's own header bound (Header::setMaxImageSize) is left unset, as OpenImageIO left it:
+  // it is process-wide, so it would also refuse OpenImageIO's writes and replace our
+  // check_declared_image message; our check runs before any pixel buffer is sized.
 }
 
 std::string first_line(const char* what) {
@@ -146,7 +156,8 @@ struct ExrReader::Impl {
 
   const Imf::Header& header(int part) const {
     if (part < 0 || part >= file->parts())
-      throw file_error(path, "no part " + std::to_string(part) + " (the file has " + std::to_string(file->parts()) + ")");
+      throw file_error(path,
+                       "no part " + std::to_string(part) + " (the file has " + std::to_string(file->parts()) + ")");
     return file->header(part);
   }
 };

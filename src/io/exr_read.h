@@ -19,8 +19,7 @@ bool is_exr_bytes(const std::vector<uint8_t>& bytes);
 class ExrReader {
  public:
   // Opens the file's headers (every part). Throws ahd::Error("<path>: cannot read image (…)") on a
-  // malformed file; headers claiming more than the size limit are refused by OpenEXR's own bound
-  // (set to max_image_size()) before their offset tables are allocated.
+  // malformed file. Sizes are checked by info() (check_declared_image) before pixels are sized.
   ExrReader(const std::string& path, const std::vector<uint8_t>& bytes);
   ~ExrReader();
 

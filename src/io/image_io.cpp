@@ -170,7 +170,8 @@ ImageF read_image(const std::string& path, ImageFileInfo* info_out, int part) {
   try {
     ImageF img(spec.width, spec.height, spec.nchannels);
     std::string why;
-    if (!f.oiio->read_image(f.handle, part, 0, img.data.data(), &why)) throw file_error(path, "cannot read pixels (" + why + ")");
+    if (!f.oiio->read_image(f.handle, part, 0, img.data.data(), &why))
+      throw file_error(path, "cannot read pixels (" + why + ")");
     return img;
   } catch (const std::bad_alloc&) {
     throw file_error(path, "out of memory reading the pixels");
@@ -206,7 +207,8 @@ void read_image_rows(const std::string& path, int part, ImageFileInfo* info_out,
   for (int y0 = 0; y0 < spec.height; y0 += band) {
     const int y1 = std::min(spec.height, y0 + band);
     std::string why;
-    if (!f.oiio->read_rows(f.handle, part, y0, y1, buf.data(), &why)) throw file_error(path, "cannot read pixels (" + why + ")");
+    if (!f.oiio->read_rows(f.handle, part, y0, y1, buf.data(), &why))
+      throw file_error(path, "cannot read pixels (" + why + ")");
     fn(y0, y1, buf.data());
   }
 }

@@ -36,15 +36,15 @@ Loaded load() {
   // RTLD_LOCAL: OpenImageIO's symbols stay out of the process's global scope.
   void* so = ::dlopen(l.path.c_str(), RTLD_NOW | RTLD_LOCAL);
   if (!so) {
-    const char* e = ::dlerror();
-    l.error = e ? e : "cannot load";
+    const char* e = ::dlerror();  // names the path
+    l.error = e ? e : l.path + ": cannot load";
     return l;
   }
   using Entry = const OiioModule* (*)();
   auto entry = reinterpret_cast<Entry>(::dlsym(so, "ahd_oiio_module"));
   const OiioModule* m = entry ? entry() : nullptr;
   if (!m || m->abi != kOiioModuleAbi) {
-    l.error = "not the OpenImageIO module of this ahdpack build";
+    l.error = l.path + ": not the OpenImageIO module of this ahdpack build";
     return l;
   }
   l.module = m;
@@ -55,8 +55,7 @@ Loaded load() {
 
 const OiioModule& oiio_module(const std::string& why) {
   static const Loaded loaded = load();  // once, thread safe; a failure is remembered
-  if (!loaded.module)
-    throw Error(why + ": needs OpenImageIO (module " + loaded.path + ": " + loaded.error + ")");
+  if (!loaded.module) throw Error(why + ": needs OpenImageIO, whose module cannot be loaded (" + loaded.error + ")");
   return *loaded.module;
 }
 

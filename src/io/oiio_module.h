@@ -21,13 +21,13 @@ struct OiioSpec {
   int width = 0, height = 0, nchannels = 0, x = 0, y = 0, z = 0, depth = 1;
   int tile_width = 0, tile_height = 0;
   bool deep = false;
-  uint64_t pixel_bytes = 0;   // native bytes of one texel, all channels
-  std::string codec;          // the "compression" attribute, else the format's name
+  uint64_t pixel_bytes = 0;  // native bytes of one texel, all channels
+  std::string codec;         // the "compression" attribute, else the format's name
   std::vector<std::string> channel_names;
-  bool is_float = false;      // every channel half, float or double
-  std::string color_space;    // "oiio:ColorSpace"
+  bool is_float = false;              // every channel half, float or double
+  std::string color_space;            // "oiio:ColorSpace"
   std::vector<float> chromaticities;  // 8 floats when declared
-  std::string part_name;      // "oiio:subimagename"
+  std::string part_name;              // "oiio:subimagename"
 };
 
 // An image to encode: `px` holds width·height·channels floats.
@@ -46,8 +46,7 @@ struct OiioEncodeLevel {
 struct OiioModule {
   int abi;
   // Opens `bytes` (the whole file, read once by the caller; must outlive the handle) as an image.
-  void* (*open)(const std::string& path, const uint8_t* bytes, size_t size, bool unassociated_alpha,
-                std::string* err);
+  void* (*open)(const std::string& path, const uint8_t* bytes, size_t size, bool unassociated_alpha, std::string* err);
   void (*close)(void* h);
   // Positions on part/mip and fills *spec; false when there is no such part/mip.
   bool (*seek)(void* h, int part, int mip, OiioSpec* spec);
@@ -68,8 +67,8 @@ struct OiioModule {
 
 // The module, loaded on first call (thread safe): libahd_oiio.so beside the executable's library
 // folder (<prefix>/<libdir>/ahdpack/ for <prefix>/bin/ahdpack), else the build tree's. Throws
-// ahd::Error("<why>: <module path>: <dlerror>") naming `why` (the file that needed it) when the
-// module is missing or of another build.
+// ahd::Error("<why>: needs OpenImageIO, whose module cannot be loaded (<module path>: <cause>)"),
+// `why` being the file that needed it, when the module is missing or of another build.
 const OiioModule& oiio_module(const std::string& why);
 
 }  // namespace ahd

@@ -54,7 +54,8 @@ bool seek(void* hv, int part, int mip, OiioSpec* out) {
   o.is_float = true;
   for (int c = 0; c < s.nchannels; ++c) {
     const OIIO::TypeDesc t = s.channelformat(c);
-    if (t.basetype != OIIO::TypeDesc::HALF && t.basetype != OIIO::TypeDesc::FLOAT && t.basetype != OIIO::TypeDesc::DOUBLE)
+    if (t.basetype != OIIO::TypeDesc::HALF && t.basetype != OIIO::TypeDesc::FLOAT &&
+        t.basetype != OIIO::TypeDesc::DOUBLE)
       o.is_float = false;
   }
   o.color_space = s.get_string_attribute("oiio:ColorSpace");
@@ -96,7 +97,9 @@ bool read_rows(void* hv, int part, int y0, int y1, float* dst, std::string* err)
 }
 
 OIIO::ImageSpec spec_of(const OiioEncodeLevel& l, bool mips) {
-  const OIIO::TypeDesc fmt = l.format == 1 ? OIIO::TypeDesc::HALF : l.format == 2 ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT;
+  const OIIO::TypeDesc fmt = l.format == 1   ? OIIO::TypeDesc::HALF
+                             : l.format == 2 ? OIIO::TypeDesc::UINT8
+                                             : OIIO::TypeDesc::FLOAT;
   OIIO::ImageSpec spec(l.width, l.height, l.channels, fmt);
   if (!l.channel_names.empty()) spec.channelnames = l.channel_names;
   if (l.tile > 0) spec.tile_width = spec.tile_height = l.tile;
@@ -179,8 +182,8 @@ int read_file(const std::string& path, std::vector<float>* px, std::string* err)
   return spec.nchannels;
 }
 
-const ahd::OiioModule kModule = {ahd::kOiioModuleAbi, open_image, close_image, seek,     string_attr,
-                                 int_attr,            read_image, read_rows,   encode,   read_file};
+const ahd::OiioModule kModule = {ahd::kOiioModuleAbi, open_image, close_image, seek,     string_attr, int_attr,
+                                 read_image,          read_rows,  encode,      read_file};
 
 }  // namespace
 

@@ -28,7 +28,8 @@ OiioView oiio_read(const std::string& path, int part) {
   auto in = OIIO::ImageInput::open(path);
   EXPECT_TRUE(in) << OIIO::geterror();
   if (!in) return v;
-  for (int p = 0; in->seek_subimage(p, 0); ++p) v.info.parts.push_back(in->spec().get_string_attribute("oiio:subimagename"));
+  for (int p = 0; in->seek_subimage(p, 0); ++p)
+    v.info.parts.push_back(in->spec().get_string_attribute("oiio:subimagename"));
   EXPECT_TRUE(in->seek_subimage(part, 0));
   const OIIO::ImageSpec spec = in->spec();
   v.info.width = spec.width;

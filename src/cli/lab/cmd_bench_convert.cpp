@@ -22,7 +22,6 @@
 #include <map>
 #include <sstream>
 
-
 #include "cli/commands.h"
 #include "api/options.h"
 #include "cli/output.h"
