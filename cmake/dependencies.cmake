@@ -5,6 +5,8 @@ find_package(PkgConfig REQUIRED)
 pkg_check_modules(ZSTD REQUIRED IMPORTED_TARGET GLOBAL libzstd)
 find_package(nlohmann_json CONFIG REQUIRED)
 
+# EXR files are read by OpenEXR directly (src/io/exr_read.cpp): no OpenImageIO start-up for them.
+find_package(OpenEXR CONFIG REQUIRED)
 find_package(OpenImageIO CONFIG REQUIRED)
 # Debian's OpenImageIO config names /usr/include/opencv4 even when OpenCV's headers are not
 # installed; we never include OpenCV, so drop paths that do not exist.

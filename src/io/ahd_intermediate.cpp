@@ -1,8 +1,5 @@
 #include "io/ahd_intermediate.h"
 
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imageio.h>
-
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -70,45 +67,34 @@ std::vector<uint8_t> encode_intermediate(const std::string& path, const std::vec
   const bool normals = !levels[0].sh.normals.empty();
   const std::vector<std::string> names = channel_names(coeffs, normals);
   const int nch = int(names.size());
-  auto out = OIIO::ImageOutput::create("x.exr");
-  if (!out || !out->supports("ioproxy")) throw file_error(path, "no EXR writer to memory");
-  std::vector<uint8_t> bytes;
-  OIIO::Filesystem::IOVecOutput proxy(bytes);
-  if (!out->set_ioproxy(&proxy)) throw file_error(path, "no EXR writer to memory");
+  // Every level's texels are packed before the write: the module writes the chain in one call.
+  std::vector<std::vector<float>> px(levels.size());
+  std::vector<OiioEncodeLevel> out(levels.size());
   for (size_t l = 0; l < levels.size(); ++l) {
     const ShImage& sh = levels[l].sh;
-    OIIO::ImageSpec spec(sh.width, sh.height, nch, OIIO::TypeDesc::FLOAT);
-    spec.channelnames = names;
-    spec.tile_width = spec.tile_height = 64;
-    spec.attribute("compression", "zip");
-    if (levels.size() > 1) {  // OpenEXR needs to know up front that the file holds mip levels
-      spec.attribute("textureformat", "Plain Texture");
-      spec.attribute("openexr:levelmode", 1);  // MIPMAP_LEVELS
-    }
-    spec.attribute("openexr:roundingmode", 0);  // ROUND_DOWN: the max(1, floor(n/2)) chain
-    spec.attribute("ahd:intermediate_version", kIntermediateVersion);
+    px[l] = pack_level(levels[l], nch);
+    OiioEncodeLevel& o = out[l];
+    o.width = sh.width, o.height = sh.height, o.channels = nch, o.px = px[l].data();
+    o.channel_names = names;
+    o.format = 0;
+    o.tile = 64;
+    o.string_attrs.push_back({"compression", "zip"});
+    o.int_attrs.push_back({"openexr:roundingmode", 0});  // ROUND_DOWN: the max(1, floor(n/2)) chain
+    o.int_attrs.push_back({"ahd:intermediate_version", kIntermediateVersion});
     // Doubles as text (%.17g): the fit parameters must come back bit for bit.
     char num[128];
     std::snprintf(num, sizeof num, "%.17g", fit.dz_min);
-    spec.attribute("ahd:dz_min", num);
-    spec.attribute("ahd:ratio_form", fit.ratio_form == RatioForm::Rgb ? "rgb" : "luminance");
+    o.string_attrs.push_back({"ahd:dz_min", num});
+    o.string_attrs.push_back({"ahd:ratio_form", fit.ratio_form == RatioForm::Rgb ? "rgb" : "luminance"});
     // The closed-loop refit of a transcode must choose the luminance ratio the same way.
-    spec.attribute("ahd:direction_fit", direction_fit_name(fit.direction_fit));
+    o.string_attrs.push_back({"ahd:direction_fit", direction_fit_name(fit.direction_fit)});
     std::snprintf(num, sizeof num, "%.17g %.17g %.17g", fit.luma[0], fit.luma[1], fit.luma[2]);
-    spec.attribute("ahd:luma", num);
-    const auto mode = l == 0 ? OIIO::ImageOutput::Create : OIIO::ImageOutput::AppendMIPLevel;
-    if (l == 0 && levels.size() > 1 && !out->supports("mipmap")) throw file_error(path, "EXR writer lacks mipmaps");
-    const std::vector<float> px = pack_level(levels[l], nch);
-    if (!out->open("x.exr", spec, mode) || !out->write_image(OIIO::TypeDesc::FLOAT, px.data())) {
-      const std::string why = out->geterror();
-      throw file_error(path, "cannot write intermediate (" + why.substr(0, why.find('\n')) + ")");
-    }
+    o.string_attrs.push_back({"ahd:luma", num});
   }
-  if (!out->close()) {
-    const std::string why = out->geterror();
-    throw file_error(path, "cannot write intermediate (" + why.substr(0, why.find('\n')) + ")");
-  }
-  out.reset();
+  std::vector<uint8_t> bytes;
+  std::string why;
+  if (!oiio_module(path).encode("x.exr", temp_path_for(path), out, &bytes, &why))
+    throw file_error(path, "cannot write intermediate (" + why + ")");
   return bytes;
 }
 
@@ -120,12 +106,14 @@ std::vector<FittedLevel> read_intermediate(const std::string& path, FitOptions* 
   if (!fs::exists(path)) throw file_error(path, "file not found");
   // Read once into memory (a file replaced while it is read cannot mix two headers).
   OpenedImage file = open_image_file(path);
-  auto& in = file.in;
-  const OIIO::ImageSpec spec0 = in->spec();
-  if (spec0.get_int_attribute("ahd:intermediate_version", -1) != kIntermediateVersion)
+  const OiioSpec spec0 = file.spec;
+  auto str_attr = [&](const char* name, const char* fallback = "") {
+    return file.oiio->string_attr(file.handle, name, fallback);
+  };
+  if (file.oiio->int_attr(file.handle, "ahd:intermediate_version", -1) != kIntermediateVersion)
     throw file_error(path, "not an ahdpack intermediate of version " + std::to_string(kIntermediateVersion));
   std::map<std::string, int> index;
-  for (int c = 0; c < spec0.nchannels; ++c) index[spec0.channelnames[size_t(c)]] = c;
+  for (int c = 0; c < spec0.nchannels; ++c) index[spec0.channel_names[size_t(c)]] = c;
   const int coeffs = index.count("sh8.B") ? 9 : index.count("sh3.B") ? 4 : 1;
   const bool normals = index.count("normal.X") != 0;
   const std::vector<std::string> names = channel_names(coeffs, normals);
@@ -135,15 +123,15 @@ std::vector<FittedLevel> read_intermediate(const std::string& path, FitOptions* 
     src.push_back(index[n]);
   }
   if (fit) {
-    const std::string dz = spec0.get_string_attribute("ahd:dz_min");
+    const std::string dz = str_attr("ahd:dz_min");
     fit->dz_min = std::strtod(dz.c_str(), nullptr);
     if (!(fit->dz_min > 0 && fit->dz_min < 1)) throw file_error(path, "invalid ahd:dz_min '" + dz + "'");
-    fit->ratio_form = spec0.get_string_attribute("ahd:ratio_form") == "rgb" ? RatioForm::Rgb : RatioForm::Luminance;
+    fit->ratio_form = str_attr("ahd:ratio_form") == "rgb" ? RatioForm::Rgb : RatioForm::Luminance;
     // Intermediates written before the attribute existed were fitted the paper's way.
-    const std::string dir_fit = spec0.get_string_attribute("ahd:direction_fit", "linear");
+    const std::string dir_fit = str_attr("ahd:direction_fit", "linear");
     if (!parse_direction_fit(dir_fit, &fit->direction_fit))
       throw file_error(path, "invalid ahd:direction_fit '" + dir_fit + "'");
-    const std::string luma = spec0.get_string_attribute("ahd:luma");
+    const std::string luma = str_attr("ahd:luma");
     char end = 0;
     if (std::sscanf(luma.c_str(), "%lf %lf %lf %c", &fit->luma[0], &fit->luma[1], &fit->luma[2], &end) != 3)
       throw file_error(path, "invalid ahd:luma '" + luma + "'");
@@ -152,8 +140,8 @@ std::vector<FittedLevel> read_intermediate(const std::string& path, FitOptions* 
     if (!why.empty()) throw file_error(path, "ahd:dz_min/ahd:luma: " + why);
   }
   std::vector<FittedLevel> levels;
-  for (int mip = 0; in->seek_subimage(0, mip); ++mip) {
-    const OIIO::ImageSpec& spec = in->spec();
+  for (int mip = 0; file.seek(0, mip); ++mip) {
+    const OiioSpec spec = file.spec;
     // The size limit and the file's real size before anything is allocated (issues 15, 26); later
     // levels are checked smaller than this one below.
     if (levels.empty()) check_image_spec(file, spec);
@@ -162,7 +150,8 @@ std::vector<FittedLevel> read_intermediate(const std::string& path, FitOptions* 
     if (spec.width != expect_w || spec.height != expect_h || spec.nchannels != spec0.nchannels)
       throw file_error(path, "mip level " + std::to_string(mip) + " has an unexpected size");
     std::vector<float> px(size_t(spec.width) * spec.height * spec.nchannels);
-    if (!in->read_image(0, mip, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, px.data()))
+    std::string why;
+    if (!file.oiio->read_image(file.handle, 0, mip, px.data(), &why))
       throw file_error(path, "cannot read mip level " + std::to_string(mip));
     FittedLevel l;
     l.sh = make_sh_image(spec.width, spec.height, coeffs);

@@ -1,9 +1,5 @@
 #include "io/image_io.h"
 
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imageio.h>
-
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -12,6 +8,7 @@
 #include <unistd.h>
 
 #include "containers/limits.h"
+#include "io/exr_read.h"
 #include "io/image_file.h"
 #include "core/error.h"
 #include "io/input_record.h"
@@ -20,44 +17,74 @@
 namespace ahd {
 namespace fs = std::filesystem;
 
-OpenedImage open_image_file(const std::string& path, const OIIO::ImageSpec* config) {
+namespace {
+
+std::vector<uint8_t> read_image_bytes(const std::string& path) {
   std::error_code ec;
   if (!fs::exists(path, ec)) throw file_error(path, "file not found");
+  return read_file_bytes(path);
+}
+
+}  // namespace
+
+OpenedImage::OpenedImage(OpenedImage&& o) noexcept
+    : path(std::move(o.path)), bytes(std::move(o.bytes)), oiio(o.oiio), handle(o.handle), spec(std::move(o.spec)) {
+  o.handle = nullptr;
+}
+
+OpenedImage::~OpenedImage() {
+  if (handle) oiio->close(handle);
+}
+
+bool OpenedImage::seek(int part, int mip) { return oiio->seek(handle, part, mip, &spec); }
+
+OpenedImage open_image_bytes(const std::string& path, std::vector<uint8_t> bytes, bool unassociated_alpha) {
   OpenedImage f;
   f.path = path;
-  f.bytes = read_file_bytes(path);
-  f.proxy = std::make_unique<OIIO::Filesystem::IOMemReader>(f.bytes.data(), f.bytes.size());
-  f.in = OIIO::ImageInput::open(path, config, f.proxy.get());
-  if (!f.in) {
-    std::string why = OIIO::geterror();
+  f.bytes = std::move(bytes);
+  f.oiio = &oiio_module(path);
+  std::string why;
+  // The bytes do not move after this: the handle reads them in place.
+  f.handle = f.oiio->open(path, f.bytes.data(), f.bytes.size(), unassociated_alpha, &why);
+  if (!f.handle) {
     if (why.empty()) why = "not a readable image";
-    // OIIO messages can span lines; keep the first.
-    why = why.substr(0, why.find('\n'));
     throw file_error(path, "cannot read image (" + why + ")");
   }
+  if (!f.seek(0, 0)) throw file_error(path, "cannot read image (no image in the file)");
   return f;
 }
 
-void check_image_spec(const OpenedImage& f, const OIIO::ImageSpec& spec, uint64_t layers) {
+OpenedImage open_image_file(const std::string& path, bool unassociated_alpha) {
+  return open_image_bytes(path, read_image_bytes(path), unassociated_alpha);
+}
+
+void check_image_spec(const OpenedImage& f, const OiioSpec& spec, uint64_t layers) {
   if (spec.deep) throw file_error(f.path, "a deep (multi-sample per texel) image: lightmaps are flat images");
   if (spec.depth > 1) throw file_error(f.path, "volume images are not supported");
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
     throw file_error(f.path, "empty or inverted data window (" + std::to_string(spec.width) + "x" +
                                  std::to_string(spec.height) + ", " + std::to_string(spec.nchannels) + " channels)");
   if (spec.nchannels > 64) throw file_error(f.path, std::to_string(spec.nchannels) + " channels (at most 64 are read)");
-  check_declared_image(f.path, uint64_t(spec.width), uint64_t(spec.height), layers, spec.pixel_bytes(true),
-                       f.bytes.size(), spec.get_string_attribute("compression", f.in->format_name()));
+  check_declared_image(f.path, uint64_t(spec.width), uint64_t(spec.height), layers, spec.pixel_bytes, f.bytes.size(),
+                       spec.codec);
 }
 
 namespace {
 
 // The memory proxy keeps one snapshot of the file for both the header and the pixels.
-OpenedImage open_input(const std::string& path) {
+OpenedImage open_input(const std::string& path, std::vector<uint8_t> bytes) {
   // Alpha in lightmap data is a number of its own (Unity's rebalancing factor), not opacity: keep
   // the stored colours instead of OIIO's default of multiplying them by alpha.
-  OIIO::ImageSpec config;
-  config.attribute("oiio:UnassociatedAlpha", 1);
-  return open_image_file(path, &config);
+  return open_image_bytes(path, std::move(bytes), true);
+}
+
+// An EXR part of half and float channels goes to OpenEXR directly (exr_read.h); anything else
+// (other formats, integer EXR channels) to OpenImageIO. Null: not ours.
+std::unique_ptr<ExrReader> exr_reader_for(const std::string& path, const std::vector<uint8_t>& bytes, int part) {
+  if (!is_exr_bytes(bytes)) return nullptr;
+  auto r = std::make_unique<ExrReader>(path, bytes);
+  if (!r->handles(part)) return nullptr;
+  return r;
 }
 
 }  // namespace
@@ -78,16 +105,16 @@ std::string temp_path_for(const std::string& path) {
 namespace {
 
 // Every part's name; OpenEXR multi-part files name their parts, other files have one unnamed part.
-std::vector<std::string> part_names(OIIO::ImageInput& in) {
+std::vector<std::string> part_names(OpenedImage& f) {
   std::vector<std::string> names;
-  for (int p = 0; in.seek_subimage(p, 0); ++p) names.push_back(in.spec().get_string_attribute("oiio:subimagename"));
+  for (int p = 0; f.seek(p, 0); ++p) names.push_back(f.spec.part_name);
   return names;
 }
 
-// Positions `in` on `part`, or throws naming how many parts the file has.
-void seek_part(OIIO::ImageInput& in, const std::string& path, int part, size_t part_count) {
-  if (part < 0 || size_t(part) >= part_count || !in.seek_subimage(part, 0))
-    throw file_error(path, "no part " + std::to_string(part) + " (the file has " + std::to_string(part_count) + ")");
+// Positions `f` on `part`, or throws naming how many parts the file has.
+void seek_part(OpenedImage& f, int part, size_t part_count) {
+  if (part < 0 || size_t(part) >= part_count || !f.seek(part, 0))
+    throw file_error(f.path, "no part " + std::to_string(part) + " (the file has " + std::to_string(part_count) + ")");
 }
 
 }  // namespace
@@ -97,51 +124,54 @@ namespace {
 // The header of `part` of an opened file, checked (check_image_spec) before anything is sized by it.
 ImageFileInfo info_of(OpenedImage& f, int part) {
   ImageFileInfo info;
-  info.parts = part_names(*f.in);
-  seek_part(*f.in, f.path, part, info.parts.size());
-  const OIIO::ImageSpec& spec = f.in->spec();
+  info.parts = part_names(f);
+  seek_part(f, part, info.parts.size());
+  const OiioSpec& spec = f.spec;
   // Refuse at the header, before any pixel is read or the pipeline runs (a 100000x1 EXR used to be
   // fitted for 18 s and then refused by the container writer without a file name; a 13.9 KB EXR
   // claiming 11000² L2 texels asked for 13 GB).
   check_image_spec(f, spec);
   info.width = spec.width;
   info.height = spec.height;
-  info.channel_names = spec.channelnames;
-  info.is_float = true;
-  for (int c = 0; c < spec.nchannels; ++c) {
-    OIIO::TypeDesc t = spec.channelformat(c);
-    if (t.basetype != OIIO::TypeDesc::HALF && t.basetype != OIIO::TypeDesc::FLOAT &&
-        t.basetype != OIIO::TypeDesc::DOUBLE)
-      info.is_float = false;
-  }
+  info.channel_names = spec.channel_names;
   // RGBE .hdr files are float data stored in 8-bit mantissas; OIIO reports them as float.
-  info.color_space = spec.get_string_attribute("oiio:ColorSpace");
-  if (const OIIO::ParamValue* c = spec.find_attribute("chromaticities"))
-    if (c->type().basetype == OIIO::TypeDesc::FLOAT && c->type().size() == 8 * sizeof(float)) {
-      const float* v = static_cast<const float*>(c->data());
-      info.chromaticities.assign(v, v + 8);
-    }
+  info.is_float = spec.is_float;
+  info.color_space = spec.color_space;
+  info.chromaticities = spec.chromaticities;
   return info;
 }
 
 }  // namespace
 
 ImageFileInfo read_image_info(const std::string& path, int part) {
-  OpenedImage f = open_input(path);
+  std::vector<uint8_t> bytes = read_image_bytes(path);
+  if (auto exr = exr_reader_for(path, bytes, part)) return exr->info(part);
+  OpenedImage f = open_input(path, std::move(bytes));
   return info_of(f, part);
 }
 
 ImageF read_image(const std::string& path, ImageFileInfo* info_out, int part) {
-  OpenedImage f = open_input(path);
+  std::vector<uint8_t> bytes = read_image_bytes(path);
+  if (auto exr = exr_reader_for(path, bytes, part)) {
+    const ImageFileInfo info = exr->info(part);
+    if (info_out) *info_out = info;
+    try {
+      ImageF img(info.width, info.height, int(info.channel_names.size()));
+      exr->read_rows(part, 0, info.height, img.data.data());
+      return img;
+    } catch (const std::bad_alloc&) {
+      throw file_error(path, "out of memory reading the pixels");
+    }
+  }
+  OpenedImage f = open_input(path, std::move(bytes));
   const ImageFileInfo info = info_of(f, part);  // leaves f.in on `part`
   if (info_out) *info_out = info;
-  const OIIO::ImageSpec spec = f.in->spec();
+  const OiioSpec spec = f.spec;
   try {
     ImageF img(spec.width, spec.height, spec.nchannels);
-    if (!f.in->read_image(part, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, img.data.data())) {
-      std::string why = f.in->geterror();
-      throw file_error(path, "cannot read pixels (" + why.substr(0, why.find('\n')) + ")");
-    }
+    std::string why;
+    if (!f.oiio->read_image(f.handle, part, 0, img.data.data(), &why))
+      throw file_error(path, "cannot read pixels (" + why + ")");
     return img;
   } catch (const std::bad_alloc&) {
     throw file_error(path, "out of memory reading the pixels");
@@ -151,26 +181,34 @@ ImageF read_image(const std::string& path, ImageFileInfo* info_out, int part) {
 void read_image_rows(const std::string& path, int part, ImageFileInfo* info_out,
                      const std::function<void(int y0, int y1, const float* rows)>& fn,
                      const std::function<void(const ImageFileInfo&)>& on_header) {
-  OpenedImage f = open_input(path);
+  std::vector<uint8_t> bytes = read_image_bytes(path);
+  if (auto exr = exr_reader_for(path, bytes, part)) {
+    const ImageFileInfo info = exr->info(part);
+    if (info_out) *info_out = info;
+    if (on_header) on_header(info);
+    const int band = exr->band_rows(part);
+    const size_t row = size_t(info.width) * info.channel_names.size();
+    std::vector<float> buf(row * size_t(std::min(band, info.height)));
+    for (int y0 = 0; y0 < info.height; y0 += band) {
+      const int y1 = std::min(info.height, y0 + band);
+      exr->read_rows(part, y0, y1, buf.data());
+      fn(y0, y1, buf.data());
+    }
+    return;
+  }
+  OpenedImage f = open_input(path, std::move(bytes));
   const ImageFileInfo info = info_of(f, part);
   if (info_out) *info_out = info;
   if (on_header) on_header(info);
-  const OIIO::ImageSpec spec = f.in->spec();
-  auto& in = f.in;
+  const OiioSpec spec = f.spec;
   const int band = spec.tile_height > 0 ? spec.tile_height : 64;
   const size_t row = size_t(spec.width) * spec.nchannels;
   std::vector<float> buf(row * size_t(std::min(band, spec.height)));
   for (int y0 = 0; y0 < spec.height; y0 += band) {
     const int y1 = std::min(spec.height, y0 + band);
-    const bool ok = spec.tile_width > 0
-                        ? in->read_tiles(part, 0, spec.x, spec.x + spec.width, spec.y + y0, spec.y + y1, spec.z,
-                                         spec.z + 1, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, buf.data())
-                        : in->read_scanlines(part, 0, spec.y + y0, spec.y + y1, spec.z, 0, spec.nchannels,
-                                             OIIO::TypeDesc::FLOAT, buf.data());
-    if (!ok) {
-      std::string why = in->geterror();
-      throw file_error(path, "cannot read pixels (" + why.substr(0, why.find('\n')) + ")");
-    }
+    std::string why;
+    if (!f.oiio->read_rows(f.handle, part, y0, y1, buf.data(), &why))
+      throw file_error(path, "cannot read pixels (" + why + ")");
     fn(y0, y1, buf.data());
   }
 }
@@ -179,51 +217,27 @@ std::vector<uint8_t> encode_image(const std::string& path, const ImageF& img, bo
                                   const std::vector<std::string>& channel_names) {
   std::string ext = fs::path(path).extension().string();
   for (auto& ch : ext) ch = char(std::tolower(ch));
-  OIIO::TypeDesc fmt = OIIO::TypeDesc::FLOAT;
-  if (ext == ".exr") fmt = half_float ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT;
-  else if (ext == ".png" || ext == ".tga") fmt = OIIO::TypeDesc::UINT8;
-  OIIO::ImageSpec spec(img.width, img.height, img.channels, fmt);
+  OiioEncodeLevel l;
+  l.width = img.width, l.height = img.height, l.channels = img.channels, l.px = img.data.data();
+  if (ext == ".exr") l.format = half_float ? 1 : 0;
+  else if (ext == ".png" || ext == ".tga") l.format = 2;
   if (!channel_names.empty()) {
     if (int(channel_names.size()) != img.channels) throw Error("write_image: channel name count mismatch");
-    spec.channelnames = channel_names;
+    l.channel_names = channel_names;
   } else if (img.channels == 1) {
-    spec.channelnames = {"Y"};
+    l.channel_names = {"Y"};
   }
-  if (ext == ".exr") spec.attribute("compression", "zip");
-  spec.attribute("oiio:UnassociatedAlpha", 1);  // store the numbers as given (see open_input)
-  auto out = OIIO::ImageOutput::create(path);
-  if (!out) throw file_error(path, "no image writer for this extension");
-  std::vector<uint8_t> bytes;
-  auto fail = [&](std::unique_ptr<OIIO::ImageOutput>& o) {
-    std::string why = o->geterror();
-    throw file_error(path, "cannot write image (" + why.substr(0, why.find('\n')) + ")");
-  };
-  if (out->supports("ioproxy")) {  // EXR, PNG, …: straight into memory
-    OIIO::Filesystem::IOVecOutput proxy(bytes);
-    if (!out->set_ioproxy(&proxy) || !out->open(path, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, img.data.data()) ||
-        !out->close())
-      fail(out);
-    return bytes;
-  }
-  // A writer without I/O proxies (OIIO 2.4: TGA, HDR): a private temporary file in the system's
-  // temporary folder, its writer's errors checked, read back whole and removed.
+  if (ext == ".exr") l.string_attrs.push_back({"compression", "zip"});
+  l.int_attrs.push_back({"oiio:UnassociatedAlpha", 1});  // store the numbers as given (see open_input)
+  // A writer without I/O proxies (OIIO 2.4: TGA, HDR) writes a private temporary file in the
+  // system's temporary folder, read back whole and removed by the module.
   const std::string tmp = temp_path_for((fs::temp_directory_path() / fs::path(path).filename()).string());
-  const bool ok = out->open(tmp, spec) && out->write_image(OIIO::TypeDesc::FLOAT, img.data.data()) && out->close();
-  if (!ok) {
-    std::error_code ec;
-    fs::remove(tmp, ec);
-    fail(out);
+  std::vector<uint8_t> bytes;
+  std::string why;
+  if (!oiio_module(path).encode(path, tmp, {l}, &bytes, &why)) {
+    if (why == "no image writer for this extension") throw file_error(path, why);
+    throw file_error(path, "cannot write image (" + why + ")");
   }
-  out.reset();
-  try {
-    bytes = read_file_bytes(tmp);
-  } catch (...) {
-    std::error_code ec;
-    fs::remove(tmp, ec);
-    throw;
-  }
-  std::error_code ec;
-  fs::remove(tmp, ec);
   return bytes;
 }
 
