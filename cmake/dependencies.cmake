@@ -22,6 +22,9 @@ set_target_properties(OpenImageIO::OpenImageIO PROPERTIES INTERFACE_INCLUDE_DIRE
 # draco::draco, minizip and a static librt.a to every consumer's link line although the shared
 # libassimp.so already carries its own dependencies.
 pkg_check_modules(ASSIMP REQUIRED IMPORTED_TARGET GLOBAL assimp)
+# Colour spaces of inputs (io/colour_space.cpp): OpenColorIO 2.1's raw config and builtin transforms.
+# Debian ships no CMake config for it, only OpenColorIO.pc. Linked to ahd_io only.
+pkg_check_modules(OCIO REQUIRED IMPORTED_TARGET GLOBAL OpenColorIO>=2.1)
 if(AHD_BUILD_CLI)
   find_package(CLI11 CONFIG QUIET)  # header-only; Debian ships the headers in /usr/include
 endif()

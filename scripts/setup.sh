@@ -13,6 +13,7 @@ PKGS=(
   clang-14 libclang-rt-14-dev   # sanitizer build and libFuzzer targets (scripts/sanitize.sh, fuzz.sh)
   chromium                      # headless tests: the `ahdpack preview` page, three.js rendering (ThreeRender.*)
   strace                        # Cook.GodotAtlasDepfileNamesEveryFileRead: the files really opened
+  python3-numpy                 # ColourSpace.Numpy*: the independent reference matrices (tests/colour_reference.py)
 )
 # Node.js is needed for the independent KTX2 reader (ktx-parse) and the Chromium driver; a machine that
 # already has node+npm (from any source) keeps it, otherwise Debian's are installed.

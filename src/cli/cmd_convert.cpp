@@ -242,6 +242,8 @@ BatchRow run_convert(ConvertArgs a, const BatchJob* job = nullptr) {
   pkg.report_extra = {{"source", source},
                       {"working_space", kWorkingSpace},
                       {"read", {{"non_finite_texels", rs.non_finite_texels}, {"coverage_derived", rs.coverage_derived}}}};
+  // The space the input was converted from; absent when it was read in the working space (reports as before).
+  if (!rs.input_space.empty()) pkg.report_extra["input_space"] = rs.input_space;
   const std::vector<StageCost> read_stage = {{a.input.empty() ? "bake sample" : "read", read_seconds}};
   ConversionRun run;
   IntermediateFile intermediate;  // none: an earlier NAME.ahd.exr goes with the set it belonged to

@@ -3,6 +3,7 @@
 #include <ahd/sample.h>
 
 #include "core/error.h"
+#include "io/colour_space.h"
 #include "io/baker_layout.h"
 #include "io/godot_scene.h"
 #include "io/layout_detect.h"
@@ -41,6 +42,11 @@ void add_input_options(CLI::App* c, InputArgs* a) {
                 "mesh (.glb + its .unwrap_cache UV2, or TEXCOORD_1), transform and atlas rectangle (.lmbake); "
                 "found by itself when the .tscn lies beside the EXR. Or the scene exported from Godot's editor as "
                 "glTF (.glb/.gltf with UV2 as TEXCOORD_1), placed by the NAME.lmbake beside the EXR");
+  std::string names;
+  for (const std::string& n : input_space_names()) names += (names.empty() ? "" : ", ") + n;
+  c->add_option("--input-space", a->input_space,
+                "The input's colour space, replacing what its files declare (or a missing declaration): " + names +
+                    "; converted to linear Rec.709 through OpenColorIO (docs/colour.md)");
   c->add_flag("--allow-mismatch", a->allow_mismatch,
               "Convert even when the mesh's coverage disagrees with the lightmap (lit texels outside it, covered "
               "texels black, overlapping instances without placement)");
@@ -73,6 +79,10 @@ void find_godot_scene_for_input(InputArgs* a) {
 }
 
 void check_input_args(const InputArgs& a) {
+  if (!a.input_space.empty()) {
+    if (a.input.empty()) throw Error("--input-space needs an input (the built-in sample is in the working space)");
+    parse_input_space(a.input_space);  // an unknown name, before anything is read
+  }
   if (!a.mesh.empty() && !a.normals.empty()) throw Error("--mesh and --normals both give the normals: use one");
   if (!a.godot_scene.empty() && (!a.mesh.empty() || !a.normals.empty() || !a.placement.empty()))
     throw Error("--godot-scene gives the meshes, normals and placement: not with --mesh, --normals or --placement");
@@ -197,8 +207,12 @@ ShImage read_input(const InputArgs& a, int threads, ReadStats* rs, std::string* 
               (a.sample_order == 2 ? " L2" : " L1") + ", seed " + std::to_string(a.seed) + ")";
     return bake_sample(a.sample_size, a.sample_order, a.seed, threads);
   }
-  if (!a.layout.empty()) return read_layout_input(a, load_layout(a.layout), rs, source);
-  ShImage sh = read_canonical_sh(a.input, rs);
+  if (!a.layout.empty()) {
+    LayoutPreset layout = load_layout(a.layout);
+    layout.input_space = a.input_space;
+    return read_layout_input(a, layout, rs, source);
+  }
+  ShImage sh = read_canonical_sh(a.input, rs, a.input_space);
   *source = a.input + " (" + std::to_string(sh.width) + "x" + std::to_string(sh.height) + " " + std::string(sh_order_name(sh.coeffs)) +
             (sh.normals.empty() ? ", tangent space)" : ", world space + normals)");
   return sh;
@@ -206,17 +220,31 @@ ShImage read_input(const InputArgs& a, int threads, ReadStats* rs, std::string* 
 
 }  // namespace
 
+namespace {
+
+// The summary names a conversion of colour (nothing for the working space: its lines as before).
+void note_colour(const ReadStats* rs, std::string* source) {
+  if (rs && !rs->input_space.empty()) *source += ", colour converted from " + rs->input_space;
+}
+
+}  // namespace
+
 std::vector<ShImage> read_input_pages(const InputArgs& a, int threads, ReadStats* rs, std::string* source) {
   if (a.layout.empty() || a.input.empty()) {
     if (a.pages > 1) throw Error("--pages needs a paged layout (Godot's stacked atlas)");
-    return {read_input(a, threads, rs, source)};
+    std::vector<ShImage> one;
+    one.push_back(read_input(a, threads, rs, source));
+    note_colour(rs, source);
+    return one;
   }
-  const LayoutPreset layout = load_layout(a.layout);
+  LayoutPreset layout = load_layout(a.layout);
+  layout.input_space = a.input_space;
   const LayoutPages lp = layout_pages(layout, a.input, a.pages);
   if (!lp.why.empty()) a.notes += "atlas: " + lp.why + "\n";
   std::vector<ShImage> pages;
   for (int p = 0; p < lp.pages; ++p) pages.push_back(read_layout_input(a, layout_page(layout, p, lp.pages), rs, source, p));
   if (lp.pages > 1) *source += ", " + std::to_string(lp.pages) + " atlas pages -> array layers";
+  note_colour(rs, source);
   return pages;
 }
 

@@ -28,6 +28,7 @@ struct InputArgs {
   std::string placement;  // per-instance atlas placement of the mesh (JSON or Unity scene)
   std::string godot_scene;  // or: a Godot scene (.tscn) whose LightmapGI baked the input
   bool allow_mismatch = false;  // convert even when the mesh's coverage disagrees with the lightmap
+  std::string input_space;      // --input-space: the input's colour space, replacing its declaration ("" = as declared)
   mutable std::shared_ptr<const GodotSceneMeshes> godot;  // the scene, loaded once for every page
   int sample_size = 256;
   int sample_order = 2;
@@ -37,7 +38,7 @@ struct InputArgs {
   mutable std::string notes;
 };
 
-// --layout, --pages, --normals, --mesh, --uv-set, --placement, --godot-scene, --allow-mismatch (the input itself is the caller's
+// --layout, --pages, --normals, --mesh, --uv-set, --placement, --godot-scene, --allow-mismatch, --input-space (the input itself is the caller's
 // positional argument; the sample's options are convert's).
 void add_input_options(CLI::App* c, InputArgs* a);
 

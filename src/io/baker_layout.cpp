@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
@@ -55,6 +56,10 @@ LayoutFile parse_file(const std::string& path, const json& jf) {
   lf.part = int(json_whole_or(jf, "part", 0, 0, 1 << 16, path));
   lf.part_name = jf.value("part_name", "");
   lf.per_page = jf.value("per_page", false);
+  const std::string encoding = jf.value("encoding", "linear");
+  if (encoding != "linear" && encoding != "srgb")
+    throw file_error(path, "unknown encoding '" + encoding + "' (linear, srgb)");
+  lf.srgb = encoding == "srgb";
   if (lf.slices < 1) throw file_error(path, "slices must be ≥ 1");
   if (lf.part < 0) throw file_error(path, "part must be ≥ 0");
   return lf;
@@ -178,6 +183,7 @@ struct SetImage {
   std::map<std::string, int> channel;
   int width = 0, slice_height = 0;
   int height = 0;  // the whole image's rows (slice_height x layers)
+  ImageFileInfo info;  // its header (the colour space it declares)
   ImageF img;
 };
 
@@ -207,7 +213,6 @@ SetImage open_image(const LayoutFile& lf, const std::string& base, const std::st
   ImageFileInfo info = read_image_info(s.path);
   s.part = resolve_part(lf, s.path, info);
   if (s.part != 0) info = read_image_info(s.path, s.part);
-  check_working_space(info, s.path);  // float data must be linear Rec.709 as declared
   if (lf.needs_float && !info.is_float)
     throw file_error(s.path, "8-bit data where layout " + layout + " needs float (HDR) values");
   if (info.height % lf.slices != 0)
@@ -217,6 +222,7 @@ SetImage open_image(const LayoutFile& lf, const std::string& base, const std::st
   s.height = info.height;
   s.slice_height = info.height / lf.slices;
   for (size_t c = 0; c < info.channel_names.size(); ++c) s.channel[info.channel_names[c]] = int(c);
+  s.info = std::move(info);
   return s;
 }
 
@@ -340,6 +346,67 @@ ShImage to_canonical(const LayoutPreset& layout, std::vector<SetImage>& set) {
   return sh;
 }
 
+// The set's colour: the primaries its float files declare (one space for the set) or
+// layout.input_space, and per file whether its colour planes are sRGB-encoded.
+struct SetColour {
+  SourceSpace primaries;
+  std::vector<bool> srgb;
+};
+
+bool same_primaries(const SourceSpace& a, const SourceSpace& b) {
+  if (a.working_primaries() || b.working_primaries()) return a.working_primaries() == b.working_primaries();
+  return a.name == b.name && a.chromaticities == b.chromaticities;
+}
+
+SetColour set_colour(const LayoutPreset& layout, const std::vector<SetImage>& set) {
+  SetColour sc;
+  if (!layout.input_space.empty()) {  // the user's word replaces every declaration
+    sc.primaries = parse_input_space(layout.input_space);
+    sc.srgb.assign(set.size(), sc.primaries.srgb_encoded());
+    return sc;
+  }
+  std::string first;
+  for (size_t i = 0; i < set.size(); ++i) {
+    const SourceSpace d = declared_space(set[i].info, set[i].path);
+    sc.srgb.push_back(layout.files[i].srgb || d.srgb_encoded());
+    if (!set[i].info.is_float) continue;
+    if (first.empty()) {
+      sc.primaries = d, first = set[i].path;
+    } else if (!same_primaries(d, sc.primaries)) {
+      throw file_error(set[i].path, "declares " + d.describe() + " but " + first + " declares " +
+                                        sc.primaries.describe() + ": give the set's one space with --input-space");
+    }
+  }
+  return sc;
+}
+
+// The (layer, channel) pairs of file `file` that hold colour: coefficient 0's sources, unless a
+// ratio-decoded coefficient, a divisor or a multiplier reads them as well (direction, ratio and
+// RGBM's alpha are data, never decoded).
+std::vector<std::pair<int, std::string>> colour_planes(const LayoutPreset& layout, int file) {
+  std::set<std::pair<int, std::string>> colour, data;
+  for (size_t k = 0; k < layout.coefficients.size(); ++k) {
+    const LayoutCoefficient& c = layout.coefficients[k];
+    for (const LayoutSource& src : c.source)
+      if (src.file == file) (k == 0 ? colour : data).insert({src.slice, src.channel});
+    if (c.divided && c.divisor.file == file) data.insert({c.divisor.slice, c.divisor.channel});
+    if (c.multiplied && c.multiplier.file == file) data.insert({c.multiplier.slice, c.multiplier.channel});
+  }
+  std::vector<std::pair<int, std::string>> out;
+  for (const auto& p : colour)
+    if (!data.count(p)) out.push_back(p);
+  return out;
+}
+
+// Decodes file `file`'s colour planes from sRGB to linear, in place (before any decode arithmetic).
+void decode_srgb_planes(const LayoutPreset& layout, int file, SetImage& s) {
+  for (const auto& [slice, name] : colour_planes(layout, file)) {
+    const size_t ch = size_t(s.channel.at(name)), stride = size_t(s.img.channels);
+    const size_t first = size_t(slice) * size_t(s.slice_height) * size_t(s.width) * stride;
+    srgb_decode(s.img.data.data() + first + ch, size_t(s.slice_height) * size_t(s.width), stride);
+  }
+}
+
 // Texels outside every chart (given coverage says so) may hold any normal.
 bool normal_unused(const LayoutNormals& n, size_t i) { return !n.coverage.empty() && !n.coverage[i]; }
 
@@ -404,7 +471,7 @@ ShImage read_layout(const LayoutPreset& layout, const std::string& base, const s
 
 ShImage read_layout(const LayoutPreset& layout, const std::string& base, const LayoutNormals* normals,
                     ReadStats* stats) {
-  if (layout.canonical) return read_canonical_sh(base, stats);
+  if (layout.canonical) return read_canonical_sh(base, stats, layout.input_space);
   // A paged layout read without choosing a page must hold exactly one (never mix pages' layers).
   if (layout.page_count == 0 && layout_is_paged(layout)) {
     const LayoutPages lp = layout_pages(layout, base, 0);  // throws when the count is unknown
@@ -414,6 +481,9 @@ ShImage read_layout(const LayoutPreset& layout, const std::string& base, const L
   }
   std::vector<SetImage> set = open_set(layout, layout_base(layout, base));
   if (layout.world_space) check_normals(layout, base, normals, set[0]);
+  // A space OpenColorIO cannot convert is refused here, before any pixel is decoded.
+  const SetColour colour = set_colour(layout, set);
+  const Matrix3 to_working = working_space_matrix(colour.primaries, set[0].path);
   for (SetImage& s : set) {
     ImageFileInfo now;
     s.img = read_image(s.path, &now, s.part);
@@ -425,10 +495,20 @@ ShImage read_layout(const LayoutPreset& layout, const std::string& base, const L
       if (size_t(index) >= now.channel_names.size() || now.channel_names[size_t(index)] != name)
         throw file_error(s.path, "changed while it was read (its channels differ from a moment ago)");
   }
+  bool decoded = false;
+  for (size_t i = 0; i < set.size(); ++i)
+    if (colour.srgb[i]) decode_srgb_planes(layout, int(i), set[i]), decoded = true;
   ShImage sh = to_canonical(layout, set);
+  // After decoding: the matrix acts on the SH in the source primaries (the working space's sets
+  // skip it, their bytes as before).
+  if (!colour.primaries.working_primaries()) apply_matrix(sh, to_working);
   if (layout.world_space) attach_world_normals(sh, *normals);
   ReadStats local;
   ReadStats& st = stats ? *stats : local;
+  if (decoded || !colour.primaries.working_primaries())
+    st.input_space = colour.primaries.working_primaries()
+                         ? parse_input_space("srgb").describe()
+                         : colour.primaries.describe() + (decoded ? ", sRGB-encoded colour planes" : "");
   const size_t before = st.non_finite_texels;
   const bool given_cov = normals && !normals->coverage.empty() && normals->coverage.size() == sh.texels();
   sanitise_sh(sh, /*derive_coverage=*/!given_cov, &st);

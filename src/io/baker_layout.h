@@ -19,6 +19,7 @@ struct LayoutFile {
   int part = 0;           // part index, used when part_name is empty
   std::string part_name;  // the part's name (EXR "name" attribute)
   bool per_page = false;  // `slices` is per atlas page: the image stacks pages × slices layers, page-major
+  bool srgb = false;      // "encoding": "srgb": its colour channels are sRGB-encoded (decoded on read)
 };
 
 // Where one stored number comes from: an image of the set, its vertical layer, a channel name
@@ -65,6 +66,9 @@ struct LayoutPreset {
   std::vector<LayoutFile> files;
   std::vector<LayoutCoefficient> coefficients;  // canonical order 0..n−1 (missing ones are 0)
   int page_count = 0;  // set by layout_page (io/layout_pages.h); 0: not chosen, read_layout checks for one page
+  // Set by the reader's caller, not the preset: the colour space of every file of the set
+  // (--input-space, io/colour_space.h), replacing what the files and the preset declare; "" = as declared.
+  std::string input_space;
 };
 
 // Loads a preset by name (formats/bakers/NAME.json) or from a .json path. Throws ahd::Error naming
@@ -85,7 +89,12 @@ std::string layout_base(const LayoutPreset& layout, const std::string& input);
 // layouts need `normals_path`: a normal EXR in lightmap space (XYZ, unit, world axes of the baker).
 // Every image of the set is checked from its header before any pixel is decoded: throws
 // ahd::Error("<file>: <cause>") for a missing file, a part the file lacks, sizes that differ, a layer
-// count that does not divide, 8-bit data where float is needed, a missing channel; also zero normals.
+// count that does not divide, 8-bit data where float is needed, a missing channel, a colour space
+// that cannot be converted or float files declaring different ones; also zero normals.
+// Colour (docs/colour.md): the set's colour planes — the channels coefficient 0 reads, unless a
+// ratio, divisor or multiplier reads them too — are decoded from sRGB when their file's entry says
+// "encoding": "srgb" or its float header declares sRGB; then the SH is converted to the working
+// space from the primaries the float files declare. layout.input_space replaces both declarations.
 ShImage read_layout(const LayoutPreset& layout, const std::string& base, const std::string& normals_path,
                     ReadStats* stats = nullptr);
 

@@ -52,18 +52,26 @@ void check_not_flooded(const std::string& path, const ShImage& img, size_t non_f
   throw file_error(path, "no finite texel (NaN, Inf or beyond 1e18 everywhere a chart covers)");
 }
 
-ShImage read_canonical_sh(const std::string& path, ReadStats* stats) {
+ShImage read_canonical_sh(const std::string& path, ReadStats* stats, const std::string& input_space) {
   // One read of the file: the header that sizes the SH image is the header of the rows written
   // into it (issue 26: a file replaced between two opens overflowed the heap).
   ShImage img;
   int coeffs = 0, src_of[kShCoeffsL2 * 3] = {}, channels = 0, ci = -1, nx = 0, ny = 0, nz = 0;
   bool has_coverage = false, has_normals = false;
+  SourceSpace space;
+  Matrix3 to_working{};
   std::atomic<size_t> bad_coverage{0};
   auto on_header = [&](const ImageFileInfo& info) {
     if (!info.is_float) throw file_error(path, "SH lightmaps must be half or float EXR data (found 8-bit or integer channels)");
-    // The layout path's rule too: float data must be linear Rec.709 as declared (issue 26: a
-    // canonical EXR declaring Rec.2020 was taken for Rec.709).
-    check_working_space(info, path);
+    // The layout path's rule too: the declared space (or --input-space) is converted to the
+    // working space, never taken for it (issue 26: a canonical EXR declaring Rec.2020 was read as
+    // Rec.709). Checked here, before any row is read.
+    space = input_space.empty() ? declared_space(info, path) : parse_input_space(input_space);
+    if (space.srgb_encoded())
+      throw file_error(path,
+                       "SH coefficients are signed and linear in radiance: an sRGB encoding cannot hold them "
+                       "(give --input-space with the linear space they are in)");
+    to_working = working_space_matrix(space, path);  // a space OpenColorIO cannot convert: refused before the rows
     std::map<std::string, int> index;
     for (size_t c = 0; c < info.channel_names.size(); ++c) index[info.channel_names[c]] = int(c);
     if (index.count(sh_channel(8, 2))) coeffs = 9;
@@ -125,6 +133,10 @@ ShImage read_canonical_sh(const std::string& path, ReadStats* stats) {
                                " texels (it must be 1 where a chart covers, 0 in gutters)");
   ReadStats local;
   ReadStats& st = stats ? *stats : local;
+  if (!space.working_primaries()) {  // the working space's files are read untouched (same bytes)
+    apply_matrix(img, to_working);
+    st.input_space = space.describe();
+  }
   const size_t before = st.non_finite_texels;
   sanitise_sh(img, !has_coverage, &st);
   check_not_flooded(path, img, st.non_finite_texels - before);

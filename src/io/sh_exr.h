@@ -14,11 +14,16 @@ namespace ahd {
 struct ReadStats {
   size_t non_finite_texels = 0;   // NaN/Inf in any coefficient: texel zeroed and marked uncovered
   bool coverage_derived = false;  // no coverage channel: all-zero SH = uncovered
+  // The colour space the input was converted from (io/colour_space.h SourceSpace::describe), ""
+  // when it was read in the working space untouched.
+  std::string input_space;
 };
 
 // Reads and validates the canonical EXR. Throws ahd::Error("<path>: <cause>") for a missing file,
-// a missing or extra sh channel, a non-float file, bad normals.
-ShImage read_canonical_sh(const std::string& path, ReadStats* stats = nullptr);
+// a missing or extra sh channel, a non-float file, bad normals, a colour space that cannot be
+// converted. Its SH is converted to the working space from `input_space` (a --input-space name,
+// io/colour_space.h) or, when that is empty, from the space the file declares.
+ShImage read_canonical_sh(const std::string& path, ReadStats* stats = nullptr, const std::string& input_space = "");
 
 // Writes the canonical EXR (float channels; with coverage, and normals when present). Atomic.
 void write_canonical_sh(const std::string& path, const ShImage& img);

@@ -34,6 +34,7 @@
 #include "fit/fit_image.h"
 #include "io/ahd_intermediate.h"
 #include "io/baker_layout.h"
+#include "io/colour_space.h"
 #include "io/image_io.h"
 #include "io/layout_detect.h"
 #include "io/layout_pages.h"
@@ -698,18 +699,28 @@ TEST(BadInputRound2, NanCoverageChannelIsRefusedNotReadAsEmpty) {
 }
 
 // Weak: a canonical EXR declaring Rec.2020 was taken for Rec.709 (the layout path refused it).
-TEST(BadInputRound2, CanonicalExrDeclaringRec2020IsRefusedLikeLayouts) {
+// Now both convert it to the working space through OpenColorIO (docs/colour.md): never read as is.
+TEST(BadInputRound2, CanonicalExrDeclaringRec2020IsConvertedLikeLayouts) {
   const fs::path d = ahd_test::temp_dir("r2_rec2020");
   const fs::path p = d / "c.exr";
   OIIO::ImageSpec spec(4, 4, 12, OIIO::TypeDesc::HALF);
   spec.channelnames = sh_names(4);
   const float rec2020[8] = {0.708f, 0.292f, 0.170f, 0.797f, 0.131f, 0.046f, 0.3127f, 0.3290f};
   spec.attribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8), rec2020);
-  std::vector<float> px(4 * 4 * 12, 0.5f);
+  std::vector<float> px(4 * 4 * 12);
+  for (size_t i = 0; i < px.size(); ++i) px[i] = 0.25f * float(i % 3 + 1);  // R, G, B differ: a matrix moves them
   auto out = OIIO::ImageOutput::create(p.string());
   ASSERT_TRUE(out && out->open(p.string(), spec) && out->write_image(OIIO::TypeDesc::FLOAT, px.data()));
   out->close();
-  expect_file_error([&] { read_canonical_sh(p.string()); }, p.string(), "chromaticities");
+  ReadStats rs;
+  const ShImage sh = read_canonical_sh(p.string(), &rs);
+  EXPECT_EQ(rs.input_space, "linear Rec.2020 (D65)");
+  const Matrix3 m = working_space_matrix(parse_input_space("rec2020"), p.string());
+  for (int r = 0; r < 3; ++r) {
+    const double want = m[size_t(r)][0] * 0.25 + m[size_t(r)][1] * 0.5 + m[size_t(r)][2] * 0.75;
+    EXPECT_NEAR(sh.data[size_t(r)], want, 1e-6);
+    EXPECT_GT(std::fabs(want - px[size_t(r)]), 1e-3);  // not the stored value
+  }
   fs::remove_all(d);
 }
 
