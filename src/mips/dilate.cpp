@@ -20,6 +20,15 @@ constexpr int kDy[8] = {-1, -1, -1, 0, 0, 1, 1, 1};
 // Edge neighbours count twice as much as corner ones (they are closer: 1 vs √2 texels).
 constexpr double kW[8] = {1, 2, 1, 2, 2, 1, 2, 1};
 
+// A hint that *p will be read soon (nothing on compilers without the builtin).
+inline void prefetch(const void* p) {
+#if defined(__GNUC__) || defined(__clang__)
+  __builtin_prefetch(p);
+#else
+  (void)p;
+#endif
+}
+
 // The ring schedule of the rule above over texel values reached through accessors: read(i, covered,
 // v) copies texel i's `ch` values into v (covered: whether texel i is), write(i, v) stores them.
 // Only the texels of earlier rings count, so a caller can dilate values held in any layout without
@@ -35,57 +44,68 @@ constexpr double kW[8] = {1, 2, 1, 2, 2, 1, 2, 1};
 // Jacobi step with a separate value buffer would form, whatever the threads or chunks.
 //
 // kCh: the channel count when known at compile time (the sums then stay in registers), 0 = `ch`.
-template <int kCh, class Dist, class Index, class Read, class Write>
+template <int kCh, class Dist, class Index, class Read, class Write, class Touch>
 void fill_by_distance(int w, int h, int ch_runtime, const std::vector<uint8_t>& coverage, int threads, DilateStats* st,
-                      const Read& read, const Write& write) {
+                      const Read& read, const Write& write, const Touch& touch) {
   const int ch = kCh > 0 ? kCh : ch_runtime;
   const size_t wn = size_t(w), n = wn * size_t(h);
   constexpr uint64_t kFar = std::numeric_limits<Dist>::max();  // above any distance (< max(w, h))
   // Uninitialised: every element is written by the forward pass (one first touch, not two).
   std::unique_ptr<Dist[]> dist(new Dist[n]);
   advise_huge_pages(dist.get(), n * sizeof(Dist));
-  for (size_t y = 0; y < size_t(h); ++y) {  // forward: left, up-left, up, up-right
+  // Each pass per row: the three neighbours in the row before (a loop the compiler vectorises),
+  // then the one in the same row (a scan). min(…) + 1 = the minimum of the neighbours' + 1.
+  auto min3 = [wn](const Dist* o, size_t x) {  // o[x − 1 … x + 1], clamped to the row
+    Dist m = o[x];
+    if (x > 0) m = std::min(m, o[x - 1]);
+    if (x + 1 < wn) m = std::min(m, o[x + 1]);
+    return m;
+  };
+  auto step = [](uint64_t a) { return Dist(std::min<uint64_t>(a + 1, std::numeric_limits<Dist>::max())); };
+  for (size_t y = 0; y < size_t(h); ++y) {  // forward: up-left, up, up-right, then left
     Dist* row = dist.get() + y * wn;
-    const Dist* up = y ? row - wn : nullptr;
     const uint8_t* cov = coverage.data() + y * wn;
+    if (y == 0) {
+      for (size_t x = 0; x < wn; ++x) row[x] = Dist(kFar);
+    } else {
+      const Dist* up = row - wn;
+      for (size_t x = 0; x < wn; ++x) row[x] = min3(up, x);
+    }
+    uint64_t left = kFar;
     for (size_t x = 0; x < wn; ++x) {
-      if (cov[x]) {
-        row[x] = 0;
-        continue;
-      }
-      uint64_t m = kFar;
-      if (x > 0) m = std::min<uint64_t>(m, uint64_t(row[x - 1]) + 1);
-      if (up) {
-        m = std::min<uint64_t>(m, uint64_t(up[x]) + 1);
-        if (x > 0) m = std::min<uint64_t>(m, uint64_t(up[x - 1]) + 1);
-        if (x + 1 < wn) m = std::min<uint64_t>(m, uint64_t(up[x + 1]) + 1);
-      }
+      const uint64_t m = cov[x] ? 0 : step(std::min<uint64_t>(row[x], left));
       row[x] = Dist(m);
+      left = m;
     }
   }
   uint64_t max_d = 0;
-  for (size_t y = size_t(h); y-- > 0;) {  // backward: right, down-right, down, down-left
+  std::vector<size_t> count(size_t(std::max(w, h)) + 1, 0);  // texels per ring (distances < max(w, h))
+  std::vector<Dist> below(wn);
+  for (size_t y = size_t(h); y-- > 0;) {  // backward: down-left, down, down-right, then right
     Dist* row = dist.get() + y * wn;
-    const Dist* down = y + 1 < size_t(h) ? row + wn : nullptr;
+    if (y + 1 < size_t(h)) {
+      const Dist* down = row + wn;
+      for (size_t x = 0; x < wn; ++x) below[x] = step(min3(down, x));
+    } else {
+      std::fill(below.begin(), below.end(), Dist(kFar));
+    }
+    uint64_t right = kFar;
     for (size_t x = wn; x-- > 0;) {
       uint64_t m = row[x];
-      if (m == 0) continue;
-      if (x + 1 < wn) m = std::min<uint64_t>(m, uint64_t(row[x + 1]) + 1);
-      if (down) {
-        m = std::min<uint64_t>(m, uint64_t(down[x]) + 1);
-        if (x + 1 < wn) m = std::min<uint64_t>(m, uint64_t(down[x + 1]) + 1);
-        if (x > 0) m = std::min<uint64_t>(m, uint64_t(down[x - 1]) + 1);
+      if (m != 0) {
+        m = std::min<uint64_t>(std::min<uint64_t>(m, below[x]), step(right));
+        row[x] = Dist(m);
+        max_d = std::max(max_d, m);
+        count[size_t(m)]++;
       }
-      row[x] = Dist(m);
-      max_d = std::max(max_d, m);
+      right = m;
     }
   }
   // Rings by counting sort: start[r] = first slot of ring r in `order` (rings 1 … max_d).
   std::vector<size_t> start(size_t(max_d) + 2, 0);
-  for (size_t i = 0; i < n; ++i) start[size_t(dist[i]) + 1]++;
-  start[1] = 0;  // ring 0 (the covered texels) is not listed
-  for (size_t r = 2; r < start.size(); ++r) start[r] += start[r - 1];
+  for (size_t r = 2; r < start.size(); ++r) start[r] = start[r - 1] + count[r - 1];
   std::unique_ptr<Index[]> order(new Index[n - st->covered]);
+  advise_huge_pages(order.get(), (n - st->covered) * sizeof(Index));
   {
     std::vector<size_t> pos(start);
     for (size_t i = 0; i < n; ++i)
@@ -98,6 +118,7 @@ void fill_by_distance(int w, int h, int ch_runtime, const std::vector<uint8_t>& 
   const Index* op = order.get();
   const ptrdiff_t sw = ptrdiff_t(w), off[8] = {-sw - 1, -sw, -sw + 1, -1, 1, sw - 1, sw, sw + 1};  // kDx/kDy
   // Texels [b, e) of ring r, a fixed-order sum over the 8 neighbours of the rings before it.
+  constexpr size_t kAhead = 12;
   auto fill_span = [&](uint64_t r, size_t b, size_t e) {
     double acc[16];
     float vals[16];
@@ -114,6 +135,13 @@ void fill_by_distance(int w, int h, int ch_runtime, const std::vector<uint8_t>& 
     // Rings are in row-major order: rows found by stepping, not a 64-bit division per texel.
     size_t row = size_t(op[b]) / wn, row_start = row * wn;
     for (size_t s = b; s < e; ++s) {
+      if (s + kAhead < e) {
+        const size_t f = op[s + kAhead];
+        for (size_t q : {f - std::min(f, wn), f, std::min(n - 1, f + wn)}) {
+          prefetch(dp + q);
+          touch(q);
+        }
+      }
       const size_t i = op[s];
       while (i >= row_start + wn) ++row, row_start += wn;
       const int x = int(i - row_start), y = int(row);
@@ -161,9 +189,9 @@ void fill_by_distance(int w, int h, int ch_runtime, const std::vector<uint8_t>& 
   }
 }
 
-template <int kCh = 0, class Read, class Write>
+template <int kCh = 0, class Read, class Write, class Touch>
 void dilate_rings(int w, int h, int ch, const std::vector<uint8_t>& coverage, int threads, DilateStats* stats,
-                  const Read& read, const Write& write) {
+                  const Read& read, const Write& write, const Touch& touch) {
   const size_t n = size_t(w) * h;
   DilateStats st;
   const size_t wn = size_t(w);
@@ -188,9 +216,9 @@ void dilate_rings(int w, int h, int ch, const std::vector<uint8_t>& coverage, in
   const bool small_dist = std::max(w, h) < 0xFFFF;
   const bool small_index = n <= 0xFFFFFFFFu;
   if (small_dist && small_index)
-    fill_by_distance<kCh, uint16_t, uint32_t>(w, h, ch, coverage, threads, &st, read, write);
-  else if (small_index) fill_by_distance<kCh, uint32_t, uint32_t>(w, h, ch, coverage, threads, &st, read, write);
-  else fill_by_distance<kCh, uint32_t, size_t>(w, h, ch, coverage, threads, &st, read, write);
+    fill_by_distance<kCh, uint16_t, uint32_t>(w, h, ch, coverage, threads, &st, read, write, touch);
+  else if (small_index) fill_by_distance<kCh, uint32_t, uint32_t>(w, h, ch, coverage, threads, &st, read, write, touch);
+  else fill_by_distance<kCh, uint32_t, size_t>(w, h, ch, coverage, threads, &st, read, write, touch);
   if (stats) *stats = st;
 }
 
@@ -204,18 +232,19 @@ void dilate(ImageF& plane, const std::vector<uint8_t>& coverage, int threads, Di
   float* data = plane.data.data();
   auto read = [&](size_t i, bool, float* v) { std::copy_n(data + i * size_t(ch), ch, v); };
   auto write = [&](size_t i, const float* v) { std::copy_n(v, ch, data + i * size_t(ch)); };
+  auto touch = [&](size_t i) { prefetch(data + i * size_t(ch)); };
   const int w = plane.width, h = plane.height;
   switch (ch) {  // the pipeline's plane widths with their sums in registers
     case 1:
-      return dilate_rings<1>(w, h, 1, coverage, threads, stats, read, write);
+      return dilate_rings<1>(w, h, 1, coverage, threads, stats, read, write, touch);
     case 2:
-      return dilate_rings<2>(w, h, 2, coverage, threads, stats, read, write);
+      return dilate_rings<2>(w, h, 2, coverage, threads, stats, read, write, touch);
     case 3:
-      return dilate_rings<3>(w, h, 3, coverage, threads, stats, read, write);
+      return dilate_rings<3>(w, h, 3, coverage, threads, stats, read, write, touch);
     case 4:
-      return dilate_rings<4>(w, h, 4, coverage, threads, stats, read, write);
+      return dilate_rings<4>(w, h, 4, coverage, threads, stats, read, write, touch);
     default:
-      return dilate_rings(w, h, ch, coverage, threads, stats, read, write);
+      return dilate_rings(w, h, ch, coverage, threads, stats, read, write, touch);
   }
 }
 
@@ -239,8 +268,13 @@ void dilate_ahd(AhdImage& img, double dz_min, int threads, DilateStats* stats) {
     std::copy_n(v + 3, 3, &img.d[i * 3]);
     std::copy_n(v + 6, nr, &img.ratio[i * nr]);
   };
-  if (nr == 1) dilate_rings<7>(img.width, img.height, 7, img.coverage, threads, stats, read, write);
-  else dilate_rings<9>(img.width, img.height, 9, img.coverage, threads, stats, read, write);
+  auto touch = [&](size_t i) {
+    prefetch(&img.iz[i * 3]);
+    prefetch(&img.d[i * 3]);
+    prefetch(&img.ratio[i * nr]);
+  };
+  if (nr == 1) dilate_rings<7>(img.width, img.height, 7, img.coverage, threads, stats, read, write, touch);
+  else dilate_rings<9>(img.width, img.height, 9, img.coverage, threads, stats, read, write, touch);
   parallel_for(n, threads, 1024, [&](size_t i) {
     if (img.coverage[i]) return;
     AhdFit f = img.texel(i);
@@ -273,10 +307,16 @@ void dilate_ambient(ShImage& sh, int threads, DilateStats* stats) {
   auto write = [&](size_t i, const float* v) {
     for (int c = 0; c < 3; ++c) sh.texel(i)[c] = std::max(0.0f, v[c]);
   };
+  // The three texels x−1 … x+1 of a neighbour row: 36 bytes, at most two cache lines.
+  const float* data = sh.data.data();
+  auto touch = [&, last = n - 1](size_t i) {
+    prefetch(data + (i == 0 ? 0 : i - 1) * 3);
+    prefetch(data + std::min(last, i + 1) * 3);
+  };
   if (!sh.normals.empty()) {
     dilate_rings<3>(
         sh.width, sh.height, 3, sh.coverage, threads, stats,
-        [&](size_t i, bool, float* v) { ambient_level_iz(sh, i, v); }, write);
+        [&](size_t i, bool, float* v) { ambient_level_iz(sh, i, v); }, write, touch);
     return;
   }
   // ambient_level_iz without normals, its coverage test answered by the caller (no load of
@@ -287,7 +327,7 @@ void dilate_ambient(ShImage& sh, int threads, DilateStats* stats) {
         const float* t = sh.texel(i);
         for (int c = 0; c < 3; ++c) v[c] = covered ? l0_texel_iz(t[c]) : t[c];
       },
-      write);
+      write, touch);
 }
 
 Image8 coverage_plane(int width, int height, const std::vector<uint8_t>& coverage) {
