@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
+#include <memory>
 
 #include "core/error.h"
 #include "core/large_buffer.h"
@@ -17,26 +20,184 @@ constexpr int kDy[8] = {-1, -1, -1, 0, 0, 1, 1, 1};
 // Edge neighbours count twice as much as corner ones (they are closer: 1 vs √2 texels).
 constexpr double kW[8] = {1, 2, 1, 2, 2, 1, 2, 1};
 
-// The ring schedule of the rule above over texel values reached through accessors: read(i, v)
-// copies texel i's `ch` values into v, write(i, v) stores them. Texels are read only once covered or
-// filled, so a caller can dilate values held in any layout without copying them to a plane first.
-template <class Read, class Write>
+// A hint that *p will be read soon (nothing on compilers without the builtin).
+inline void prefetch(const void* p) {
+#if defined(__GNUC__) || defined(__clang__)
+  __builtin_prefetch(p);
+#else
+  (void)p;
+#endif
+}
+
+// The ring schedule of the rule above over texel values reached through accessors: read(i, covered,
+// v) copies texel i's `ch` values into v (covered: whether texel i is), write(i, v) stores them.
+// Only the texels of earlier rings count, so a caller can dilate values held in any layout without
+// copying them to a plane first (read may see any bits in a texel not yet filled: it must not trap).
+//
+// How (issue 28: the ragdoll bake's gutters take 944 rings at level 0, and a ring list found and
+// sorted ring by ring was 29 % of its conversion): texel i's ring is its chessboard distance to the
+// nearest covered texel (8-neighbour steps inside a rectangle), which the two-pass Rosenfeld–Pfaltz
+// transform gives exactly. A counting sort by distance then lists every ring at once, each in
+// row-major order. A texel of ring r has neighbours in rings r−1, r and r+1 only, so "filled before
+// ring r" is "distance < r": ring r reads only texels of ring r−1 (or covered ones), which are final,
+// and its values are written in place — each is the same sum, in the same order, as a ring-by-ring
+// Jacobi step with a separate value buffer would form, whatever the threads or chunks.
+//
+// kCh: the channel count when known at compile time (the sums then stay in registers), 0 = `ch`.
+template <int kCh, class Dist, class Index, class Read, class Write, class Touch>
+void fill_by_distance(int w, int h, int ch_runtime, const std::vector<uint8_t>& coverage, int threads, DilateStats* st,
+                      const Read& read, const Write& write, const Touch& touch) {
+  const int ch = kCh > 0 ? kCh : ch_runtime;
+  const size_t wn = size_t(w), n = wn * size_t(h);
+  constexpr uint64_t kFar = std::numeric_limits<Dist>::max();  // above any distance (< max(w, h))
+  // Uninitialised: every element is written by the forward pass (one first touch, not two).
+  std::unique_ptr<Dist[]> dist(new Dist[n]);
+  advise_huge_pages(dist.get(), n * sizeof(Dist));
+  // Each pass per row: the three neighbours in the row before (a loop the compiler vectorises),
+  // then the one in the same row (a scan). min(…) + 1 = the minimum of the neighbours' + 1.
+  auto min3 = [wn](const Dist* o, size_t x) {  // o[x − 1 … x + 1], clamped to the row
+    Dist m = o[x];
+    if (x > 0) m = std::min(m, o[x - 1]);
+    if (x + 1 < wn) m = std::min(m, o[x + 1]);
+    return m;
+  };
+  auto step = [](uint64_t a) { return Dist(std::min<uint64_t>(a + 1, std::numeric_limits<Dist>::max())); };
+  for (size_t y = 0; y < size_t(h); ++y) {  // forward: up-left, up, up-right, then left
+    Dist* row = dist.get() + y * wn;
+    const uint8_t* cov = coverage.data() + y * wn;
+    if (y == 0) {
+      for (size_t x = 0; x < wn; ++x) row[x] = Dist(kFar);
+    } else {
+      const Dist* up = row - wn;
+      for (size_t x = 0; x < wn; ++x) row[x] = min3(up, x);
+    }
+    uint64_t left = kFar;
+    for (size_t x = 0; x < wn; ++x) {
+      const uint64_t m = cov[x] ? 0 : step(std::min<uint64_t>(row[x], left));
+      row[x] = Dist(m);
+      left = m;
+    }
+  }
+  uint64_t max_d = 0;
+  std::vector<size_t> count(size_t(std::max(w, h)) + 1, 0);  // texels per ring (distances < max(w, h))
+  std::vector<Dist> below(wn);
+  for (size_t y = size_t(h); y-- > 0;) {  // backward: down-left, down, down-right, then right
+    Dist* row = dist.get() + y * wn;
+    if (y + 1 < size_t(h)) {
+      const Dist* down = row + wn;
+      for (size_t x = 0; x < wn; ++x) below[x] = step(min3(down, x));
+    } else {
+      std::fill(below.begin(), below.end(), Dist(kFar));
+    }
+    uint64_t right = kFar;
+    for (size_t x = wn; x-- > 0;) {
+      uint64_t m = row[x];
+      if (m != 0) {
+        m = std::min<uint64_t>(std::min<uint64_t>(m, below[x]), step(right));
+        row[x] = Dist(m);
+        max_d = std::max(max_d, m);
+        count[size_t(m)]++;
+      }
+      right = m;
+    }
+  }
+  // Rings by counting sort: start[r] = first slot of ring r in `order` (rings 1 … max_d).
+  std::vector<size_t> start(size_t(max_d) + 2, 0);
+  for (size_t r = 2; r < start.size(); ++r) start[r] = start[r - 1] + count[r - 1];
+  std::unique_ptr<Index[]> order(new Index[n - st->covered]);
+  advise_huge_pages(order.get(), (n - st->covered) * sizeof(Index));
+  {
+    std::vector<size_t> pos(start);
+    for (size_t i = 0; i < n; ++i)
+      if (dist[i]) order[pos[dist[i]]++] = Index(i);
+  }
+  st->guard = start[2] - start[1];
+  st->rings = int(max_d);
+
+  const Dist* dp = dist.get();
+  const Index* op = order.get();
+  const ptrdiff_t sw = ptrdiff_t(w), off[8] = {-sw - 1, -sw, -sw + 1, -1, 1, sw - 1, sw, sw + 1};  // kDx/kDy
+  // Texels [b, e) of ring r, a fixed-order sum over the 8 neighbours of the rings before it.
+  constexpr size_t kAhead = 12;
+  auto fill_span = [&](uint64_t r, size_t b, size_t e) {
+    double acc[16];
+    float vals[16];
+    std::vector<double> big;  // only for planes with more than 16 channels
+    std::vector<float> bigv;
+    double* a = acc;
+    float* v = vals;
+    if (ch > 16) {
+      big.assign(size_t(ch), 0.0);
+      bigv.assign(size_t(ch), 0.0f);
+      a = big.data();
+      v = bigv.data();
+    }
+    // Rings are in row-major order: rows found by stepping, not a 64-bit division per texel.
+    size_t row = size_t(op[b]) / wn, row_start = row * wn;
+    for (size_t s = b; s < e; ++s) {
+      if (s + kAhead < e) {
+        const size_t f = op[s + kAhead];
+        for (size_t q : {f - std::min(f, wn), f, std::min(n - 1, f + wn)}) {
+          prefetch(dp + q);
+          touch(q);
+        }
+      }
+      const size_t i = op[s];
+      while (i >= row_start + wn) ++row, row_start += wn;
+      const int x = int(i - row_start), y = int(row);
+      for (int c = 0; c < ch; ++c) a[c] = 0.0;
+      double wsum = 0;
+      if (x > 0 && y > 0 && x + 1 < w && y + 1 < h) {
+        // Inside the image: every neighbour is read and its term selected, not branched on (which
+        // neighbours belong to earlier rings is unpredictable, and branching on it serialised the
+        // neighbours' cache misses). The same sum: the skipped terms add +0.0, which leaves every
+        // partial sum's bits unchanged (a sum that starts at +0 is never −0).
+        for (int k = 0; k < 8; ++k) {
+          const size_t j = size_t(ptrdiff_t(i) + off[k]);
+          const Dist dj = dp[j];
+          const bool earlier = dj < r;
+          read(j, dj == 0, v);
+          for (int c = 0; c < ch; ++c) a[c] += earlier ? kW[k] * double(v[c]) : 0.0;
+          wsum += earlier ? kW[k] : 0.0;
+        }
+      } else {
+        for (int k = 0; k < 8; ++k) {
+          const int nx = x + kDx[k], ny = y + kDy[k];
+          if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
+          const size_t j = size_t(ny) * wn + size_t(nx);
+          if (dp[j] >= r) continue;
+          read(j, dp[j] == 0, v);
+          for (int c = 0; c < ch; ++c) a[c] += kW[k] * double(v[c]);
+          wsum += kW[k];
+        }
+      }
+      for (int c = 0; c < ch; ++c) v[c] = float(a[c] / wsum);
+      write(i, v);
+    }
+  };
+  // Small rings run on the calling thread: starting threads for a few hundred texels costs more
+  // than filling them (the ragdoll bake's outer rings are that small).
+  constexpr size_t kChunk = 1024;
+  for (uint64_t r = 1; r <= max_d; ++r) {
+    const size_t b = start[r], e = start[r + 1];
+    if (e - b <= 2 * kChunk) {
+      fill_span(r, b, e);
+      continue;
+    }
+    parallel_for((e - b + kChunk - 1) / kChunk, threads, 1,
+                 [&](size_t c) { fill_span(r, b + c * kChunk, std::min(e, b + (c + 1) * kChunk)); });
+  }
+}
+
+template <int kCh = 0, class Read, class Write, class Touch>
 void dilate_rings(int w, int h, int ch, const std::vector<uint8_t>& coverage, int threads, DilateStats* stats,
-                  const Read& read, const Write& write) {
+                  const Read& read, const Write& write, const Touch& touch) {
   const size_t n = size_t(w) * h;
   DilateStats st;
-  // state[i]: kFilled = covered or filled by an earlier ring; kQueued = in the current or an
-  // earlier ring's candidate list (one byte array for both: at level 0 each is a byte a texel).
-  constexpr uint8_t kFilled = 1, kQueued = 2;
-  std::vector<uint8_t> state;
-  assign_large(state, n, uint8_t(0));
   const size_t wn = size_t(w);
   std::vector<size_t> covered_rows(static_cast<size_t>(h), 0);
   parallel_for(size_t(h), threads, 16, [&](size_t y) {
-    for (size_t i = y * wn; i < (y + 1) * wn; ++i) {
-      state[i] = coverage[i] ? kFilled | kQueued : 0;
-      covered_rows[y] += coverage[i] ? 1 : 0;
-    }
+    for (size_t i = y * wn; i < (y + 1) * wn; ++i) covered_rows[y] += coverage[i] ? 1 : 0;
   });
   for (size_t c : covered_rows) st.covered += c;
   st.filled = n - st.covered;
@@ -51,95 +212,13 @@ void dilate_rings(int w, int h, int ch, const std::vector<uint8_t>& coverage, in
     if (stats) *stats = st;
     return;
   }
-
-  // Ring 1: uncovered texels next to a covered one, found row by row in parallel and joined in row
-  // order (= the row-major scan's order: deterministic).
-  std::vector<std::vector<size_t>> ring_rows(static_cast<size_t>(h));
-  parallel_for(size_t(h), threads, 16, [&](size_t yy) {
-    const int y = int(yy);
-    for (int x = 0; x < w; ++x) {
-      const size_t i = size_t(y) * wn + size_t(x);
-      if (state[i] & kFilled) continue;
-      for (int k = 0; k < 8; ++k) {
-        const int nx = x + kDx[k], ny = y + kDy[k];
-        if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
-        if (coverage[size_t(ny) * wn + size_t(nx)]) {
-          ring_rows[yy].push_back(i);
-          break;
-        }
-      }
-    }
-  });
-  std::vector<size_t> ring;
-  for (const std::vector<size_t>& r : ring_rows) ring.insert(ring.end(), r.begin(), r.end());
-  ring_rows = {};
-  for (size_t i : ring) state[i] |= kQueued;
-  st.guard = ring.size();
-
-  std::vector<float> values;
-  while (!ring.empty()) {
-    st.rings++;
-    // Jacobi step: every texel of the ring reads only texels filled before this ring.
-    values.assign(ring.size() * size_t(ch), 0.0f);
-    // Chunks of kChunk ring texels per parallel task, the texel loop inlined within a chunk (one
-    // std::function call per texel cost more than the texel's arithmetic: issue 28, perf of a
-    // plain 2048² bake). Each texel's sum is the same, in the same order, whatever the chunking.
-    constexpr size_t kChunk = 256;
-    parallel_for((ring.size() + kChunk - 1) / kChunk, threads, 1, [&](size_t chunk) {
-      double acc[16];
-      float vals[16];
-      std::vector<double> big;  // only for planes with more than 16 channels
-      std::vector<float> bigv;
-      double* a = acc;
-      float* v = vals;
-      if (ch > 16) {
-        big.assign(size_t(ch), 0.0);
-        bigv.assign(size_t(ch), 0.0f);
-        a = big.data();
-        v = bigv.data();
-      }
-      const size_t end = std::min(ring.size(), (chunk + 1) * kChunk);
-      // The ring is sorted: rows found by stepping, not a 64-bit division per texel.
-      size_t row = ring[chunk * kChunk] / wn, row_start = row * wn;
-      for (size_t r = chunk * kChunk; r < end; ++r) {
-        const size_t i = ring[r];
-        while (i >= row_start + wn) ++row, row_start += wn;
-        const int x = int(i - row_start), y = int(row);
-        for (int c = 0; c < ch; ++c) a[c] = 0.0;
-        double wsum = 0;
-        for (int k = 0; k < 8; ++k) {
-          const int nx = x + kDx[k], ny = y + kDy[k];
-          if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
-          if (!(state[size_t(ny) * w + nx] & kFilled)) continue;
-          read(size_t(ny) * w + nx, v);
-          for (int c = 0; c < ch; ++c) a[c] += kW[k] * double(v[c]);
-          wsum += kW[k];
-        }
-        for (int c = 0; c < ch; ++c) values[r * size_t(ch) + size_t(c)] = float(a[c] / wsum);
-      }
-    });
-    for (size_t r = 0; r < ring.size(); ++r) {
-      write(ring[r], &values[r * size_t(ch)]);
-      state[ring[r]] |= kFilled;
-    }
-    // Next ring: unfilled neighbours of this ring, sorted so the order never depends on discovery.
-    std::vector<size_t> next;
-    size_t row = ring.front() / wn, row_start = row * wn;  // sorted: rows by stepping
-    for (size_t i : ring) {
-      while (i >= row_start + wn) ++row, row_start += wn;
-      const int x = int(i - row_start), y = int(row);
-      for (int k = 0; k < 8; ++k) {
-        const int nx = x + kDx[k], ny = y + kDy[k];
-        if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
-        const size_t j = size_t(ny) * w + nx;
-        if (state[j] & kQueued) continue;
-        state[j] |= kQueued;
-        next.push_back(j);
-      }
-    }
-    std::sort(next.begin(), next.end());
-    ring.swap(next);
-  }
+  // The smallest distance and index types that hold every value of this image.
+  const bool small_dist = std::max(w, h) < 0xFFFF;
+  const bool small_index = n <= 0xFFFFFFFFu;
+  if (small_dist && small_index)
+    fill_by_distance<kCh, uint16_t, uint32_t>(w, h, ch, coverage, threads, &st, read, write, touch);
+  else if (small_index) fill_by_distance<kCh, uint32_t, uint32_t>(w, h, ch, coverage, threads, &st, read, write, touch);
+  else fill_by_distance<kCh, uint32_t, size_t>(w, h, ch, coverage, threads, &st, read, write, touch);
   if (stats) *stats = st;
 }
 
@@ -151,9 +230,22 @@ void dilate(ImageF& plane, const std::vector<uint8_t>& coverage, int threads, Di
   if (coverage.size() != n) throw Error("dilate: coverage size does not match the image");
   if (plane.data.size() != n * size_t(ch)) throw Error("dilate: malformed image");
   float* data = plane.data.data();
-  dilate_rings(plane.width, plane.height, ch, coverage, threads, stats,
-               [&](size_t i, float* v) { std::copy_n(data + i * size_t(ch), ch, v); },
-               [&](size_t i, const float* v) { std::copy_n(v, ch, data + i * size_t(ch)); });
+  auto read = [&](size_t i, bool, float* v) { std::copy_n(data + i * size_t(ch), ch, v); };
+  auto write = [&](size_t i, const float* v) { std::copy_n(v, ch, data + i * size_t(ch)); };
+  auto touch = [&](size_t i) { prefetch(data + i * size_t(ch)); };
+  const int w = plane.width, h = plane.height;
+  switch (ch) {  // the pipeline's plane widths with their sums in registers
+    case 1:
+      return dilate_rings<1>(w, h, 1, coverage, threads, stats, read, write, touch);
+    case 2:
+      return dilate_rings<2>(w, h, 2, coverage, threads, stats, read, write, touch);
+    case 3:
+      return dilate_rings<3>(w, h, 3, coverage, threads, stats, read, write, touch);
+    case 4:
+      return dilate_rings<4>(w, h, 4, coverage, threads, stats, read, write, touch);
+    default:
+      return dilate_rings(w, h, ch, coverage, threads, stats, read, write, touch);
+  }
 }
 
 void dilate_ahd(AhdImage& img, double dz_min, int threads, DilateStats* stats) {
@@ -166,17 +258,23 @@ void dilate_ahd(AhdImage& img, double dz_min, int threads, DilateStats* stats) {
   // them together is the same as one by one; one ratio is the mean three equal ones would have),
   // read and written in place: no plane copy of the image. The filled texels hold the raw means
   // until every ring is done, as a plane would.
-  dilate_rings(img.width, img.height, int(6 + nr), img.coverage, threads, stats,
-               [&](size_t i, float* v) {
-                 std::copy_n(&img.iz[i * 3], 3, v);
-                 std::copy_n(&img.d[i * 3], 3, v + 3);
-                 std::copy_n(&img.ratio[i * nr], nr, v + 6);
-               },
-               [&](size_t i, const float* v) {
-                 std::copy_n(v, 3, &img.iz[i * 3]);
-                 std::copy_n(v + 3, 3, &img.d[i * 3]);
-                 std::copy_n(v + 6, nr, &img.ratio[i * nr]);
-               });
+  auto read = [&](size_t i, bool, float* v) {
+    std::copy_n(&img.iz[i * 3], 3, v);
+    std::copy_n(&img.d[i * 3], 3, v + 3);
+    std::copy_n(&img.ratio[i * nr], nr, v + 6);
+  };
+  auto write = [&](size_t i, const float* v) {
+    std::copy_n(v, 3, &img.iz[i * 3]);
+    std::copy_n(v + 3, 3, &img.d[i * 3]);
+    std::copy_n(v + 6, nr, &img.ratio[i * nr]);
+  };
+  auto touch = [&](size_t i) {
+    prefetch(&img.iz[i * 3]);
+    prefetch(&img.d[i * 3]);
+    prefetch(&img.ratio[i * nr]);
+  };
+  if (nr == 1) dilate_rings<7>(img.width, img.height, 7, img.coverage, threads, stats, read, write, touch);
+  else dilate_rings<9>(img.width, img.height, 9, img.coverage, threads, stats, read, write, touch);
   parallel_for(n, threads, 1024, [&](size_t i) {
     if (img.coverage[i]) return;
     AhdFit f = img.texel(i);
@@ -206,11 +304,30 @@ void dilate_ambient(ShImage& sh, int threads, DilateStats* stats) {
   // dilate_ahd clamps the filled I_z at 0 after the last ring; the means of values ≥ +0 are ≥ +0
   // (never −0: the sums start at +0), so clamping as each texel is written gives the same bits
   // without another pass over the level.
-  dilate_rings(sh.width, sh.height, 3, sh.coverage, threads, stats,
-               [&](size_t i, float* v) { ambient_level_iz(sh, i, v); },
-               [&](size_t i, const float* v) {
-                 for (int c = 0; c < 3; ++c) sh.texel(i)[c] = std::max(0.0f, v[c]);
-               });
+  auto write = [&](size_t i, const float* v) {
+    for (int c = 0; c < 3; ++c) sh.texel(i)[c] = std::max(0.0f, v[c]);
+  };
+  // The three texels x−1 … x+1 of a neighbour row: 36 bytes, at most two cache lines.
+  const float* data = sh.data.data();
+  auto touch = [&, last = n - 1](size_t i) {
+    prefetch(data + (i == 0 ? 0 : i - 1) * 3);
+    prefetch(data + std::min(last, i + 1) * 3);
+  };
+  if (!sh.normals.empty()) {
+    dilate_rings<3>(
+        sh.width, sh.height, 3, sh.coverage, threads, stats,
+        [&](size_t i, bool, float* v) { ambient_level_iz(sh, i, v); }, write, touch);
+    return;
+  }
+  // ambient_level_iz without normals, its coverage test answered by the caller (no load of
+  // sh.coverage) and its branches selects.
+  dilate_rings<3>(
+      sh.width, sh.height, 3, sh.coverage, threads, stats,
+      [&](size_t i, bool covered, float* v) {
+        const float* t = sh.texel(i);
+        for (int c = 0; c < 3; ++c) v[c] = covered ? l0_texel_iz(t[c]) : t[c];
+      },
+      write, touch);
 }
 
 Image8 coverage_plane(int width, int height, const std::vector<uint8_t>& coverage) {

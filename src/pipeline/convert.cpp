@@ -438,9 +438,12 @@ PipelineResult run_conversion(ShImage&& sh, const Profile& profile, const Pipeli
     FitStats fs;
     DilateStats ds;
     // L0 images (plain lightmaps) store no fit: it is the pure ambient lobe at every texel,
-    // computed from the SH where needed (29 bytes a texel, more than twice their SH).
-    FittedLevel level = next.coeffs == 1 ? fit_ambient_level(std::move(next), opt.fit, opt.threads, &fs, &ds)
-                                         : fit_level(std::move(next), opt.fit, opt.threads, &fs, &ds);
+    // computed from the SH where needed (29 bytes a texel, more than twice their SH). The fit's
+    // counts are reported for level 0 only: the other levels are not counted (for an L0 image
+    // that is a pass over the level that nothing reads).
+    FitStats* level_fs = l == 0 ? &fs : nullptr;
+    FittedLevel level = next.coeffs == 1 ? fit_ambient_level(std::move(next), opt.fit, opt.threads, level_fs, &ds)
+                                         : fit_level(std::move(next), opt.fit, opt.threads, level_fs, &ds);
     r.dilate_stats.push_back(ds);
     fit += seconds_since(t0);
     if (l == 0) {

@@ -307,6 +307,134 @@ TEST(Dilate, AhdImageFilledTexelsAreValidAndGarbageFree) {
   }
 }
 
+namespace {
+
+// The rule of mips/dilate.h computed the plain way: ring by ring (each ring found from the one
+// before), every value of a ring from the state before it, with the sum dilate() documents.
+std::vector<float> ring_by_ring(int w, int h, int ch, const std::vector<uint8_t>& cov, std::vector<float> v,
+                                int* rings) {
+  const int dx[8] = {-1, 0, 1, -1, 1, -1, 0, 1}, dy[8] = {-1, -1, -1, 0, 0, 1, 1, 1};
+  const double wt[8] = {1, 2, 1, 2, 2, 1, 2, 1};
+  std::vector<uint8_t> filled(cov.begin(), cov.end());
+  for (uint8_t& f : filled) f = f ? 1 : 0;
+  *rings = 0;
+  std::vector<size_t> ring;  // ring 1: the uncovered texels next to a covered one
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      if (filled[size_t(y) * w + x]) continue;
+      for (int k = 0; k < 8; ++k) {
+        const int nx = x + dx[k], ny = y + dy[k];
+        if (nx >= 0 && ny >= 0 && nx < w && ny < h && filled[size_t(ny) * w + nx]) {
+          ring.push_back(size_t(y) * w + x);
+          break;
+        }
+      }
+    }
+  std::vector<uint8_t> queued(filled);
+  for (size_t i : ring) queued[i] = 1;
+  for (;;) {
+    if (ring.empty()) return v;
+    ++*rings;
+    std::vector<float> out(ring.size() * size_t(ch));
+    for (size_t r = 0; r < ring.size(); ++r) {
+      const int x = int(ring[r] % size_t(w)), y = int(ring[r] / size_t(w));
+      std::vector<double> a(size_t(ch), 0.0);
+      double ws = 0;
+      for (int k = 0; k < 8; ++k) {
+        const int nx = x + dx[k], ny = y + dy[k];
+        if (nx < 0 || ny < 0 || nx >= w || ny >= h || filled[size_t(ny) * w + nx] != 1) continue;
+        for (int c = 0; c < ch; ++c) a[size_t(c)] += wt[k] * double(v[(size_t(ny) * w + nx) * ch + c]);
+        ws += wt[k];
+      }
+      for (int c = 0; c < ch; ++c) out[r * ch + c] = float(a[size_t(c)] / ws);
+    }
+    std::vector<size_t> next;  // ring r + 1: the texels next to ring r not in a ring yet
+    for (size_t r = 0; r < ring.size(); ++r) {
+      std::copy_n(&out[r * ch], ch, &v[ring[r] * ch]);
+      filled[ring[r]] = 1;
+      const int x = int(ring[r] % size_t(w)), y = int(ring[r] / size_t(w));
+      for (int k = 0; k < 8; ++k) {
+        const int nx = x + dx[k], ny = y + dy[k];
+        if (nx < 0 || ny < 0 || nx >= w || ny >= h || queued[size_t(ny) * w + nx]) continue;
+        queued[size_t(ny) * w + nx] = 1;
+        next.push_back(size_t(ny) * w + nx);
+      }
+    }
+    ring.swap(next);
+  }
+}
+
+// A wide gutter (hundreds of rings, the first ones longer than dilate's parallel chunks) around a
+// few charts and lone texels, image edges included, garbage with NaN and infinities outside.
+std::vector<uint8_t> sparse_coverage(int w, int h) {
+  std::vector<uint8_t> cov(size_t(w) * h, 0);
+  std::mt19937 rng(11);
+  for (int k = 0; k < 40; ++k) {  // lone texels and small charts, some on an edge
+    const int x0 = int(rng() % uint32_t(w)), y0 = int(rng() % uint32_t(h)), s = int(rng() % 5);
+    for (int y = y0; y < std::min(h, y0 + s + 1); ++y)
+      for (int x = x0; x < std::min(w, x0 + 2 * s + 1); ++x) cov[size_t(y) * w + x] = uint8_t(1 + rng() % 200);
+  }
+  for (int y = 0; y < h; ++y) cov[size_t(y) * w] = y < 3;  // a corner
+  return cov;
+}
+
+void nasty_garbage(std::vector<float>& v, int ch, const std::vector<uint8_t>& cov) {
+  const float bad[4] = {std::nanf(""), INFINITY, -INFINITY, -1e30f};
+  for (size_t i = 0; i < cov.size(); ++i)
+    if (!cov[i])
+      for (int c = 0; c < ch; ++c) v[i * ch + c] = bad[(i + size_t(c)) % 4];
+}
+
+}  // namespace
+
+// The distance-transform schedule of dilate() must give the ring-by-ring rule's bits exactly, for
+// the channel counts it specialises (1, 3; 7 and 9 as dilate_ahd uses), more than 16, any threads.
+TEST(Dilate, DistanceOrderGivesTheRingByRingBits) {
+  const int w = 523, h = 347;  // odd sizes: rows of the rings are not aligned to anything
+  const std::vector<uint8_t> cov = sparse_coverage(w, h);
+  for (int ch : {1, 3, 7, 9, 20}) {
+    std::vector<float> v(cov.size() * size_t(ch));
+    for (size_t i = 0; i < v.size(); ++i) v[i] = float(std::sin(0.37 * double(i)) * 3.0 + 0.01 * double(i % 97));
+    nasty_garbage(v, ch, cov);
+    int rings = 0;
+    const std::vector<float> want = ring_by_ring(w, h, ch, cov, v, &rings);
+    ASSERT_GT(rings, 40);
+    for (int threads : {1, 2}) {
+      ImageF img(w, h, ch);
+      img.data = v;
+      DilateStats st;
+      dilate(img, cov, threads, &st);
+      EXPECT_EQ(st.rings, rings) << ch;
+      ASSERT_EQ(std::memcmp(img.data.data(), want.data(), want.size() * sizeof(float)), 0)
+          << ch << " channels, " << threads << " threads";
+    }
+  }
+}
+
+// dilate_ambient (an L0 level's gutters, in its SH slots) against the same rule over the I_z plane.
+TEST(Dilate, AmbientGivesTheRingByRingBits) {
+  const int w = 401, h = 333;
+  ShImage sh = make_sh_image(w, h, 1);
+  sh.coverage = sparse_coverage(w, h);
+  for (size_t i = 0; i < sh.data.size(); ++i) sh.data[i] = float(0.5 + 0.4 * std::sin(0.11 * double(i)));
+  sh.data[7] = -0.5f;  // negative SH: I_z 0
+  nasty_garbage(sh.data, 3, sh.coverage);
+  std::vector<float> iz(sh.data.size());
+  for (size_t i = 0; i < sh.texels(); ++i) ambient_level_iz(sh, i, &iz[i * 3]);
+  int rings = 0;
+  const std::vector<float> want = ring_by_ring(w, h, 3, sh.coverage, iz, &rings);
+  for (int threads : {1, 2}) {
+    ShImage a = sh;
+    DilateStats st;
+    dilate_ambient(a, threads, &st);
+    EXPECT_EQ(st.rings, rings);
+    for (size_t i = 0; i < a.texels(); ++i) {
+      const float* got = a.coverage[i] ? sh.texel(i) : &want[i * 3];
+      ASSERT_EQ(std::memcmp(a.texel(i), got, 3 * sizeof(float)), 0) << i << " " << threads;
+    }
+  }
+}
+
 TEST(Dilate, CoveragePlaneIsR8) {
   const std::vector<uint8_t> cov = {1, 0, 7, 0, 0, 1};
   const Image8 p = coverage_plane(3, 2, cov);
