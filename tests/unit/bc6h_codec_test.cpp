@@ -212,9 +212,9 @@ TEST(Bc6h, RepeatedBlocksGetTheirOwnBytes) {
     for (int x = 0; x < img.width; ++x)
       for (int c = 0; c < 3; ++c) {
         const int bx = x / 4, by = y / 4;
-        float v = 0.02f;                                                           // flat gutter
+        float v = 0.02f;                                                          // flat gutter
         if (by == 1) v = 0.3f + 0.1f * float((x % 4) + 4 * (y % 4)) + 0.05f * c;  // a repeated ramp
-        if (by == 2 && bx % 3 == 0) v = std::exp2(8 * u(rng) - 6);                 // noise among flat blocks
+        if (by == 2 && bx % 3 == 0) v = std::exp2(8 * u(rng) - 6);                // noise among flat blocks
         img.at(x, y)[c] = v;
       }
   img.at(4 * 7 + 2, 4 + 3)[1] += 0.5f;  // block (7, 1) differs from (6, 1) in one value

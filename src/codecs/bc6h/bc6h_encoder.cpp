@@ -1658,8 +1658,7 @@ std::vector<uint8_t> bc6h_encode_image(const ImageF& img, const Bc6hOptions& opt
         if (img.channels == 3 && bx * 4 + 4 <= img.width && by * 4 + 4 <= img.height &&
             copy_block_in_range(img.at(bx * 4, by * 4), size_t(img.width) * 3, rgb[u]))
           std::memset(valid[u], 1, 16);
-        else
-          gather(blk, rgb[u], valid[u]);
+        else gather(blk, rgb[u], valid[u]);
         const bool repeat = u > 0 && std::memcmp(rgb[u], rgb[u - 1], sizeof rgb[0]) == 0 &&
                             std::memcmp(valid[u], valid[u - 1], sizeof valid[0]) == 0;
         slot[i] = repeat ? u - 1 : u++;
