@@ -201,6 +201,45 @@ TEST(Bc6h, DeterministicAndIndependentOfNeighbours) {
   }
 }
 
+// Issue 28: `fast` and `default` encode a block equal to the one before it only once and copy
+// its bytes; a copy must be exactly the block's own encoding, and a block that differs in one
+// value, or only in which texels are real (the partial blocks of the right edge), is not a copy.
+TEST(Bc6h, RepeatedBlocksGetTheirOwnBytes) {
+  ImageF img(62, 16, 3);  // 16 × 4 blocks, the last column two texels wide
+  std::mt19937 rng(28);
+  std::uniform_real_distribution<float> u(0, 1);
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x)
+      for (int c = 0; c < 3; ++c) {
+        const int bx = x / 4, by = y / 4;
+        float v = 0.02f;                                                          // flat gutter
+        if (by == 1) v = 0.3f + 0.1f * float((x % 4) + 4 * (y % 4)) + 0.05f * c;  // a repeated ramp
+        if (by == 2 && bx % 3 == 0) v = std::exp2(8 * u(rng) - 6);                // noise among flat blocks
+        img.at(x, y)[c] = v;
+      }
+  img.at(4 * 7 + 2, 4 + 3)[1] += 0.5f;  // block (7, 1) differs from (6, 1) in one value
+  for (Bc6hQuality q : {Bc6hQuality::Fast, Bc6hQuality::Default}) {
+    Bc6hOptions o;
+    o.quality = q;
+    o.threads = 1;
+    const std::vector<uint8_t> all = bc6h_encode_image(img, o);
+    for (int by = 0; by < 4; ++by)
+      for (int bx = 0; bx < 16; ++bx) {
+        const int w = std::min(4, img.width - 4 * bx);
+        ImageF alone(w, 4, 3);
+        for (int y = 0; y < 4; ++y)
+          for (int x = 0; x < w; ++x)
+            for (int c = 0; c < 3; ++c) alone.at(x, y)[c] = img.at(4 * bx + x, 4 * by + y)[c];
+        const std::vector<uint8_t> single = bc6h_encode_image(alone, o);
+        ASSERT_TRUE(std::equal(single.begin(), single.end(), all.begin() + std::ptrdiff_t((by * 16 + bx) * 16)))
+            << bc6h_quality_name(q) << " block " << bx << "," << by;
+      }
+    // The tweaked block is not its neighbour's copy.
+    EXPECT_FALSE(std::equal(all.begin() + (16 + 6) * 16, all.begin() + (16 + 7) * 16, all.begin() + (16 + 7) * 16))
+        << bc6h_quality_name(q);
+  }
+}
+
 TEST(Bc6h, SignedKeepsNegativeValues) {
   ImageF img(4, 4, 3);
   for (int i = 0; i < 16; ++i)

@@ -1644,31 +1644,47 @@ std::vector<uint8_t> bc6h_encode_image(const ImageF& img, const Bc6hOptions& opt
       float rgb[kBatch][48];
       uint16_t h[kBatch][48];
       uint8_t valid[kBatch][16];
+      // A block equal bit for bit to the one gathered before it (gutters, flat areas, dark
+      // corners of real lightmaps) is not encoded again: it takes that block's bytes. Each
+      // block's encoding depends only on its own values (the contracts of encode_blocks_fast and
+      // encode_block_default), so the bytes are those of encoding it anew; groups are fixed, so
+      // they do not depend on the thread count either. Block i's bytes are unique block slot[i]'s.
+      int slot[kBatch];
+      int u = 0;  // unique blocks gathered: rgb[0..u), valid[0..u)
       for (int i = 0; i < n; ++i) {
         const size_t blk = g * kBatch + size_t(i);
         const int bx = int(blk % bw), by = int(blk / bw);
         // Inner blocks of 3-channel images whose values the input rule leaves alone: one copy.
         if (img.channels == 3 && bx * 4 + 4 <= img.width && by * 4 + 4 <= img.height &&
-            copy_block_in_range(img.at(bx * 4, by * 4), size_t(img.width) * 3, rgb[i])) {
-          std::memset(valid[i], 1, 16);
-          continue;
-        }
-        gather(blk, rgb[i], valid[i]);
+            copy_block_in_range(img.at(bx * 4, by * 4), size_t(img.width) * 3, rgb[u]))
+          std::memset(valid[u], 1, 16);
+        else gather(blk, rgb[u], valid[u]);
+        const bool repeat = u > 0 && std::memcmp(rgb[u], rgb[u - 1], sizeof rgb[0]) == 0 &&
+                            std::memcmp(valid[u], valid[u - 1], sizeof valid[0]) == 0;
+        slot[i] = repeat ? u - 1 : u++;
       }
-      // Each of the n blocks was written above (copied or gathered); GCC 12 cannot see it through
-      // the loop's `continue` and warns that the const pointer may read uninitialised floats.
+      uint8_t* const dst = &out[g * kBatch * 16];
+      uint8_t unique_out[kBatch * 16];
+      uint8_t* const enc = u == n ? dst : unique_out;  // no repeats: straight into the image
+      // Each of the u blocks was written above (copied or gathered); GCC 12 cannot see it through
+      // the loop and warns that the const pointer may read uninitialised floats.
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #endif
-      floats_to_half(rgb[0], h[0], 48 * n);
+      floats_to_half(rgb[0], h[0], 48 * u);
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic pop
 #endif
-      if (opt.quality == Bc6hQuality::Fast) return encode_blocks_fast(h[0], rgb[0], valid[0], n, &out[g * kBatch * 16]);
-      OneRegionFit fits[kBatch];
-      fit_blocks_fast(h[0], rgb[0], valid[0], n, fits);
-      for (int i = 0; i < n; ++i) encode_block_default(h[i], rgb[i], valid[i], fits[i], &out[(g * kBatch + size_t(i)) * 16]);
+      if (opt.quality == Bc6hQuality::Fast) {
+        encode_blocks_fast(h[0], rgb[0], valid[0], u, enc);
+      } else {
+        OneRegionFit fits[kBatch];
+        fit_blocks_fast(h[0], rgb[0], valid[0], u, fits);
+        for (int i = 0; i < u; ++i) encode_block_default(h[i], rgb[i], valid[i], fits[i], &enc[size_t(i) * 16]);
+      }
+      if (enc != dst)
+        for (int i = 0; i < n; ++i) std::memcpy(&dst[size_t(i) * 16], &enc[size_t(slot[i]) * 16], 16);
     });
   } else {
     parallel_for(blocks, opt.threads, 16, [&](size_t blk) {
