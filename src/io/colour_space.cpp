@@ -294,11 +294,6 @@ void apply_matrix(ShImage& sh, const Matrix3& m) {
   });
 }
 
-void convert_to_working_space(ShImage& sh, const SourceSpace& from, const std::string& path) {
-  if (from.working_primaries()) return;
-  apply_matrix(sh, working_space_matrix(from, path));
-}
-
 void srgb_decode(float* values, size_t n, size_t stride) {
   // The processor is built once; OpenColorIO's CPU processors are safe to share between threads.
   static const OCIO::ConstCPUProcessorRcPtr cpu = [] {

@@ -56,9 +56,6 @@ Matrix3 working_space_matrix(const SourceSpace& from, const std::string& path);
 // commutes with the projection onto each basis function. Normals and coverage are untouched.
 void apply_matrix(ShImage& sh, const Matrix3& m);
 
-// Converts `sh` (read in `from`'s primaries) to the working space: apply_matrix with
-// working_space_matrix, nothing at all for working_primaries().
-void convert_to_working_space(ShImage& sh, const SourceSpace& from, const std::string& path);
 
 // Decodes sRGB-encoded values (IEC 61966-2-1 EOTF, OpenColorIO's ExponentWithLinearTransform
 // gamma 2.4 offset 0.055) to linear, in place: `n` values `stride` floats apart.
