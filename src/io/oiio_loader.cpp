@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "io/oiio_module.h"
+#include "io/paths.h"
 
 namespace ahd {
 
@@ -13,13 +14,9 @@ namespace {
 // The installed module: <prefix>/<libdir>/ahdpack/libahd_oiio.so for <prefix>/<bindir>/ahdpack (the
 // install's relative layout, as io/paths.cpp finds formats/), else the build tree's.
 std::string module_path() {
-  std::error_code ec;
-  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-  if (!ec && !exe.empty()) {
-    std::filesystem::path prefix = exe.parent_path();
-    for (const auto& part : std::filesystem::path(AHD_INSTALL_BINDIR))
-      if (!part.empty() && part != ".") prefix = prefix.parent_path();
-    const std::filesystem::path installed = prefix / AHD_INSTALL_OIIO_MODULE;
+  if (const std::string prefix = executable_prefix(); !prefix.empty()) {
+    std::error_code ec;
+    const std::filesystem::path installed = std::filesystem::path(prefix) / AHD_INSTALL_OIIO_MODULE;
     if (std::filesystem::exists(installed, ec)) return installed.string();
   }
   return AHD_BUILD_OIIO_MODULE;

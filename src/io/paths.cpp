@@ -6,19 +6,25 @@
 
 namespace ahd {
 
-namespace {
-
-// The installed data beside the running executable: <prefix>/share/ahdpack/formats for
-// <prefix>/bin/ahdpack (the install's relative layout, so a prefix moved or copied elsewhere still
-// finds its own data). Empty when there is none (a build tree, or no /proc).
-std::string installed_formats_dir() {
+std::string executable_prefix() {
   std::error_code ec;
   const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
   if (ec || exe.empty()) return {};
   std::filesystem::path prefix = exe.parent_path();
   for (const auto& part : std::filesystem::path(AHD_INSTALL_BINDIR))
     if (!part.empty() && part != ".") prefix = prefix.parent_path();
-  const std::filesystem::path dir = prefix / AHD_INSTALL_FORMATS_DIR;
+  return prefix.string();
+}
+
+namespace {
+
+// The installed data beside the running executable: <prefix>/share/ahdpack/formats for
+// <prefix>/bin/ahdpack. Empty when there is none (a build tree, or no /proc).
+std::string installed_formats_dir() {
+  const std::string prefix = executable_prefix();
+  if (prefix.empty()) return {};
+  std::error_code ec;
+  const std::filesystem::path dir = std::filesystem::path(prefix) / AHD_INSTALL_FORMATS_DIR;
   return std::filesystem::is_directory(dir / "profiles", ec) ? dir.string() : std::string();
 }
 

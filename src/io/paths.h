@@ -5,6 +5,11 @@
 
 namespace ahd {
 
+// The install prefix of the running executable by the install's relative layout (<prefix>/bin/ahdpack
+// → <prefix>), so that a prefix moved or copied elsewhere still finds its own files. Empty without
+// /proc/self/exe.
+std::string executable_prefix();
+
 // $AHD_FORMATS_DIR when set, else the installed data beside the executable (<prefix>/bin/ahdpack
 // → <prefix>/share/ahdpack/formats) when it exists, else the source tree's formats/ folder.
 std::string formats_dir();
