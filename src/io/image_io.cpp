@@ -1,5 +1,6 @@
 #include "io/image_io.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -178,6 +179,23 @@ ImageF read_image(const std::string& path, ImageFileInfo* info_out, int part) {
   }
 }
 
+namespace {
+
+// `height` rows of `row` floats each, `band` rows at a time through `read_band(y0, y1, buf)` into
+// one reused buffer, each band handed to `fn`: the file is never held decoded whole.
+template <class ReadBand>
+void for_each_band(int height, size_t row, int band, const ReadBand& read_band,
+                   const std::function<void(int y0, int y1, const float* rows)>& fn) {
+  std::vector<float> buf(row * size_t(std::min(band, height)));
+  for (int y0 = 0; y0 < height; y0 += band) {
+    const int y1 = std::min(height, y0 + band);
+    read_band(y0, y1, buf.data());
+    fn(y0, y1, buf.data());
+  }
+}
+
+}  // namespace
+
 void read_image_rows(const std::string& path, int part, ImageFileInfo* info_out,
                      const std::function<void(int y0, int y1, const float* rows)>& fn,
                      const std::function<void(const ImageFileInfo&)>& on_header) {
@@ -186,14 +204,8 @@ void read_image_rows(const std::string& path, int part, ImageFileInfo* info_out,
     const ImageFileInfo info = exr->info(part);
     if (info_out) *info_out = info;
     if (on_header) on_header(info);
-    const int band = exr->band_rows(part);
-    const size_t row = size_t(info.width) * info.channel_names.size();
-    std::vector<float> buf(row * size_t(std::min(band, info.height)));
-    for (int y0 = 0; y0 < info.height; y0 += band) {
-      const int y1 = std::min(info.height, y0 + band);
-      exr->read_rows(part, y0, y1, buf.data());
-      fn(y0, y1, buf.data());
-    }
+    for_each_band(info.height, size_t(info.width) * info.channel_names.size(), exr->band_rows(part),
+                  [&](int y0, int y1, float* buf) { exr->read_rows(part, y0, y1, buf); }, fn);
     return;
   }
   OpenedImage f = open_input(path, std::move(bytes));
@@ -201,16 +213,13 @@ void read_image_rows(const std::string& path, int part, ImageFileInfo* info_out,
   if (info_out) *info_out = info;
   if (on_header) on_header(info);
   const OiioSpec spec = f.spec;
-  const int band = spec.tile_height > 0 ? spec.tile_height : 64;
-  const size_t row = size_t(spec.width) * spec.nchannels;
-  std::vector<float> buf(row * size_t(std::min(band, spec.height)));
-  for (int y0 = 0; y0 < spec.height; y0 += band) {
-    const int y1 = std::min(spec.height, y0 + band);
-    std::string why;
-    if (!f.oiio->read_rows(f.handle, part, y0, y1, buf.data(), &why))
-      throw file_error(path, "cannot read pixels (" + why + ")");
-    fn(y0, y1, buf.data());
-  }
+  for_each_band(spec.height, size_t(spec.width) * size_t(spec.nchannels), spec.tile_height > 0 ? spec.tile_height : 64,
+                [&](int y0, int y1, float* buf) {
+                  std::string why;
+                  if (!f.oiio->read_rows(f.handle, part, y0, y1, buf, &why))
+                    throw file_error(path, "cannot read pixels (" + why + ")");
+                },
+                fn);
 }
 
 std::vector<uint8_t> encode_image(const std::string& path, const ImageF& img, bool half_float,
