@@ -9,10 +9,52 @@
 
 #ifdef __SSE2__
 #include <emmintrin.h>
+#include <immintrin.h>
 #endif
 
 namespace ahd {
 namespace {
+
+#ifdef __SSE2__
+// The index step on wider lanes: the 16 texels in one AVX-512 register or two AVX2 ones (the
+// SSE2 loop below needs four). Each lane does what the scalar loop does — |v − p|, a strict
+// compare, a select — so the distances and indices are bit for bit the same; the caller sums the
+// error in texel order (outside these functions, so no FMA can fuse it). Issue 28: `assign` was
+// 18 % of an L2 2048² conversion's samples with the SSE2 loop.
+__attribute__((target("avx512f"))) void nearest_avx512(const float v[16], const float pal[8], float bd[16], int bi[16]) {
+  const __m512 vi = _mm512_loadu_ps(v);
+  __m512 d = _mm512_abs_ps(_mm512_sub_ps(vi, _mm512_set1_ps(pal[0])));
+  __m512i kb = _mm512_setzero_si512();
+  for (int k = 1; k < 8; ++k) {
+    const __m512 dk = _mm512_abs_ps(_mm512_sub_ps(vi, _mm512_set1_ps(pal[k])));
+    const __mmask16 closer = _mm512_cmp_ps_mask(dk, d, _CMP_LT_OQ);
+    d = _mm512_mask_mov_ps(d, closer, dk);
+    kb = _mm512_mask_mov_epi32(kb, closer, _mm512_set1_epi32(k));
+  }
+  _mm512_storeu_ps(bd, d);
+  _mm512_storeu_si512(bi, kb);
+}
+
+__attribute__((target("avx2"))) void nearest_avx2(const float v[16], const float pal[8], float bd[16], int bi[16]) {
+  const __m256 sign = _mm256_set1_ps(-0.0f);
+  const __m256 v0 = _mm256_loadu_ps(v), v1 = _mm256_loadu_ps(v + 8);
+  const __m256 p0 = _mm256_set1_ps(pal[0]);
+  __m256 d0 = _mm256_andnot_ps(sign, _mm256_sub_ps(v0, p0)), d1 = _mm256_andnot_ps(sign, _mm256_sub_ps(v1, p0));
+  __m256 k0 = _mm256_setzero_ps(), k1 = _mm256_setzero_ps();  // indices as int bits in float lanes
+  for (int k = 1; k < 8; ++k) {
+    const __m256 pk = _mm256_set1_ps(pal[k]);
+    const __m256 kk = _mm256_castsi256_ps(_mm256_set1_epi32(k));
+    const __m256 e0 = _mm256_andnot_ps(sign, _mm256_sub_ps(v0, pk)), e1 = _mm256_andnot_ps(sign, _mm256_sub_ps(v1, pk));
+    const __m256 c0 = _mm256_cmp_ps(e0, d0, _CMP_LT_OQ), c1 = _mm256_cmp_ps(e1, d1, _CMP_LT_OQ);
+    d0 = _mm256_blendv_ps(d0, e0, c0), d1 = _mm256_blendv_ps(d1, e1, c1);
+    k0 = _mm256_blendv_ps(k0, kk, c0), k1 = _mm256_blendv_ps(k1, kk, c1);
+  }
+  _mm256_storeu_ps(bd, d0);
+  _mm256_storeu_ps(bd + 8, d1);
+  _mm256_storeu_si256(reinterpret_cast<__m256i*>(bi), _mm256_castps_si256(k0));
+  _mm256_storeu_si256(reinterpret_cast<__m256i*>(bi + 8), _mm256_castps_si256(k1));
+}
+#endif
 
 
 uint64_t read_indices(const uint8_t* b) {
@@ -21,51 +63,39 @@ uint64_t read_indices(const uint8_t* b) {
   return v;
 }
 
-// Best index per texel for a palette (the first of equally close entries); returns the squared
-// error, summed in texel order. Palette-major so the 16 texels are compared in vector lanes.
-float assign(const float v[16], const float pal[8], uint8_t idx[16]) {
-  float bd[16];
-  int bi[16];
 #ifdef __SSE2__
-  // The same compares and selects, four texels per SSE2 register (g++ 12 left the loops below
-  // scalar: issue 28, perf of an L2 2048² conversion put this function at 25 % of its samples).
-  // Exact per lane (|v − p|, a strict compare, selects), so the indices and distances are the
-  // scalar loops' bit for bit; the error is then summed in texel order as before.
-  {
-    const __m128 sign = _mm_set1_ps(-0.0f);
-    __m128 d[4], vi[4];
-    __m128i k_best[4];
-    const __m128 p0 = _mm_set1_ps(pal[0]);
+// Four texels per SSE2 register (g++ 12 left the plain loops scalar: issue 28, perf of an L2
+// 2048² conversion put the index step at 25 % of its samples).
+void nearest_sse2(const float v[16], const float pal[8], float bd[16], int bi[16]) {
+  const __m128 sign = _mm_set1_ps(-0.0f);
+  __m128 d[4], vi[4];
+  __m128i k_best[4];
+  const __m128 p0 = _mm_set1_ps(pal[0]);
+  for (int q = 0; q < 4; ++q) {
+    vi[q] = _mm_loadu_ps(v + 4 * q);
+    d[q] = _mm_andnot_ps(sign, _mm_sub_ps(vi[q], p0));
+    k_best[q] = _mm_setzero_si128();
+  }
+  for (int k = 1; k < 8; ++k) {
+    const __m128 pk = _mm_set1_ps(pal[k]);
+    const __m128i kk = _mm_set1_epi32(k);
     for (int q = 0; q < 4; ++q) {
-      vi[q] = _mm_loadu_ps(v + 4 * q);
-      d[q] = _mm_andnot_ps(sign, _mm_sub_ps(vi[q], p0));
-      k_best[q] = _mm_setzero_si128();
-    }
-    for (int k = 1; k < 8; ++k) {
-      const __m128 pk = _mm_set1_ps(pal[k]);
-      const __m128i kk = _mm_set1_epi32(k);
-      for (int q = 0; q < 4; ++q) {
-        const __m128 dk = _mm_andnot_ps(sign, _mm_sub_ps(vi[q], pk));
-        const __m128 closer = _mm_cmplt_ps(dk, d[q]);
-        d[q] = _mm_or_ps(_mm_and_ps(closer, dk), _mm_andnot_ps(closer, d[q]));
-        const __m128i c = _mm_castps_si128(closer);
-        k_best[q] = _mm_or_si128(_mm_and_si128(c, kk), _mm_andnot_si128(c, k_best[q]));
-      }
-    }
-    for (int q = 0; q < 4; ++q) {
-      _mm_storeu_ps(bd + 4 * q, d[q]);
-      _mm_storeu_si128(reinterpret_cast<__m128i*>(bi + 4 * q), k_best[q]);
+      const __m128 dk = _mm_andnot_ps(sign, _mm_sub_ps(vi[q], pk));
+      const __m128 closer = _mm_cmplt_ps(dk, d[q]);
+      d[q] = _mm_or_ps(_mm_and_ps(closer, dk), _mm_andnot_ps(closer, d[q]));
+      const __m128i c = _mm_castps_si128(closer);
+      k_best[q] = _mm_or_si128(_mm_and_si128(c, kk), _mm_andnot_si128(c, k_best[q]));
     }
   }
-  if (cpu::has(cpu::kSse2)) {  // the tests force the plain loops with cpu::disable_for_tests
-    float err = 0;
-    for (int i = 0; i < 16; ++i) {
-      idx[i] = uint8_t(bi[i]);
-      err += bd[i] * bd[i];
-    }
-    return err;
+  for (int q = 0; q < 4; ++q) {
+    _mm_storeu_ps(bd + 4 * q, d[q]);
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(bi + 4 * q), k_best[q]);
   }
+}
 #endif
+
+// The plain loops, which every path above matches lane for lane.
+void nearest_scalar(const float v[16], const float pal[8], float bd[16], int bi[16]) {
   for (int i = 0; i < 16; ++i) bd[i] = std::fabs(v[i] - pal[0]), bi[i] = 0;
   for (int k = 1; k < 8; ++k)
     for (int i = 0; i < 16; ++i) {
@@ -74,6 +104,26 @@ float assign(const float v[16], const float pal[8], uint8_t idx[16]) {
       bd[i] = closer ? d : bd[i];
       bi[i] = closer ? k : bi[i];
     }
+}
+
+using NearestFn = void (*)(const float*, const float*, float*, int*);
+
+// The widest index step this CPU has (asked once per block: the tests switch paths between calls).
+NearestFn nearest_for_cpu() {
+#ifdef __SSE2__
+  if (cpu::has(cpu::kAvx512)) return nearest_avx512;
+  if (cpu::has(cpu::kAvx2)) return nearest_avx2;
+  if (cpu::has(cpu::kSse2)) return nearest_sse2;  // off only when the tests force the plain loops
+#endif
+  return nearest_scalar;
+}
+
+// Best index per texel for a palette (the first of equally close entries); returns the squared
+// error, summed in texel order.
+float assign(NearestFn nearest, const float v[16], const float pal[8], uint8_t idx[16]) {
+  float bd[16];
+  int bi[16];
+  nearest(v, pal, bd, bi);
   float err = 0;
   for (int i = 0; i < 16; ++i) {
     idx[i] = uint8_t(bi[i]);
@@ -189,11 +239,12 @@ void bc4_encode_block(const float texels[16], uint8_t out[8], int effort) {
   float pal[8];
   thread_local TriedPairs tried;
   tried.clear();
+  const NearestFn nearest = nearest_for_cpu();
   auto consider = [&](int r0, int r1) {
     if (r0 < 0 || r0 > 255 || r1 < 0 || r1 > 255) return;
     if (!tried.first_time(r0, r1)) return;
     bc4_palette(uint8_t(r0), uint8_t(r1), pal);
-    const float e = assign(v, pal, idx);
+    const float e = assign(nearest, v, pal, idx);
     if (e < best) {
       best = e, b0 = uint8_t(r0), b1 = uint8_t(r1);
       std::copy(idx, idx + 16, best_idx);
