@@ -4,6 +4,8 @@
 # everything is compiled with -fsanitize=fuzzer-no-link too, so one instrumented library serves
 # both (scripts/fuzz.sh runs them). Left out: the Mesa/llvmpipe judge tests (ahd_gl_tests) — the
 # GL driver's JIT under ASan is impractically slow and its code is not ours; the bench.
+# -gline-tables-only: the reports' stack traces name files and lines (all they print) without the
+# full debug info (cmd_convert.cpp: 28.4 → 24.1 s of clang -O1 with both sanitizers).
 # AHD_WERROR=ON (.ci/run) makes warnings errors (clang-14, everything including the fuzz targets).
 # Usage: bash scripts/sanitize.sh [--build-only]
 set -euo pipefail
@@ -14,7 +16,7 @@ launcher=()
 command -v ccache >/dev/null 2>&1 && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
 cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCMAKE_C_COMPILER=clang-14 -DCMAKE_CXX_COMPILER=clang++-14 "${launcher[@]}" \
-  -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g $SAN" -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g $SAN" \
+  -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only $SAN" -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only $SAN" \
   -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \
   -DAHD_BUILD_BENCH=OFF -DAHD_GL_TESTS=OFF -DAHD_FUZZ=ON -DAHD_WARNINGS_AS_ERRORS="${AHD_WERROR:-OFF}" >/dev/null
 cmake --build build-asan -j "$(nproc)"

@@ -27,6 +27,7 @@
 
 #include "cli_runner.h"
 #include "file_bytes.h"
+#include "sanitized.h"
 #include "containers/ktx2.h"
 #include "containers/limits.h"
 #include "core/texture.h"
@@ -496,17 +497,7 @@ TEST(BadInputRound2, ControlCharactersInFileNamesAreEscapedInErrors) {
 
 namespace {
 
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kSanitized = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(memory_sanitizer) || __has_feature(thread_sanitizer)
-constexpr bool kSanitized = true;
-#else
-constexpr bool kSanitized = false;
-#endif
-#else
-constexpr bool kSanitized = false;
-#endif
+using ahd_test::kSanitized;
 
 struct LimitedRun {
   int exit_code = -1;
