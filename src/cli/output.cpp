@@ -95,8 +95,10 @@ void print_conversion(const std::string& source, const OutputPaths& out, const C
     std::printf("\n");
   }
   if (!r.dilate_stats.empty())
-    std::printf("dilation: %zu guard texels around the charts, %zu texels filled in %d rings (level 0)\n",
-                r.dilate_stats[0].guard, r.dilate_stats[0].filled, r.dilate_stats[0].rings);
+    std::printf("dilation: %zu guard texels around the charts, %zu texels filled in %d rings, %zu beyond them set "
+                "to 0 (level 0)\n",
+                r.dilate_stats[0].guard, r.dilate_stats[0].filled - r.dilate_stats[0].far, r.dilate_stats[0].rings,
+                r.dilate_stats[0].far);
   if (r.codec_stats.clamped || r.codec_stats.non_finite)
     std::printf("codec: %zu values clamped to the format's range (negative, or above its largest value: half "
                 "float 65504, BC6H/RGB9E5 about as much), %zu non-finite; bright I_z that clamps is stored smaller "

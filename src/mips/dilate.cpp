@@ -101,18 +101,30 @@ void fill_by_distance(int w, int h, int ch_runtime, const std::vector<uint8_t>& 
       right = m;
     }
   }
-  // Rings by counting sort: start[r] = first slot of ring r in `order` (rings 1 … max_d).
-  std::vector<size_t> start(size_t(max_d) + 2, 0);
+  // Rings by counting sort: start[r] = first slot of ring r in `order` (rings 1 … last). Texels
+  // beyond kDilateRings are not listed: they are set to zero below.
+  const uint64_t last = std::min<uint64_t>(max_d, kDilateRings);
+  std::vector<size_t> start(size_t(last) + 2, 0);
   for (size_t r = 2; r < start.size(); ++r) start[r] = start[r - 1] + count[r - 1];
-  std::unique_ptr<Index[]> order(new Index[n - st->covered]);
-  advise_huge_pages(order.get(), (n - st->covered) * sizeof(Index));
+  const size_t listed = start[size_t(last) + 1];
+  std::unique_ptr<Index[]> order(new Index[std::max<size_t>(listed, 1)]);
+  advise_huge_pages(order.get(), listed * sizeof(Index));
   {
     std::vector<size_t> pos(start);
     for (size_t i = 0; i < n; ++i)
-      if (dist[i]) order[pos[dist[i]]++] = Index(i);
+      if (dist[i] && dist[i] <= last) order[pos[dist[i]]++] = Index(i);
   }
   st->guard = start[2] - start[1];
-  st->rings = int(max_d);
+  st->rings = int(last);
+  st->far = n - st->covered - listed;
+  if (st->far) {
+    const Dist* dp = dist.get();
+    std::vector<float> zeros(size_t(ch), 0.0f);
+    parallel_for(size_t(h), threads, 16, [&](size_t y) {
+      for (size_t i = y * wn; i < (y + 1) * wn; ++i)
+        if (dp[i] > last) write(i, zeros.data());
+    });
+  }
 
   const Dist* dp = dist.get();
   const Index* op = order.get();
@@ -178,7 +190,7 @@ void fill_by_distance(int w, int h, int ch_runtime, const std::vector<uint8_t>& 
   // Small rings run on the calling thread: starting threads for a few hundred texels costs more
   // than filling them (the ragdoll bake's outer rings are that small).
   constexpr size_t kChunk = 1024;
-  for (uint64_t r = 1; r <= max_d; ++r) {
+  for (uint64_t r = 1; r <= last; ++r) {
     const size_t b = start[r], e = start[r + 1];
     if (e - b <= 2 * kChunk) {
       fill_span(r, b, e);
@@ -283,7 +295,7 @@ void dilate_ahd(AhdImage& img, double dz_min, int threads, DilateStats* stats) {
     if (len > 0) {
       for (double& x : d) x /= len;
     } else {
-      d[0] = d[1] = 0, d[2] = 1;  // only for an image with no covered texel (all zeros)
+      d[0] = d[1] = 0, d[2] = 1;  // a texel beyond the rings, or no covered texel at all (zeros)
     }
     tilt_above_horizon(d, dz_min);
     for (int c = 0; c < 3; ++c) {

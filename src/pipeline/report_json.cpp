@@ -25,7 +25,8 @@ nlohmann::json convert_report_json(const PipelineResult& r, double total_seconds
     nlohmann::json e = error_json(r.level_error[l]);
     if (l < r.dilate_stats.size())
       e["dilation"] = {{"covered", r.dilate_stats[l].covered}, {"guard", r.dilate_stats[l].guard},
-                       {"filled", r.dilate_stats[l].filled}, {"rings", r.dilate_stats[l].rings}};
+                       {"filled", r.dilate_stats[l].filled}, {"rings", r.dilate_stats[l].rings},
+                       {"far", r.dilate_stats[l].far}};
     levels.push_back(e);
   }
   j["levels"] = levels;

@@ -334,7 +334,7 @@ std::vector<Case> catalogue() {
   }, "malformed manifest"));
   c.push_back(manifest_case("manifest-plane-bytes-lie", [](std::string& s) {
     const size_t at = s.find("\"bytes\": ");
-    if (at != std::string::npos) s.insert(at + 9, "1");  // (the case's check fails if it is missing)
+    if (at != std::string::npos) s.insert(s.begin() + std::ptrdiff_t(at + 9), '1');  // (else the check fails)
   }, "does not match the manifest", true));
   c.push_back(manifest_case("manifest-plane-hash-differs (a set mixed by a crash)", [](std::string& s) {
     const size_t at = s.find("\"sha256\": \"") + 11;

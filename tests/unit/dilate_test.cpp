@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "fit/fit_image.h"
+#include "codecs/bc6h/bc6h_codec.h"
 #include "codecs/octahedral.h"
 #include "fit_bits.h"
 #include "mips/dilate.h"
@@ -212,11 +213,14 @@ TEST(Dilate, RingsAreChebyshevDistanceAndValuesConvex) {
   fill_garbage(img, cov, 5);
   DilateStats st;
   dilate(img, cov, 2, &st);
-  EXPECT_EQ(st.rings, 9);
+  EXPECT_EQ(kDilateRings, 8);
+  EXPECT_EQ(st.rings, 8);  // the column x = 9 is ring 9: beyond the rings, set to 0
   EXPECT_EQ(st.guard, 3u);
+  EXPECT_EQ(st.far, 7u);
   for (size_t i = 0; i < 70; ++i) {
-    EXPECT_EQ(img.data[i * 2], 3.5f);
-    EXPECT_EQ(img.data[i * 2 + 1], -1.25f);
+    const bool beyond = i % 10 == 9;
+    EXPECT_EQ(img.data[i * 2], beyond ? 0.0f : 3.5f) << i;
+    EXPECT_EQ(img.data[i * 2 + 1], beyond ? 0.0f : -1.25f) << i;
   }
 
   // Convexity: every filled value lies within the covered values' range, per channel.
@@ -310,9 +314,10 @@ TEST(Dilate, AhdImageFilledTexelsAreValidAndGarbageFree) {
 namespace {
 
 // The rule of mips/dilate.h computed the plain way: ring by ring (each ring found from the one
-// before), every value of a ring from the state before it, with the sum dilate() documents.
+// before), every value of a ring from the state before it, with the sum dilate() documents; after
+// `max_rings` rings the texels not reached are set to 0 (*far counts them).
 std::vector<float> ring_by_ring(int w, int h, int ch, const std::vector<uint8_t>& cov, std::vector<float> v,
-                                int* rings) {
+                                int* rings, int max_rings = kDilateRings, size_t* far = nullptr) {
   const int dx[8] = {-1, 0, 1, -1, 1, -1, 0, 1}, dy[8] = {-1, -1, -1, 0, 0, 1, 1, 1};
   const double wt[8] = {1, 2, 1, 2, 2, 1, 2, 1};
   std::vector<uint8_t> filled(cov.begin(), cov.end());
@@ -332,8 +337,17 @@ std::vector<float> ring_by_ring(int w, int h, int ch, const std::vector<uint8_t>
     }
   std::vector<uint8_t> queued(filled);
   for (size_t i : ring) queued[i] = 1;
+  if (far) *far = 0;
   for (;;) {
     if (ring.empty()) return v;
+    if (*rings == max_rings) {
+      for (size_t i = 0; i < filled.size(); ++i)
+        if (!filled[i]) {
+          std::fill_n(&v[i * size_t(ch)], ch, 0.0f);
+          if (far) ++*far;
+        }
+      return v;
+    }
     ++*rings;
     std::vector<float> out(ring.size() * size_t(ch));
     for (size_t r = 0; r < ring.size(); ++r) {
@@ -396,15 +410,20 @@ TEST(Dilate, DistanceOrderGivesTheRingByRingBits) {
     std::vector<float> v(cov.size() * size_t(ch));
     for (size_t i = 0; i < v.size(); ++i) v[i] = float(std::sin(0.37 * double(i)) * 3.0 + 0.01 * double(i % 97));
     nasty_garbage(v, ch, cov);
-    int rings = 0;
-    const std::vector<float> want = ring_by_ring(w, h, ch, cov, v, &rings);
-    ASSERT_GT(rings, 40);
+    int rings = 0, all_rings = 0;
+    size_t far = 0;
+    const std::vector<float> want = ring_by_ring(w, h, ch, cov, v, &rings, kDilateRings, &far);
+    ring_by_ring(w, h, ch, cov, v, &all_rings, 1 << 30);
+    ASSERT_GT(all_rings, 40);  // the rings stop well before the gutters end
+    ASSERT_EQ(rings, kDilateRings);
+    ASSERT_GT(far, cov.size() / 4);
     for (int threads : {1, 2}) {
       ImageF img(w, h, ch);
       img.data = v;
       DilateStats st;
       dilate(img, cov, threads, &st);
       EXPECT_EQ(st.rings, rings) << ch;
+      EXPECT_EQ(st.far, far) << ch;
       ASSERT_EQ(std::memcmp(img.data.data(), want.data(), want.size() * sizeof(float)), 0)
           << ch << " channels, " << threads << " threads";
     }
@@ -441,4 +460,50 @@ TEST(Dilate, CoveragePlaneIsR8) {
   EXPECT_EQ(p.channels, 1);
   EXPECT_EQ(p.data, (std::vector<uint8_t>{255, 0, 255, 0, 0, 255}));
   EXPECT_THROW(coverage_plane(2, 2, cov), Error);
+}
+
+// Why the rings may stop at kDilateRings (dilate.h): every 4×4 block a sampler can touch — one
+// holding a covered or ring-1 texel — is encoded to the same bytes as with rings to the image's
+// edge, and the blocks beyond are constant. BC6H (the I_z plane) on a wide gutter, sizes not a
+// multiple of 4.
+TEST(Dilate, SampledBlocksEncodeAsWithRingsToTheEdge) {
+  const int w = 523, h = 347;
+  const std::vector<uint8_t> cov = sparse_coverage(w, h);
+  std::vector<float> v(cov.size() * 3);
+  for (size_t i = 0; i < v.size(); ++i) v[i] = float(1.5 + std::sin(0.37 * double(i)) + 0.01 * double(i % 97));
+  nasty_garbage(v, 3, cov);
+  int rings = 0;
+  ImageF all(w, h, 3), capped(w, h, 3);
+  all.data = ring_by_ring(w, h, 3, cov, v, &rings, 1 << 30);
+  ASSERT_GT(rings, 40);
+  capped.data = v;
+  dilate(capped, cov, 2);
+  // Chebyshev distance ≤ 1 from the coverage, found directly.
+  auto sampled = [&](int x, int y) {
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const int nx = x + dx, ny = y + dy;
+        if (nx >= 0 && ny >= 0 && nx < w && ny < h && cov[size_t(ny) * w + nx]) return true;
+      }
+    return false;
+  };
+  Bc6hOptions o;
+  const std::vector<uint8_t> a = bc6h_encode_image(all, o), b = bc6h_encode_image(capped, o);
+  const int bw = (w + 3) / 4, bh = (h + 3) / 4;
+  int touched = 0, untouched = 0;
+  for (int by = 0; by < bh; ++by)
+    for (int bx = 0; bx < bw; ++bx) {
+      bool s = false;
+      for (int y = 4 * by; y < std::min(h, 4 * by + 4); ++y)
+        for (int x = 4 * bx; x < std::min(w, 4 * bx + 4); ++x) s = s || sampled(x, y);
+      const size_t at = (size_t(by) * bw + bx) * 16;
+      if (s) {
+        ++touched;
+        ASSERT_EQ(std::memcmp(&a[at], &b[at], 16), 0) << "block " << bx << "," << by;
+      } else {
+        ++untouched;
+      }
+    }
+  EXPECT_GT(touched, 100);
+  EXPECT_GT(untouched, touched);  // most of the image is gutter beyond the rings
 }
