@@ -1,7 +1,9 @@
 #include "io/sh_exr.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstring>
 #include <map>
 
 #include "core/error.h"
@@ -18,25 +20,45 @@ std::string sh_channel(int k, int c) { return "sh" + std::to_string(k) + "." + k
 
 }  // namespace
 
+namespace {
+
+// One row of sanitise_sh with `per` floats a texel (kPer: known at compile time, 0 = `per`).
+// |x| ≤ kMaxShMagnitude and finite is "the magnitude's bits ≤ those of kMaxShMagnitude" (NaN and
+// ±Inf have larger ones), x == 0 is "magnitude bits 0": integer compares without branches.
+template <size_t kPer>
+size_t sanitise_row(float* t, uint8_t* coverage, size_t texels, size_t per_runtime, bool derive_coverage) {
+  const size_t per = kPer ? kPer : per_runtime;
+  uint32_t max_bits;
+  std::memcpy(&max_bits, &kMaxShMagnitude, 4);
+  size_t non_finite = 0;
+  for (size_t i = 0; i < texels; ++i, t += per) {
+    uint32_t worst = 0, any = 0;
+    for (size_t k = 0; k < per; ++k) {
+      uint32_t b;
+      std::memcpy(&b, &t[k], 4);
+      b &= 0x7FFFFFFFu;
+      worst = std::max(worst, b);
+      any |= b;
+    }
+    if (worst > max_bits) {
+      std::fill(t, t + per, 0.0f);
+      coverage[i] = 0;
+      ++non_finite;
+    } else if (derive_coverage && any == 0) {
+      coverage[i] = 0;
+    }
+  }
+  return non_finite;
+}
+
+}  // namespace
+
 void sanitise_sh(ShImage& img, bool derive_coverage, ReadStats* stats) {
   const size_t per = size_t(img.coeffs) * 3, w = size_t(img.width);
   std::vector<size_t> non_finite(size_t(img.height), 0);  // per row, summed in order after
+  auto row = per == 3 ? sanitise_row<3> : per == 12 ? sanitise_row<12> : per == 27 ? sanitise_row<27> : sanitise_row<0>;
   parallel_for(size_t(img.height), 0, 16, [&](size_t y) {
-    for (size_t i = y * w; i < (y + 1) * w; ++i) {
-      float* t = img.texel(i);
-      bool finite = true, zero = true;
-      for (size_t k = 0; k < per; ++k) {
-        finite &= std::isfinite(t[k]) && std::fabs(t[k]) <= kMaxShMagnitude;
-        zero &= t[k] == 0.0f;
-      }
-      if (!finite) {
-        std::fill(t, t + per, 0.0f);
-        img.coverage[i] = 0;
-        non_finite[y]++;
-      } else if (derive_coverage && zero) {
-        img.coverage[i] = 0;
-      }
-    }
+    non_finite[y] = row(img.texel(y * w), img.coverage.data() + y * w, w, per, derive_coverage);
   });
   if (stats) {
     for (size_t n : non_finite) stats->non_finite_texels += n;

@@ -1,6 +1,7 @@
 #include "mips/dilate.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -36,95 +37,97 @@ inline void prefetch(const void* p) {
 //
 // How (issue 28: the ragdoll bake's gutters take 944 rings at level 0, and a ring list found and
 // sorted ring by ring was 29 % of its conversion): texel i's ring is its chessboard distance to the
-// nearest covered texel (8-neighbour steps inside a rectangle), which the two-pass Rosenfeld–Pfaltz
-// transform gives exactly. A counting sort by distance then lists every ring at once, each in
-// row-major order. A texel of ring r has neighbours in rings r−1, r and r+1 only, so "filled before
-// ring r" is "distance < r": ring r reads only texels of ring r−1 (or covered ones), which are final,
-// and its values are written in place — each is the same sum, in the same order, as a ring-by-ring
-// Jacobi step with a separate value buffer would form, whatever the threads or chunks.
+// nearest covered texel (8-neighbour steps inside a rectangle: the L∞ distance), needed only up to
+// kDilateRings + 1 ("beyond"). It is separable: g = each row's own distance (two scans of the
+// row), then D(x, y) = min over |k| ≤ kDilateRings of max(|k|, g(x, y + k)) — exact wherever the
+// distance is ≤ kDilateRings, and "beyond" elsewhere; both passes run rows in parallel, the second
+// as 17 vectorised min/max sweeps per row. A counting sort by distance (per band of rows, in
+// parallel) then lists every ring at once, each in row-major order. A texel of ring r has
+// neighbours in rings r−1, r and r+1 only, so "filled before ring r" is "distance < r": ring r
+// reads only texels of ring r−1 (or covered ones), which are final, and its values are written in
+// place — each is the same sum, in the same order, as a ring-by-ring Jacobi step with a separate
+// value buffer would form, whatever the threads or chunks.
 //
+// d[x] = min(d[x], max(k, g[x])) over a row: one step of the distance's vertical pass (a loop the
+// compiler vectorises: the pointers are the row's own, restrict-qualified).
+void lower_by_row(uint8_t* __restrict d, const uint8_t* __restrict g, uint8_t k, size_t n) {
+  for (size_t x = 0; x < n; ++x) d[x] = std::min(d[x], std::max(k, g[x]));
+}
+
+// Texels per distance 0 … kDilateRings + 1 ("beyond").
+using RingCounts = std::array<size_t, kDilateRings + 2>;
+
 // kCh: the channel count when known at compile time (the sums then stay in registers), 0 = `ch`.
-template <int kCh, class Dist, class Index, class Read, class Write, class Touch>
+template <int kCh, class Index, class Read, class Write, class Touch>
 void fill_by_distance(int w, int h, int ch_runtime, const std::vector<uint8_t>& coverage, int threads, DilateStats* st,
                       const Read& read, const Write& write, const Touch& touch) {
+  using Dist = uint8_t;
+  constexpr int kR = kDilateRings;
+  constexpr Dist kBeyond = Dist(kR + 1);
+  static_assert(kR + 1 < 256, "distances are bytes");
   const int ch = kCh > 0 ? kCh : ch_runtime;
-  const size_t wn = size_t(w), n = wn * size_t(h);
-  constexpr uint64_t kFar = std::numeric_limits<Dist>::max();  // above any distance (< max(w, h))
-  // Uninitialised: every element is written by the forward pass (one first touch, not two).
-  std::unique_ptr<Dist[]> dist(new Dist[n]);
-  advise_huge_pages(dist.get(), n * sizeof(Dist));
-  // Each pass per row: the three neighbours in the row before (a loop the compiler vectorises),
-  // then the one in the same row (a scan). min(…) + 1 = the minimum of the neighbours' + 1.
-  auto min3 = [wn](const Dist* o, size_t x) {  // o[x − 1 … x + 1], clamped to the row
-    Dist m = o[x];
-    if (x > 0) m = std::min(m, o[x - 1]);
-    if (x + 1 < wn) m = std::min(m, o[x + 1]);
-    return m;
-  };
-  auto step = [](uint64_t a) { return Dist(std::min<uint64_t>(a + 1, std::numeric_limits<Dist>::max())); };
-  for (size_t y = 0; y < size_t(h); ++y) {  // forward: up-left, up, up-right, then left
-    Dist* row = dist.get() + y * wn;
+  const size_t wn = size_t(w), hn = size_t(h), n = wn * hn;
+  // Uninitialised: every element is written by its pass (one first touch, not two).
+  std::unique_ptr<Dist[]> row_dist(new Dist[n]), dist(new Dist[n]);
+  advise_huge_pages(row_dist.get(), n);
+  advise_huge_pages(dist.get(), n);
+  parallel_for(hn, threads, 16, [&](size_t y) {  // g: the distance along the row, capped
+    Dist* g = row_dist.get() + y * wn;
     const uint8_t* cov = coverage.data() + y * wn;
-    if (y == 0) {
-      for (size_t x = 0; x < wn; ++x) row[x] = Dist(kFar);
-    } else {
-      const Dist* up = row - wn;
-      for (size_t x = 0; x < wn; ++x) row[x] = min3(up, x);
+    Dist run = kBeyond;
+    for (size_t x = 0; x < wn; ++x) g[x] = run = cov[x] ? 0 : Dist(std::min<int>(run + 1, kBeyond));
+    run = kBeyond;
+    for (size_t x = wn; x-- > 0;) g[x] = run = std::min<Dist>(g[x], Dist(std::min<int>(run + 1, kBeyond)));
+  });
+  // Bands of rows: each counts its rings, then lists its texels at its own offsets (so the lists
+  // are in row-major order whatever the threads).
+  constexpr size_t kBandRows = 32;
+  const size_t bands = (hn + kBandRows - 1) / kBandRows;
+  std::vector<RingCounts> band_count(bands);
+  parallel_for(bands, threads, 1, [&](size_t band) {
+    RingCounts& count = band_count[band];
+    count.fill(0);
+    for (size_t y = band * kBandRows; y < std::min(hn, (band + 1) * kBandRows); ++y) {
+      Dist* d = dist.get() + y * wn;
+      std::copy_n(row_dist.get() + y * wn, wn, d);
+      for (int k = 1; k <= kR; ++k)
+        for (size_t yy : {y - size_t(k), y + size_t(k)})  // wraps below 0: then ≥ hn
+          if (yy < hn) lower_by_row(d, row_dist.get() + yy * wn, Dist(k), wn);
+      for (size_t x = 0; x < wn; ++x) count[d[x]]++;
     }
-    uint64_t left = kFar;
-    for (size_t x = 0; x < wn; ++x) {
-      const uint64_t m = cov[x] ? 0 : step(std::min<uint64_t>(row[x], left));
-      row[x] = Dist(m);
-      left = m;
-    }
-  }
+  });
+  row_dist.reset();
+  RingCounts count{};
+  for (const auto& c : band_count)
+    for (size_t r = 0; r < count.size(); ++r) count[r] += c[r];
   uint64_t max_d = 0;
-  std::vector<size_t> count(size_t(std::max(w, h)) + 1, 0);  // texels per ring (distances < max(w, h))
-  std::vector<Dist> below(wn);
-  for (size_t y = size_t(h); y-- > 0;) {  // backward: down-left, down, down-right, then right
-    Dist* row = dist.get() + y * wn;
-    if (y + 1 < size_t(h)) {
-      const Dist* down = row + wn;
-      for (size_t x = 0; x < wn; ++x) below[x] = step(min3(down, x));
-    } else {
-      std::fill(below.begin(), below.end(), Dist(kFar));
-    }
-    uint64_t right = kFar;
-    for (size_t x = wn; x-- > 0;) {
-      uint64_t m = row[x];
-      if (m != 0) {
-        m = std::min<uint64_t>(std::min<uint64_t>(m, below[x]), step(right));
-        row[x] = Dist(m);
-        max_d = std::max(max_d, m);
-        count[size_t(m)]++;
-      }
-      right = m;
-    }
-  }
+  for (size_t r = 1; r < count.size(); ++r)
+    if (count[r]) max_d = r;
   // Rings by counting sort: start[r] = first slot of ring r in `order` (rings 1 … last). Texels
-  // beyond kDilateRings are not listed: they are set to zero below.
-  const uint64_t last = std::min<uint64_t>(max_d, kDilateRings);
+  // beyond kDilateRings are not listed: they are set to zero.
+  const uint64_t last = std::min<uint64_t>(max_d, uint64_t(kR));
   std::vector<size_t> start(size_t(last) + 2, 0);
   for (size_t r = 2; r < start.size(); ++r) start[r] = start[r - 1] + count[r - 1];
   const size_t listed = start[size_t(last) + 1];
   std::unique_ptr<Index[]> order(new Index[std::max<size_t>(listed, 1)]);
   advise_huge_pages(order.get(), listed * sizeof(Index));
-  {
-    std::vector<size_t> pos(start);
-    for (size_t i = 0; i < n; ++i)
-      if (dist[i] && dist[i] <= last) order[pos[dist[i]]++] = Index(i);
-  }
+  std::vector<RingCounts> band_pos(bands);
+  for (size_t band = 0; band < bands; ++band)
+    for (size_t r = 1; r <= last; ++r)
+      band_pos[band][r] = band == 0 ? start[r] : band_pos[band - 1][r] + band_count[band - 1][r];
+  const std::vector<float> zeros(size_t(ch), 0.0f);
+  parallel_for(bands, threads, 1, [&](size_t band) {
+    RingCounts pos = band_pos[band];
+    for (size_t i = band * kBandRows * wn; i < std::min(hn, (band + 1) * kBandRows) * wn; ++i) {
+      const Dist d = dist[i];
+      if (d == 0) continue;
+      if (d <= last) order[pos[d]++] = Index(i);
+      else write(i, zeros.data());  // beyond the rings
+    }
+  });
   st->guard = start[2] - start[1];
   st->rings = int(last);
   st->far = n - st->covered - listed;
-  if (st->far) {
-    const Dist* dp = dist.get();
-    std::vector<float> zeros(size_t(ch), 0.0f);
-    parallel_for(size_t(h), threads, 16, [&](size_t y) {
-      for (size_t i = y * wn; i < (y + 1) * wn; ++i)
-        if (dp[i] > last) write(i, zeros.data());
-    });
-  }
 
   const Dist* dp = dist.get();
   const Index* op = order.get();
@@ -224,13 +227,9 @@ void dilate_rings(int w, int h, int ch, const std::vector<uint8_t>& coverage, in
     if (stats) *stats = st;
     return;
   }
-  // The smallest distance and index types that hold every value of this image.
-  const bool small_dist = std::max(w, h) < 0xFFFF;
-  const bool small_index = n <= 0xFFFFFFFFu;
-  if (small_dist && small_index)
-    fill_by_distance<kCh, uint16_t, uint32_t>(w, h, ch, coverage, threads, &st, read, write, touch);
-  else if (small_index) fill_by_distance<kCh, uint32_t, uint32_t>(w, h, ch, coverage, threads, &st, read, write, touch);
-  else fill_by_distance<kCh, uint32_t, size_t>(w, h, ch, coverage, threads, &st, read, write, touch);
+  // The smallest index type that holds every texel index of this image.
+  if (n <= 0xFFFFFFFFu) fill_by_distance<kCh, uint32_t>(w, h, ch, coverage, threads, &st, read, write, touch);
+  else fill_by_distance<kCh, size_t>(w, h, ch, coverage, threads, &st, read, write, touch);
   if (stats) *stats = st;
 }
 

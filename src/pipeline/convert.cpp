@@ -117,7 +117,12 @@ LevelPlanes quantise_level(const FittedLevel& lv, const Profile& profile, const 
   // I_z: a float copy of one band of rows at a time, never of the whole level.
   out.iz = encode_banded(profile.iz, w, h, 3, codec, stats, [&](int y0, ImageF& band) {
     const size_t first = size_t(y0) * size_t(w);
-    parallel_for(band.texels(), opt.threads, 4096, [&](size_t j) { fitted_iz(lv, first + j, &band.data[j * 3]); });
+    // 4096 texels per call (one std::function call per texel was 7 % of a plain map's conversion).
+    constexpr size_t kSpan = 4096;
+    parallel_for((band.texels() + kSpan - 1) / kSpan, opt.threads, 1, [&](size_t c) {
+      for (size_t j = c * kSpan; j < std::min(band.texels(), (c + 1) * kSpan); ++j)
+        fitted_iz(lv, first + j, &band.data[j * 3]);
+    });
   });
   if (!directional) return out;
   // The direction and ratio planes are made a band of rows at a time too: no float image of the
