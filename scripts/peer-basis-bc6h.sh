@@ -21,7 +21,8 @@ if [ ! -x build/peers/basis_bc6h ] || [ bench/peers/basis_bc6h.cpp -nt build/pee
   [ -f build/peers/basisu_transcoder.o ] ||
     g++ -std=c++17 -O2 -march=native -I "$basis" -c "$basis/transcoder/basisu_transcoder.cpp" -o build/peers/basisu_transcoder.o
   g++ -std=c++20 -O2 -march=native -I "$basis" -I src -I include bench/peers/basis_bc6h.cpp build/peers/basisu_transcoder.o \
-    build/libahd_io.a build/libahd.a -lOpenImageIO -lOpenImageIO_Util -lImath -lzstd -lassimp -lpthread -o build/peers/basis_bc6h
+    build/libahd_io.a build/libahd.a -lOpenImageIO -lOpenImageIO_Util $(pkg-config --libs OpenEXR OpenColorIO) \
+    -lImath -lzstd -lassimp -ldl -lpthread -o build/peers/basis_bc6h
 fi
 for cpu in "${cpus[@]}"; do
   echo "== CPU $cpu (load $(cut -d' ' -f1-3 /proc/loadavg))"
