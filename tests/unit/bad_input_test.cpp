@@ -63,7 +63,7 @@ Texture plain_texture(PixelFormat f, uint32_t w, uint32_t h, size_t levels = 1) 
 }
 
 // Every file under `d` with its bytes: "no new file, previous outputs untouched" compares these.
-std::map<std::string, std::vector<uint8_t>> snapshot(const fs::path& d) {
+std::map<std::string, std::vector<uint8_t>> snapshot_tree(const fs::path& d) {
   std::map<std::string, std::vector<uint8_t>> m;
   for (auto it = fs::recursive_directory_iterator(d); it != fs::recursive_directory_iterator(); ++it)
     if (it->is_regular_file()) m[it->path().string()] = slurp(it->path());
@@ -125,7 +125,7 @@ TEST(BadInput, CatalogueEachGivesOneLineNamingTheFileAndWritesNothing) {
     fs::create_directories(d);
     write_previous_set(d);
     auto [call, file] = c.make(d);
-    const auto before = snapshot(d);
+    const auto before = snapshot_tree(d);
     try {
       call();
       ADD_FAILURE() << c.name << ": accepted";
@@ -138,7 +138,7 @@ TEST(BadInput, CatalogueEachGivesOneLineNamingTheFileAndWritesNothing) {
     } catch (const std::exception& e) {
       ADD_FAILURE() << c.name << ": not an ahd::Error: " << e.what();
     }
-    EXPECT_EQ(snapshot(d), before) << c.name << ": files were added, changed or removed";
+    EXPECT_EQ(snapshot_tree(d), before) << c.name << ": files were added, changed or removed";
     // The previous set still decodes.
     EXPECT_NO_THROW(decode_manifest((d / "prev.json").string())) << c.name;
   }

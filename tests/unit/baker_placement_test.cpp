@@ -20,7 +20,7 @@ namespace {
 
 constexpr int kAtlas = 32;
 
-std::string base64(const std::vector<uint8_t>& d) {
+std::string placement_base64(const std::vector<uint8_t>& d) {
   static const char* t = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
   std::string s;
   for (size_t i = 0; i < d.size(); i += 3) {
@@ -76,7 +76,7 @@ void write_scene(const std::string& path, const std::vector<std::vector<float>>&
   j << "],\"meshes\":[";
   for (size_t m = 0; m < uvs.size(); ++m)
     j << (m ? "," : "") << R"({"primitives":[{"attributes":{"POSITION":0,"NORMAL":1,"TEXCOORD_0":)" << 3 + m << R"(},"indices":2}]})";
-  j << R"(],"buffers":[{"byteLength":)" << buf.size() << R"(,"uri":"data:application/octet-stream;base64,)" << base64(buf)
+  j << R"(],"buffers":[{"byteLength":)" << buf.size() << R"(,"uri":"data:application/octet-stream;base64,)" << placement_base64(buf)
     << R"("}],"bufferViews":[)";
   for (size_t i = 0; i < views.size(); ++i)
     j << (i ? "," : "") << R"({"buffer":0,"byteOffset":)" << views[i].first << R"(,"byteLength":)" << views[i].second << "}";

@@ -56,7 +56,7 @@ std::array<double, 3> l1_of(F f) {
   return l1;
 }
 
-double angle(const std::array<double, 3>& a, const std::array<double, 3>& b) {
+double angle_between(const std::array<double, 3>& a, const std::array<double, 3>& b) {
   const double c = dot3(a.data(), b.data()) / std::sqrt(dot3(a.data(), a.data()) * dot3(b.data(), b.data()));
   return std::acos(std::clamp(c, -1.0, 1.0));
 }
@@ -146,7 +146,7 @@ TEST(Presets, UnityDirectionalMatchesUnitysDecode) {
     // axis by ≤ 0.5/255, turning it by ≤ asin(√3·(0.5/255)/|dir − 0.5|).
     const std::array<double, 3> d3{stored(dir, i, 0) - 0.5, stored(dir, i, 1) - 0.5, stored(dir, i, 2) - 0.5};
     const double bound = std::asin(std::min(1.0, std::sqrt(3.0) * 0.5 / 255 / std::sqrt(dot3(d3.data(), d3.data()))));
-    dir_err = std::max(dir_err, angle(got, want) / bound);
+    dir_err = std::max(dir_err, angle_between(got, want) / bound);
   }
   std::printf("unity-directional: vs Unity's DecodeDirectionalLightmap %.2e; along the normal vs source %.2e; "
               "L1 direction error %.2f of the 8-bit bound\n", rt_err, normal_err, dir_err);

@@ -16,6 +16,7 @@
 #include "io/depfile.h"
 #include "layout_test_scene.h"
 #include "test_data.h"
+#include "file_bytes.h"
 
 namespace fs = std::filesystem;
 using namespace ahd;
@@ -26,13 +27,6 @@ namespace {
 
 bool contains(const std::string& s, const std::string& what) { return s.find(what) != std::string::npos; }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
-
 void spit(const fs::path& p, const std::string& text) {
   std::ofstream f(p, std::ios::binary);
   f << text;
@@ -42,7 +36,7 @@ std::string abs_path(const fs::path& p) { return fs::absolute(p).lexically_norma
 
 // The dependencies of a depfile written by depfile_text (no escaped characters in test paths).
 std::set<std::string> depfile_deps(const fs::path& d) {
-  std::istringstream in(slurp(d));
+  std::istringstream in(ahd_test::read_text(d));
   std::set<std::string> deps;
   std::string tok;
   bool target = true;
@@ -60,7 +54,7 @@ std::set<std::string> depfile_deps(const fs::path& d) {
 std::map<std::string, std::string> folder_files(const fs::path& dir) {
   std::map<std::string, std::string> m;
   for (const auto& e : fs::directory_iterator(dir))
-    if (e.is_regular_file()) m[e.path().filename().string()] = slurp(e.path());
+    if (e.is_regular_file()) m[e.path().filename().string()] = ahd_test::read_text(e.path());
   return m;
 }
 
@@ -119,13 +113,13 @@ TEST(Cook, GodotAtlasDepfileNamesEveryFileRead) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   ASSERT_TRUE(contains(r.output, "4 page(s) from World.exr.import")) << r.output;
   ASSERT_TRUE(contains(r.output, "World.lmbake: has _uses_packed_directional")) << r.output;
-  EXPECT_EQ(slurp(out / "atlas.d").rfind((out / "atlas.json").string() + ":", 0), 0u) << slurp(out / "atlas.d");
+  EXPECT_EQ(ahd_test::read_text(out / "atlas.d").rfind((out / "atlas.json").string() + ":", 0), 0u) << ahd_test::read_text(out / "atlas.d");
   const std::set<std::string> deps = depfile_deps(out / "atlas.d");
   for (const std::string f : {g.exr, g.exr + ".import", (d / "World.lmbake").string(), (d / "project.godot").string(), g.normals})
-    EXPECT_TRUE(deps.count(abs_path(f))) << f << " missing from\n" << slurp(out / "atlas.d");
+    EXPECT_TRUE(deps.count(abs_path(f))) << f << " missing from\n" << ahd_test::read_text(out / "atlas.d");
   const std::string formats = abs_path(fs::path(AHD_SOURCE_DIR) / "formats");
-  EXPECT_TRUE(deps.count(formats + "/profiles/pc-bc.json")) << slurp(out / "atlas.d");
-  EXPECT_TRUE(deps.count(formats + "/bakers/godot4-packed.json")) << slurp(out / "atlas.d");
+  EXPECT_TRUE(deps.count(formats + "/profiles/pc-bc.json")) << ahd_test::read_text(out / "atlas.d");
+  EXPECT_TRUE(deps.count(formats + "/bakers/godot4-packed.json")) << ahd_test::read_text(out / "atlas.d");
   for (const std::string& dep : deps) EXPECT_TRUE(fs::is_regular_file(dep)) << dep;
 
   // What the process opened for reading: each such file among the inputs and data files is named.
@@ -137,7 +131,7 @@ TEST(Cook, GodotAtlasDepfileNamesEveryFileRead) {
                           g.exr + "' --normals '" + g.normals + "' -o '" + (d / "out2" / "atlas.ktx2").string() +
                           "' --profile pc-bc -q --depfile '" + (d / "out2" / "atlas.d").string() + "' 2>&1; echo rc=$?";
   ASSERT_EQ(ahd_test::run_shell(cmd), "rc=0\n");
-  std::istringstream lines(slurp(trace));
+  std::istringstream lines(ahd_test::read_text(trace));
   std::string line;
   size_t checked = 0;
   while (std::getline(lines, line)) {
@@ -152,9 +146,9 @@ TEST(Cook, GodotAtlasDepfileNamesEveryFileRead) {
     ++checked;
     EXPECT_TRUE(deps.count(path)) << path << " was read but is not in the depfile";
   }
-  EXPECT_GE(checked, 7u) << slurp(trace);  // the 5 Godot files and the 2 data files at least
-  EXPECT_EQ(slurp(out / "atlas.d").substr(slurp(out / "atlas.d").find(':')),
-            slurp(d / "out2" / "atlas.d").substr(slurp(d / "out2" / "atlas.d").find(':')));
+  EXPECT_GE(checked, 7u) << ahd_test::read_text(trace);  // the 5 Godot files and the 2 data files at least
+  EXPECT_EQ(ahd_test::read_text(out / "atlas.d").substr(ahd_test::read_text(out / "atlas.d").find(':')),
+            ahd_test::read_text(d / "out2" / "atlas.d").substr(ahd_test::read_text(d / "out2" / "atlas.d").find(':')));
   fs::remove_all(d);
 }
 
@@ -184,9 +178,9 @@ TEST(Cook, DepfileNamesAMeshAndItsBuffers) {
                           "--depfile", (d / "o" / "w.d").string(), "-q"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const std::set<std::string> deps = depfile_deps(d / "o" / "w.d");
-  EXPECT_TRUE(deps.count(abs_path(d / "quad.gltf"))) << slurp(d / "o" / "w.d");
-  EXPECT_TRUE(deps.count(abs_path(d / "quad.bin"))) << slurp(d / "o" / "w.d");
-  EXPECT_FALSE(deps.count(abs_path(g.normals))) << slurp(d / "o" / "w.d");  // not read: the mesh gives the normals
+  EXPECT_TRUE(deps.count(abs_path(d / "quad.gltf"))) << ahd_test::read_text(d / "o" / "w.d");
+  EXPECT_TRUE(deps.count(abs_path(d / "quad.bin"))) << ahd_test::read_text(d / "o" / "w.d");
+  EXPECT_FALSE(deps.count(abs_path(g.normals))) << ahd_test::read_text(d / "o" / "w.d");  // not read: the mesh gives the normals
   fs::remove_all(d);
 }
 
@@ -217,9 +211,9 @@ TEST(Cook, KeyCoversEveryInputByteAndOption) {
   EXPECT_TRUE(keys.insert(key_of({in, "-o", (d / "o" / "s.dds").string(), "--profile", "pc-bc"})).second);
   // A profile file one byte longer (same meaning) is another input.
   const fs::path prof = d / "mine.json";
-  spit(prof, slurp(fs::path(AHD_SOURCE_DIR) / "formats" / "profiles" / "pc-bc.json"));
+  spit(prof, ahd_test::read_text(fs::path(AHD_SOURCE_DIR) / "formats" / "profiles" / "pc-bc.json"));
   const std::string k_file = key_of({in, "-o", out, "--profile", prof.string()});
-  spit(prof, slurp(prof) + " ");
+  spit(prof, ahd_test::read_text(prof) + " ");
   EXPECT_NE(key_of({in, "-o", out, "--profile", prof.string()}), k_file);
   // Another scene in the input file.
   ASSERT_EQ(run_cli({"sample", "--size", "32", "--seed", "3", "-o", in}).exit_code, 0);
@@ -229,10 +223,10 @@ TEST(Cook, KeyCoversEveryInputByteAndOption) {
   const GodotSet g(d / "godot", 1);
   const std::vector<std::string> gargs = {g.exr, "--normals", g.normals, "-o", out};
   const std::string kg = key_of(gargs);
-  spit(g.exr + ".import", slurp(g.exr + ".import") + "; a comment\n");
+  spit(g.exr + ".import", ahd_test::read_text(g.exr + ".import") + "; a comment\n");
   const std::string kg2 = key_of(gargs);
   EXPECT_NE(kg2, kg);
-  spit(g.dir / "World.lmbake", slurp(g.dir / "World.lmbake") + "x");
+  spit(g.dir / "World.lmbake", ahd_test::read_text(g.dir / "World.lmbake") + "x");
   EXPECT_NE(key_of(gargs), kg2);
   fs::remove_all(d);
 }
@@ -289,7 +283,7 @@ TEST(Cook, TruncatedOrCorruptCacheEntryIsIgnoredAndReplaced) {
   fs::path entry;
   for (const auto& e : fs::directory_iterator(cache))
     if (e.path().extension() == ".ahdcache") entry = e.path();
-  const std::string good = slurp(entry);
+  const std::string good = ahd_test::read_text(entry);
   const std::string key = entry.stem().string();
   ASSERT_TRUE(ConversionCache::decode(key, std::vector<uint8_t>(good.begin(), good.end())));
   const auto expected = folder_files(d / "o");
@@ -301,7 +295,7 @@ TEST(Cook, TruncatedOrCorruptCacheEntryIsIgnoredAndReplaced) {
     const auto r = run_cli(args);
     ASSERT_EQ(r.exit_code, 0) << r.output;
     EXPECT_TRUE(contains(r.output, "cache: stored")) << "damage " << i << ": " << r.output;  // a miss, converted again
-    const std::string now = slurp(entry);  // replaced by a whole entry (the report's seconds may differ)
+    const std::string now = ahd_test::read_text(entry);  // replaced by a whole entry (the report's seconds may differ)
     EXPECT_TRUE(ConversionCache::decode(key, std::vector<uint8_t>(now.begin(), now.end()))) << i;
     for (const auto& [name, bytes] : folder_files(d / "o"))
       if (name != "s.report.json") EXPECT_EQ(bytes, expected.at(name)) << name;
@@ -315,24 +309,24 @@ TEST(Cook, TruncatedOrCorruptCacheEntryIsIgnoredAndReplaced) {
 TEST(Cook, CacheDirectLookupRereadsWhenAProbedFileAppears) {
   const fs::path d = ahd_test::temp_dir("cook_direct");
   const GodotSet g(d, 1);
-  const std::string lmbake = slurp(d / "World.lmbake");
+  const std::string lmbake = ahd_test::read_text(d / "World.lmbake");
   fs::remove(d / "World.lmbake");
   const std::vector<std::string> args = {"convert", g.exr, "--normals", g.normals, "-o", (d / "o" / "w.ktx2").string(),
                                          "--cache", (d / "cache").string(), "--depfile", (d / "o" / "w.d").string()};
   auto r = run_cli(args);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(contains(r.output, "cache: stored")) << r.output;
-  const std::string deps = slurp(d / "o" / "w.d");
+  const std::string deps = ahd_test::read_text(d / "o" / "w.d");
   EXPECT_FALSE(contains(deps, "World.lmbake")) << deps;
   r = run_cli(args);
   EXPECT_TRUE(contains(r.output, "cache hit")) << r.output;
-  EXPECT_EQ(slurp(d / "o" / "w.d"), deps);  // the direct hit names the same files
+  EXPECT_EQ(ahd_test::read_text(d / "o" / "w.d"), deps);  // the direct hit names the same files
   spit(d / "World.lmbake", lmbake);
   r = run_cli(args);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(contains(r.output, "World.lmbake: has _uses_packed_directional")) << r.output;  // read again
   EXPECT_TRUE(contains(r.output, "cache: stored")) << r.output;
-  EXPECT_TRUE(contains(slurp(d / "o" / "w.d"), "World.lmbake"));
+  EXPECT_TRUE(contains(ahd_test::read_text(d / "o" / "w.d"), "World.lmbake"));
   fs::remove_all(d);
 }
 
@@ -359,7 +353,7 @@ TEST(Cook, TwoProcessesFillingOneCacheLeaveItConsistent) {
       continue;
     }
     EXPECT_EQ(e.path().extension(), ".ahdcache") << name << " left behind";
-    const std::string bytes = slurp(e.path());
+    const std::string bytes = ahd_test::read_text(e.path());
     EXPECT_TRUE(ConversionCache::decode(e.path().stem().string(), std::vector<uint8_t>(bytes.begin(), bytes.end()))) << name;
     ++entries;
   }
@@ -464,14 +458,14 @@ TEST(Cook, GodotSceneDepfileNamesTheProjectFilesItRead) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const std::set<std::string> deps = depfile_deps(out / "w.d");
   for (const char* f : {"world.exr", "world.exr.import", "world.tscn", "world.lmbake"})
-    EXPECT_TRUE(deps.count(abs_path(bake / f))) << f << " missing from\n" << slurp(out / "w.d");
+    EXPECT_TRUE(deps.count(abs_path(bake / f))) << f << " missing from\n" << ahd_test::read_text(out / "w.d");
   size_t glb = 0, unwrap = 0;
   for (const std::string& dep : deps) {
     glb += dep.size() > 4 && dep.compare(dep.size() - 4, 4, ".glb") == 0;
     unwrap += dep.find(".glb.unwrap_cache") != std::string::npos;
     EXPECT_TRUE(fs::is_regular_file(dep)) << dep;
   }
-  EXPECT_GT(glb, 5u) << slurp(out / "w.d");
+  EXPECT_GT(glb, 5u) << ahd_test::read_text(out / "w.d");
   EXPECT_EQ(unwrap, glb) << "every mesh's UV2 comes from its unwrap cache";
   fs::remove_all(out);
 }

@@ -7,19 +7,16 @@
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include "file_bytes.h"
+#include "test_data.h"
 
 namespace fs = std::filesystem;
 
 namespace {
-const fs::path kSource = AHD_SOURCE_DIR;
-std::string read_text(const fs::path& p) {
-  std::ifstream f(p);
-  return std::string(std::istreambuf_iterator<char>(f), {});
-}
 }  // namespace
 
 TEST(EngineGuide, ExamplesAreTheTestedFiles) {
-  const std::string guide = read_text(kSource / "docs" / "engine-integration.md");
+  const std::string guide = ahd_test::read_text(ahd_test::kSourceDir / "docs" / "engine-integration.md");
   ASSERT_FALSE(guide.empty());
   const std::string marker = "<!-- example: ";
   std::set<std::string> shown;
@@ -29,7 +26,7 @@ TEST(EngineGuide, ExamplesAreTheTestedFiles) {
     const size_t open = guide.find("```", pe), body = guide.find('\n', open) + 1, close = guide.find("\n```", body);
     ASSERT_NE(close, std::string::npos) << path;
     const std::string code = guide.substr(body, close - body);
-    const std::string file = read_text(kSource / path);
+    const std::string file = ahd_test::read_text(ahd_test::kSourceDir / path);
     ASSERT_FALSE(file.empty()) << path;
     EXPECT_NE(file.find(code), std::string::npos) << "the guide's block is not in " << path << ":\n" << code;
     shown.insert(path);
@@ -37,9 +34,9 @@ TEST(EngineGuide, ExamplesAreTheTestedFiles) {
   for (const char* p : {"formats/engine/three/ahd_three.js", "docs/examples/three/render_check.html",
                         "formats/shaders/ahd_decode.glsl"})
     EXPECT_TRUE(shown.count(p)) << "the guide shows nothing of " << p;
-  const std::string page = read_text(kSource / "docs" / "examples" / "three" / "render_check.html");
+  const std::string page = ahd_test::read_text(ahd_test::kSourceDir / "docs" / "examples" / "three" / "render_check.html");
   EXPECT_NE(page.find("from '../ahd/formats/engine/three/ahd_three.js'"), std::string::npos);
   EXPECT_NE(page.find("fetch('../ahd/formats/shaders/ahd_decode.glsl')"), std::string::npos);
-  EXPECT_NE(read_text(kSource / "tests" / "unit" / "three_render_test.cpp").find("/page/render_check.html"),
+  EXPECT_NE(ahd_test::read_text(ahd_test::kSourceDir / "tests" / "unit" / "three_render_test.cpp").find("/page/render_check.html"),
             std::string::npos);
 }

@@ -19,7 +19,7 @@ using namespace ahd;
 
 namespace {
 
-ShImage scene(int size, int coeffs = 9) {
+ShImage estimate_scene(int size, int coeffs = 9) {
   BakerOptions bo;
   bo.width = bo.height = size;
   bo.coeffs = coeffs;
@@ -126,7 +126,7 @@ TEST(ErrorEstimate, SamplePicksArePinned) {
 }
 
 TEST(ErrorEstimate, SmallImagesAreMeasuredExactly) {
-  const ShImage sh = scene(48);  // < 4096 covered texels: the estimate is the full measurement
+  const ShImage sh = estimate_scene(48);  // < 4096 covered texels: the estimate is the full measurement
   const auto lobes = fit_lobes(sh);
   const ErrorReport full = measure_error(sh, lobes, 0), est = estimate_error(sh, lobes, 1);
   EXPECT_EQ(est.texels, full.texels);
@@ -137,7 +137,7 @@ TEST(ErrorEstimate, SmallImagesAreMeasuredExactly) {
 }
 
 TEST(ErrorEstimate, AgreesWithFullMeasurementOnTheSampleScene) {
-  const ShImage sh = scene(256);
+  const ShImage sh = estimate_scene(256);
   expect_estimate_agrees(sh, fit_lobes(sh), 1e-4);
   PipelineResult r;
   const auto lobes = final_lobes(sh, &r);
@@ -149,7 +149,7 @@ TEST(ErrorEstimate, AgreesWithFullMeasurementOnTheSampleScene) {
 }
 
 TEST(ErrorEstimate, AgreesWithFullMeasurementOnAPlainLightmap) {
-  const ShImage p = plain_of(scene(256, 4));
+  const ShImage p = plain_of(estimate_scene(256, 4));
   PipelineResult r;
   const auto lobes = final_lobes(p, &r);
   EXPECT_FALSE(r.directional);
@@ -158,7 +158,7 @@ TEST(ErrorEstimate, AgreesWithFullMeasurementOnAPlainLightmap) {
 }
 
 TEST(ErrorEstimate, DirectionDecisionShortcuts) {
-  const ShImage sh = scene(64);
+  const ShImage sh = estimate_scene(64);
   const ShImage p = plain_of(sh);
   EXPECT_FALSE(sh_is_constant(sh));
   EXPECT_TRUE(sh_is_constant(p));

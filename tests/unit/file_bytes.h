@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,17 @@ namespace ahd_test {
 inline std::vector<uint8_t> slurp(const std::filesystem::path& p) {
   std::ifstream f(p, std::ios::binary);
   return std::vector<uint8_t>(std::istreambuf_iterator<char>(f), {});
+}
+// The file's bytes as a string (text files too); empty when it cannot be read.
+inline std::string read_text(const std::filesystem::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(f), {});
+}
+// The names of the entries of a folder (files and folders, not recursive).
+inline std::set<std::string> names_in(const std::filesystem::path& d) {
+  std::set<std::string> s;
+  for (const auto& e : std::filesystem::directory_iterator(d)) s.insert(e.path().filename().string());
+  return s;
 }
 // Writes (replaces) the file with exactly these bytes.
 inline void spit(const std::filesystem::path& p, const std::vector<uint8_t>& b) {

@@ -17,7 +17,7 @@
 namespace ahd {
 namespace {
 
-ShImage scene(int coeffs, bool normals) {
+ShImage window_scene(int coeffs, bool normals) {
   BakerOptions bo;
   bo.width = bo.height = 48;
   bo.coeffs = coeffs;
@@ -80,7 +80,7 @@ TEST(FitWindowCost, UnrolledWindowSumsGiveTheGenericLoopsBytes) {
   for (int coeffs : {9, 4, 1})
     for (bool normals : {false, true})
       for (int radius : {1, 2}) {
-        const ShImage sh = scene(coeffs, normals);
+        const ShImage sh = window_scene(coeffs, normals);
         for (size_t i = 0; i < sh.texels(); ++i) {
           IrradiancePoly a[3], b[3];
           window_local_polys(sh, i, radius, a);
@@ -96,7 +96,7 @@ TEST(FitWindowCost, DirectionStageAloneGivesTheFitsDirectionIzAndFlags) {
   // fit_directions against fit_texels, 1–4 texels at once, on the noisy scene and the hard cases
   // (non-finite, negative I_z, no direction, grazing), both fits and both ratio forms.
   std::vector<IrradiancePoly> polys;
-  for (const ShImage& sh : {scene(9, false), scene(9, true), scene(4, false)})
+  for (const ShImage& sh : {window_scene(9, false), window_scene(9, true), window_scene(4, false)})
     for (size_t i = 0; i < sh.texels(); i += 3) {
       IrradiancePoly p[3];
       local_polys(sh, i, p);
@@ -140,7 +140,7 @@ TEST(FitWindowCost, SkippingUncoveredTexelsGivesTheSameDilatedLevel) {
   // fit_level's form: the uncovered texels are not fitted, and after dilate_ahd every byte (and
   // every count) is what fitting them first gives — for the windowed refined default, the
   // per-texel refined fit (coherence pass) and the linear fit, on 1 and 3 threads.
-  const ShImage sh = scene(9, false);
+  const ShImage sh = window_scene(9, false);
   size_t uncovered = 0;
   for (uint8_t c : sh.coverage) uncovered += c == 0;
   ASSERT_GT(uncovered, sh.texels() / 20) << "the scene should have gutters";

@@ -7,17 +7,11 @@
 #include <sstream>
 
 #include "cli_runner.h"
+#include "file_bytes.h"
 
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
 
 void compare_reports(const nlohmann::json& want, const nlohmann::json& got, const std::string& where) {
   if (want.is_object()) {
@@ -59,9 +53,9 @@ TEST(Golden, OutputsMatchStoredFiles) {
       ++files;
       ASSERT_TRUE(fs::exists(tmp / fn)) << fn << " was not written";
       if (fn.size() > 12 && fn.substr(fn.size() - 12) == ".report.json") {
-        compare_reports(nlohmann::json::parse(slurp(e.path())), nlohmann::json::parse(slurp(tmp / fn)), fn);
+        compare_reports(nlohmann::json::parse(ahd_test::read_text(e.path())), nlohmann::json::parse(ahd_test::read_text(tmp / fn)), fn);
       } else {
-        EXPECT_EQ(slurp(e.path()), slurp(tmp / fn)) << fn << " differs from golden/expected (regenerate on purpose with scripts/regen-golden.sh)";
+        EXPECT_EQ(ahd_test::read_text(e.path()), ahd_test::read_text(tmp / fn)) << fn << " differs from golden/expected (regenerate on purpose with scripts/regen-golden.sh)";
       }
     }
     EXPECT_GE(files, 4) << name;

@@ -72,7 +72,7 @@ void write_obj(const std::string& path, const TestMesh& m, bool normals = true, 
   }
 }
 
-std::string base64(const std::vector<uint8_t>& d) {
+std::string mesh_base64(const std::vector<uint8_t>& d) {
   static const char* a = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
   std::string s;
   for (size_t i = 0; i < d.size(); i += 3) {
@@ -115,7 +115,7 @@ void write_gltf(const std::string& path, const TestMesh& m, const std::array<dou
   j << R"("meshes":[{"primitives":[{"attributes":{"POSITION":0,"NORMAL":1,)";
   if (two) j << R"("TEXCOORD_0":2,"TEXCOORD_1":3},"indices":4}]}],)";
   else j << R"("TEXCOORD_0":2},"indices":3}]}],)";
-  j << R"("buffers":[{"byteLength":)" << buf.size() << R"(,"uri":"data:application/octet-stream;base64,)" << base64(buf)
+  j << R"("buffers":[{"byteLength":)" << buf.size() << R"(,"uri":"data:application/octet-stream;base64,)" << mesh_base64(buf)
     << R"("}],"bufferViews":[)";
   for (size_t i = 0; i < views.size(); ++i)
     j << (i ? "," : "") << R"({"buffer":0,"byteOffset":)" << views[i].offset << R"(,"byteLength":)" << views[i].length << "}";
@@ -235,7 +235,7 @@ size_t check_coverage(const MeshTriangles& m, int w, int h, const RasterisedNorm
 }
 
 // Angle between a and b (atan2 of |a × b| and a · b: acos loses 1e-4 rad near 0).
-double angle(const float* a, const double b[3]) {
+double angle_to(const float* a, const double b[3]) {
   const double c[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
   return std::atan2(std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]), a[0] * b[0] + a[1] * b[1] + a[2] * b[2]);
 }
@@ -284,7 +284,7 @@ TEST(MeshRaster, CylinderNormalsMatchTheAnalyticNormalAtTheCentroid) {
       cx /= n;
       const double th = (cx / W - 1.0 / 16) / 0.875 * (kPiD / 2);
       const double ref[3] = {std::cos(th), std::sin(th), 0};
-      const double e = angle(&r.normals[i * 3], ref);
+      const double e = angle_to(&r.normals[i * 3], ref);
       worst = std::max(worst, e), sum += e, ++checked;
     }
   std::printf("cylinder %dx%d quads, %dx%d lightmap: %d texels checked (%d slivers skipped), normal error max %.2e rad, "
@@ -446,7 +446,7 @@ TEST(MeshRaster, GltfAndObjGiveTheSameTexelsRowZeroIsGltfVZero) {
       // Rotation by 90° about x: (x, y, z) → (x, −z, y).
       const float* n = &ro.normals[i * 3];
       const double rot[3] = {n[0], -n[2], n[1]};
-      worst = std::max(worst, angle(&rg.normals[i * 3], rot));
+      worst = std::max(worst, angle_to(&rg.normals[i * 3], rot));
     }
     std::printf("glTF (rotated node, TEXCOORD_1) vs OBJ at %dx%d: same %zu texels and winners, normals within %.1e rad\n",
                 w, w, size_t(std::count(ro.coverage.begin(), ro.coverage.end(), 1)), worst);

@@ -18,7 +18,7 @@ using namespace ahd;
 
 namespace {
 
-ShImage scene(int w, int h, int coeffs) {
+ShImage mip_scene(int w, int h, int coeffs) {
   BakerOptions bo;
   bo.width = w;
   bo.height = h;
@@ -197,8 +197,8 @@ TEST(Mips, IzIsLinearAtEveryLevelForShAndFit) {
   };
   std::vector<Case> cases;
   for (int coeffs : {4, 9}) {
-    cases.push_back({"analytic 64x64", scene(64, 64, coeffs)});
-    cases.push_back({"analytic 37x23", scene(37, 23, coeffs)});
+    cases.push_back({"analytic 64x64", mip_scene(64, 64, coeffs)});
+    cases.push_back({"analytic 37x23", mip_scene(37, 23, coeffs)});
     cases.push_back({"atlas 53x41", atlas(53, 41, coeffs, 11)});
     cases.push_back({"atlas 1x29", atlas(1, 29, coeffs, 12, false, true)});
   }
@@ -314,7 +314,7 @@ TEST(Mips, ThreadCountDoesNotChangeTheChain) {
       EXPECT_EQ(a[l].normals, b[l].normals);
     }
   }
-  const ShImage img = scene(40, 40, 9);
+  const ShImage img = mip_scene(40, 40, 9);
   const auto x = fit_mip_chain(img, FitOptions{}, 0, 1), y = fit_mip_chain(img, FitOptions{}, 0, 2);
   ASSERT_EQ(x.size(), y.size());
   for (size_t l = 0; l < x.size(); ++l)
@@ -344,7 +344,7 @@ TEST(Mips, ChainIgnoresUncoveredInput) {
 // Per-level accuracy: the AHD fit of each mip's SH against that mip's SH, and dilation statistics.
 TEST(Mips, FitMipChainErrorPerLevel) {
   for (auto [w, h] : {std::pair{64, 64}, {37, 23}}) {
-    const ShImage img = scene(w, h, 9);
+    const ShImage img = mip_scene(w, h, 9);
     std::vector<FitStats> fs;
     std::vector<DilateStats> ds;
     const FitOptions opt;

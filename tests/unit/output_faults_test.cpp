@@ -22,6 +22,7 @@
 #include "io/output_set.h"
 #include "pipeline/convert.h"
 #include "pipeline/manifest.h"
+#include "file_bytes.h"
 
 namespace fs = std::filesystem;
 using namespace ahd;
@@ -29,24 +30,13 @@ using ahd_test::run_cli;
 
 namespace {
 
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(f), {});
-}
-
 void spit(const fs::path& p, const std::string& s) { std::ofstream(p, std::ios::binary) << s; }
 
 // Every file of a folder (not hidden ones' contents: their names are compared).
-std::map<std::string, std::string> snapshot(const fs::path& d) {
+std::map<std::string, std::string> snapshot_entries(const fs::path& d) {
   std::map<std::string, std::string> m;
-  for (const auto& e : fs::directory_iterator(d)) m[e.path().filename().string()] = e.is_regular_file() ? slurp(e.path()) : "<dir>";
+  for (const auto& e : fs::directory_iterator(d)) m[e.path().filename().string()] = e.is_regular_file() ? ahd_test::read_text(e.path()) : "<dir>";
   return m;
-}
-
-std::set<std::string> names_in(const fs::path& d) {
-  std::set<std::string> s;
-  for (const auto& e : fs::directory_iterator(d)) s.insert(e.path().filename().string());
-  return s;
 }
 
 size_t hidden_in(const fs::path& d) {
@@ -55,7 +45,7 @@ size_t hidden_in(const fs::path& d) {
   return n;
 }
 
-std::string quote(const std::string& s) {
+std::string sh_quote(const std::string& s) {
   std::string q = "'";
   for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
   return q + "'";
@@ -64,10 +54,10 @@ std::string quote(const std::string& s) {
 // Runs ahdpack under a file-size limit of `kib` KiB with SIGXFSZ ignored: every write past the
 // limit fails with EFBIG, which is what a full disk looks like to a writer (ENOSPC).
 ahd_test::CliResult run_full_disk(size_t kib, const std::vector<std::string>& args) {
-  std::string cmd = "ulimit -f " + std::to_string(kib) + "; trap '' XFSZ; exec " + quote(AHD_CLI_PATH);
-  for (const auto& a : args) cmd += " " + quote(a);
+  std::string cmd = "ulimit -f " + std::to_string(kib) + "; trap '' XFSZ; exec " + sh_quote(AHD_CLI_PATH);
+  for (const auto& a : args) cmd += " " + sh_quote(a);
   ahd_test::CliResult r;
-  const std::string out = ahd_test::run_shell("bash -c " + quote(cmd) + " 2>&1; echo \"rc=$?\"");
+  const std::string out = ahd_test::run_shell("bash -c " + sh_quote(cmd) + " 2>&1; echo \"rc=$?\"");
   const size_t at = out.rfind("rc=");
   r.output = out.substr(0, at);
   r.exit_code = std::stoi(out.substr(at + 3));
@@ -80,7 +70,7 @@ void expect_one_error_line(const ahd_test::CliResult& r, const std::string& file
   EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
 }
 
-ahd_test::CliResult convert(const fs::path& out, const std::string& profile, int seed, bool keep = false) {
+ahd_test::CliResult convert_room(const fs::path& out, const std::string& profile, int seed, bool keep = false) {
   std::vector<std::string> a = {"convert", "-o", out.string(), "--sample-size", "16", "--profile", profile,
                                 "--seed", std::to_string(seed), "-q"};
   if (keep) a.push_back("--keep-intermediate");
@@ -101,7 +91,7 @@ ahd_test::CliResult convert(const fs::path& out, const std::string& profile, int
 }
 
 // The files a clean folder holds for set `name`: manifest, report, planes (and the intermediate).
-std::set<std::string> set_files(const fs::path& dir, const std::string& name, bool intermediate = false) {
+std::set<std::string> fault_set_files(const fs::path& dir, const std::string& name, bool intermediate = false) {
   std::set<std::string> s = {name + ".json", name + ".report.json"};
   if (intermediate) s.insert(name + ".ahd.exr");
   for (const auto& p : read_manifest_file((dir / (name + ".json")).string()).planes) s.insert(p.file);
@@ -117,7 +107,7 @@ std::vector<float> intermediate_sh(const fs::path& p) {
   }
 }
 
-nlohmann::json read_json(const fs::path& p) { return nlohmann::json::parse(slurp(p), nullptr, false); }
+nlohmann::json read_json(const fs::path& p) { return nlohmann::json::parse(ahd_test::read_text(p), nullptr, false); }
 
 // A folder whose tmpfs is mounted read-only (unmounted by the destructor); empty path when this
 // machine does not allow mounting (not root, a container without CAP_SYS_ADMIN).
@@ -141,12 +131,12 @@ TEST(OutputFaults, CompressOnAFullDiskFailsAndKeepsThePreviousFile) {
   ASSERT_EQ(run_cli({"decode", (d / "s" / "room.json").string(), "-o", (d / "in.exr").string()}).exit_code, 0);
   const fs::path out = d / "c.ktx2";
   ASSERT_EQ(run_cli({"compress", (d / "in.exr").string(), "-o", out.string()}).exit_code, 0);
-  ASSERT_GT(slurp(out).size(), 256u);
-  const auto before = snapshot(d);
+  ASSERT_GT(ahd_test::read_text(out).size(), 256u);
+  const auto before = snapshot_entries(d);
   // No room at all: the file is created, its buffered bytes fail at close (unchecked: 0 bytes, exit 0).
   const auto r = run_full_disk(0, {"compress", (d / "in.exr").string(), "-o", out.string(), "--quality", "fast"});
   expect_one_error_line(r, out.string());
-  EXPECT_EQ(snapshot(d), before);  // the previous file byte for byte, no temporary left
+  EXPECT_EQ(snapshot_entries(d), before);  // the previous file byte for byte, no temporary left
   fs::remove_all(d);
 }
 
@@ -156,11 +146,11 @@ TEST(OutputFaults, DecodeOnAFullDiskFailsAndKeepsThePreviousFile) {
   ASSERT_EQ(run_cli({"convert", "-o", (d / "s" / "room.ktx2").string(), "--sample-size", "16", "-q"}).exit_code, 0);
   const fs::path out = d / "irr.exr";
   ASSERT_EQ(run_cli({"decode", (d / "s" / "room.json").string(), "-o", out.string(), "--level", "1"}).exit_code, 0);
-  const auto before = snapshot(d);
+  const auto before = snapshot_entries(d);
   // 1 KiB of room: OpenEXR's last bytes fail at close, which was unchecked (a 1 KiB file, exit 0).
   const auto r = run_full_disk(1, {"decode", (d / "s" / "room.json").string(), "-o", out.string()});
   expect_one_error_line(r, out.string());
-  EXPECT_EQ(snapshot(d), before);
+  EXPECT_EQ(snapshot_entries(d), before);
   fs::remove_all(d);
 }
 
@@ -172,10 +162,10 @@ TEST(OutputFaults, DecompressOnAFullDiskFailsAndKeepsThePreviousFile) {
   ASSERT_EQ(run_cli({"compress", (d / "in.exr").string(), "-o", (d / "c.ktx2").string()}).exit_code, 0);
   const fs::path out = d / "back.exr";
   ASSERT_EQ(run_cli({"decompress", (d / "c.ktx2").string(), "-o", out.string()}).exit_code, 0);
-  const auto before = snapshot(d);
+  const auto before = snapshot_entries(d);
   const auto r = run_full_disk(1, {"decompress", (d / "c.ktx2").string(), "-o", out.string()});
   expect_one_error_line(r, out.string());
-  EXPECT_EQ(snapshot(d), before);
+  EXPECT_EQ(snapshot_entries(d), before);
   fs::remove_all(d);
 }
 
@@ -184,20 +174,20 @@ TEST(OutputFaults, DecompressOnAFullDiskFailsAndKeepsThePreviousFile) {
 // set or not at all: the folder is byte for byte the previous one.
 TEST(OutputFaults, KeepIntermediateFailedConversionKeepsThePreviousIntermediate) {
   const fs::path d = ahd_test::temp_dir("faults_keep");
-  ASSERT_EQ(convert(d / "room.ktx2", "uncompressed", 0, true).exit_code, 0);
+  ASSERT_EQ(convert_room(d / "room.ktx2", "uncompressed", 0, true).exit_code, 0);
   ASSERT_TRUE(fs::exists(d / "room.ahd.exr"));
-  const auto before = snapshot(d);
+  const auto before = snapshot_entries(d);
   // A plane's write fails (the fit, and so the intermediate, already done; seed 1: other bytes).
   ::setenv("AHDPACK_TEST_WRITE_FAULT", "0:ENOSPC", 1);
-  const auto r = convert(d / "room.ktx2", "uncompressed", 1, true);
+  const auto r = convert_room(d / "room.ktx2", "uncompressed", 1, true);
   ::unsetenv("AHDPACK_TEST_WRITE_FAULT");
   EXPECT_EQ(r.exit_code, 1) << r.output;
-  EXPECT_EQ(snapshot(d), before);
+  EXPECT_EQ(snapshot_entries(d), before);
   // A full disk: 24 KiB holds every plane of 16x16 but not the intermediate.
   const auto full = run_full_disk(24, {"convert", "-o", (d / "room.ktx2").string(), "--sample-size", "16", "--seed", "1",
                                        "--keep-intermediate", "-q"});
   expect_one_error_line(full, (d / "room.ahd.exr").string());
-  EXPECT_EQ(snapshot(d), before);
+  EXPECT_EQ(snapshot_entries(d), before);
   EXPECT_TRUE(complete_set(d / "room.json"));
   fs::remove_all(d);
 }
@@ -207,14 +197,14 @@ TEST(OutputFaults, KeepIntermediateFailedConversionKeepsThePreviousIntermediate)
 // NAME itself keeps it (same fit).
 TEST(OutputFaults, ConversionWithoutKeepIntermediateRemovesTheOldIntermediate) {
   const fs::path d = ahd_test::temp_dir("faults_old_intermediate");
-  ASSERT_EQ(convert(d / "room.ktx2", "uncompressed", 0, true).exit_code, 0);
+  ASSERT_EQ(convert_room(d / "room.ktx2", "uncompressed", 0, true).exit_code, 0);
   const auto t = run_cli({"transcode", (d / "room.ahd.exr").string(), "-o", (d / "room.ktx2").string(), "--profile", "pc-bc", "-q"});
   ASSERT_EQ(t.exit_code, 0) << t.output;
   EXPECT_TRUE(fs::exists(d / "room.ahd.exr"));
-  EXPECT_EQ(names_in(d), set_files(d, "room", true));
-  ASSERT_EQ(convert(d / "room.ktx2", "uncompressed", 1).exit_code, 0);
+  EXPECT_EQ(ahd_test::names_in(d), fault_set_files(d, "room", true));
+  ASSERT_EQ(convert_room(d / "room.ktx2", "uncompressed", 1).exit_code, 0);
   EXPECT_FALSE(fs::exists(d / "room.ahd.exr"));
-  EXPECT_EQ(names_in(d), set_files(d, "room"));
+  EXPECT_EQ(ahd_test::names_in(d), fault_set_files(d, "room"));
   fs::remove_all(d);
 }
 
@@ -225,9 +215,9 @@ TEST(OutputFaults, ConversionWithoutKeepIntermediateRemovesTheOldIntermediate) {
 TEST(OutputFaults, KilledAtEveryRenameLeavesAnnexesOfTheManifestOnly) {
   const fs::path root = ahd_test::temp_dir("faults_kill");
   const fs::path ref_old = root / "ref_old", ref_new = root / "ref_new";
-  ASSERT_EQ(convert(ref_old / "room.ktx2", "uncompressed", 0, true).exit_code, 0);
-  ASSERT_EQ(convert(ref_new / "room.ktx2", "pc-bc", 1, true).exit_code, 0);
-  const std::string old_manifest = slurp(ref_old / "room.json"), new_manifest = slurp(ref_new / "room.json");
+  ASSERT_EQ(convert_room(ref_old / "room.ktx2", "uncompressed", 0, true).exit_code, 0);
+  ASSERT_EQ(convert_room(ref_new / "room.ktx2", "pc-bc", 1, true).exit_code, 0);
+  const std::string old_manifest = ahd_test::read_text(ref_old / "room.json"), new_manifest = ahd_test::read_text(ref_new / "room.json");
   const std::vector<float> old_im = intermediate_sh(ref_old / "room.ahd.exr"), new_im = intermediate_sh(ref_new / "room.ahd.exr");
   ASSERT_FALSE(old_im.empty());
   ASSERT_TRUE(old_im != new_im);
@@ -236,12 +226,12 @@ TEST(OutputFaults, KilledAtEveryRenameLeavesAnnexesOfTheManifestOnly) {
     ASSERT_LT(k, 30) << "the hook never stopped killing";
     SCOPED_TRACE("killed before rename " + std::to_string(k));
     const fs::path d = root / ("k" + std::to_string(k));
-    ASSERT_EQ(convert(d / "room.ktx2", "uncompressed", 0, true).exit_code, 0);
+    ASSERT_EQ(convert_room(d / "room.ktx2", "uncompressed", 0, true).exit_code, 0);
     ::setenv("AHDPACK_TEST_KILL_BEFORE_RENAME", std::to_string(k).c_str(), 1);
-    const auto killed = convert(d / "room.ktx2", "pc-bc", 1, true);
+    const auto killed = convert_room(d / "room.ktx2", "pc-bc", 1, true);
     ::unsetenv("AHDPACK_TEST_KILL_BEFORE_RENAME");
     const bool done = killed.exit_code == 0;
-    const std::string now = slurp(d / "room.json");
+    const std::string now = ahd_test::read_text(d / "room.json");
     const bool is_old = now == old_manifest;
     ASSERT_TRUE(is_old || now == new_manifest);
     saw_old += is_old;
@@ -250,9 +240,9 @@ TEST(OutputFaults, KilledAtEveryRenameLeavesAnnexesOfTheManifestOnly) {
     if (fs::exists(d / "room.report.json"))
       EXPECT_EQ(read_json(d / "room.report.json").value("profile", ""), is_old ? "uncompressed" : "pc-bc");
     if (fs::exists(d / "room.ahd.exr")) EXPECT_TRUE(intermediate_sh(d / "room.ahd.exr") == (is_old ? old_im : new_im));
-    ASSERT_EQ(convert(d / "room.ktx2", "pc-bc", 1, true).exit_code, 0);
-    EXPECT_EQ(names_in(d), set_files(d, "room", true));
-    EXPECT_EQ(slurp(d / "room.json"), new_manifest);
+    ASSERT_EQ(convert_room(d / "room.ktx2", "pc-bc", 1, true).exit_code, 0);
+    EXPECT_EQ(ahd_test::names_in(d), fault_set_files(d, "room", true));
+    EXPECT_EQ(ahd_test::read_text(d / "room.json"), new_manifest);
     EXPECT_TRUE(intermediate_sh(d / "room.ahd.exr") == new_im);
     if (done) break;  // k passed the last rename and the clean-up
   }
@@ -271,11 +261,11 @@ TEST(OutputFaults, SignalBetweenRenamesLeavesNoOrphan) {
       ASSERT_LT(k, 30);
       SCOPED_TRACE(std::string(sig) + " before rename " + std::to_string(k));
       const fs::path d = root / (sig + std::to_string(k));
-      ASSERT_EQ(convert(d / "room.ktx2", "uncompressed", 0).exit_code, 0);
-      const auto before = snapshot(d);
-      const std::set<std::string> old_set = set_files(d, "room");
+      ASSERT_EQ(convert_room(d / "room.ktx2", "uncompressed", 0).exit_code, 0);
+      const auto before = snapshot_entries(d);
+      const std::set<std::string> old_set = fault_set_files(d, "room");
       ::setenv("AHDPACK_TEST_KILL_BEFORE_RENAME", (std::to_string(k) + ":" + sig).c_str(), 1);
-      const auto r = convert(d / "room.ktx2", "pc-bc", 1);
+      const auto r = convert_room(d / "room.ktx2", "pc-bc", 1);
       ::unsetenv("AHDPACK_TEST_KILL_BEFORE_RENAME");
       if (r.exit_code == 0) {
         EXPECT_GT(k, 3) << "the signal hook did not fire";
@@ -285,9 +275,9 @@ TEST(OutputFaults, SignalBetweenRenamesLeavesNoOrphan) {
       EXPECT_TRUE(r.exit_code == 128 + signo || r.exit_code == -1) << "not killed by the signal: " << r.output;
       EXPECT_TRUE(complete_set(d / "room.json"));
       if (read_json(d / "room.json").value("profile", "") == "uncompressed") {
-        EXPECT_EQ(snapshot(d), before);
+        EXPECT_EQ(snapshot_entries(d), before);
       } else {
-        std::set<std::string> now = names_in(d), want = set_files(d, "room");
+        std::set<std::string> now = ahd_test::names_in(d), want = fault_set_files(d, "room");
         if (!now.count("room.report.json")) want.erase("room.report.json");
         EXPECT_EQ(now, want);
       }
@@ -302,7 +292,7 @@ TEST(OutputFaults, SignalBetweenRenamesLeavesNoOrphan) {
 // the folder holds one complete set, its report of the same run, and nothing else.
 TEST(OutputFaults, HundredPairsOfConcurrentConversionsLeaveOneCompleteSet) {
   const fs::path d = ahd_test::temp_dir("faults_concurrent");
-  const std::string out = quote((d / "room.ktx2").string()), cli = quote(AHD_CLI_PATH);
+  const std::string out = sh_quote((d / "room.ktx2").string()), cli = sh_quote(AHD_CLI_PATH);
   size_t broken = 0;
   for (int i = 0; i < 100; ++i) {
     SCOPED_TRACE("pair " + std::to_string(i));
@@ -310,7 +300,7 @@ TEST(OutputFaults, HundredPairsOfConcurrentConversionsLeaveOneCompleteSet) {
     const std::string b = cli + " convert -o " + out + " --sample-size 8 -q --profile pc-bc --seed " + std::to_string(2 * i + 1);
     const std::string rc = ahd_test::run_shell("(" + a + ") & A=$!; (" + b + ") & B=$!; wait $A; ra=$?; wait $B; echo \"$ra $?\"");
     ASSERT_EQ(rc, "0 0\n");
-    const bool ok = complete_set(d / "room.json") && names_in(d) == set_files(d, "room") &&
+    const bool ok = complete_set(d / "room.json") && ahd_test::names_in(d) == fault_set_files(d, "room") &&
                     read_json(d / "room.report.json").value("profile", "") ==
                         read_json(d / "room.json").value("profile", "?");
     broken += !ok;
@@ -324,7 +314,7 @@ TEST(OutputFaults, HundredPairsOfConcurrentConversionsLeaveOneCompleteSet) {
 // folder). Now one error line naming the report, exit 1, no output and no temporary folder.
 TEST(OutputFaults, PreviewOfADeeplyNestedReportIsOneErrorLine) {
   const fs::path d = ahd_test::temp_dir("faults_deep");
-  ASSERT_EQ(convert(d / "room.ktx2", "uncompressed", 0).exit_code, 0);
+  ASSERT_EQ(convert_room(d / "room.ktx2", "uncompressed", 0).exit_code, 0);
   spit(d / "room.report.json", "{\"x\":" + std::string(200000, '[') + std::string(200000, ']') + "}");
   const auto r = run_cli({"preview", (d / "room.json").string(), "-o", (d / "page").string()});
   expect_one_error_line(r, (d / "room.report.json").string());
@@ -341,7 +331,7 @@ TEST(OutputFaults, PreviewOfADeeplyNestedReportIsOneErrorLine) {
 // replaced by markup; the page has its own one <script> and none of the markup.
 TEST(OutputFaults, PreviewEscapesEveryReportValue) {
   const fs::path d = ahd_test::temp_dir("faults_escape");
-  ASSERT_EQ(convert(d / "room.ktx2", "uncompressed", 0).exit_code, 0);
+  ASSERT_EQ(convert_room(d / "room.ktx2", "uncompressed", 0).exit_code, 0);
   const std::string evil = "<script>alert(1)</script>\"'</textarea><img src=x onerror=alert(2)>&";
   std::function<nlohmann::json(const nlohmann::json&)> craft = [&](const nlohmann::json& j) -> nlohmann::json {
     if (j.is_object()) {
@@ -361,7 +351,7 @@ TEST(OutputFaults, PreviewEscapesEveryReportValue) {
   spit(d / "room.report.json", craft(report).dump());
   const auto r = run_cli({"preview", (d / "room.json").string(), "-o", (d / "page").string()});
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  const std::string html = slurp(d / "page" / "index.html");
+  const std::string html = ahd_test::read_text(d / "page" / "index.html");
   size_t scripts = 0;
   for (size_t at = html.find("<script"); at != std::string::npos; at = html.find("<script", at + 1)) ++scripts;
   EXPECT_EQ(scripts, 1u);
@@ -378,8 +368,8 @@ TEST(OutputFaults, PreviewEscapesEveryReportValue) {
 TEST(OutputFaults, InterruptedPreviewLeavesNoTemporaryFolder) {
   const fs::path d = ahd_test::temp_dir("faults_preview_int");
   ASSERT_EQ(run_cli({"convert", "-o", (d / "s" / "room.ktx2").string(), "--sample-size", "256", "-q"}).exit_code, 0);
-  const std::string cmd = quote(AHD_CLI_PATH) + " preview " + quote((d / "s" / "room.json").string()) + " -o " +
-                          quote((d / "page").string()) + " >/dev/null 2>&1";
+  const std::string cmd = sh_quote(AHD_CLI_PATH) + " preview " + sh_quote((d / "s" / "room.json").string()) + " -o " +
+                          sh_quote((d / "page").string()) + " >/dev/null 2>&1";
   size_t interrupted = 0;
   // `set -m`: without job control a shell starts background commands with SIGINT ignored, so a
   // signal landing before ahdpack installs its handler would be lost and the run never interrupted.
@@ -400,7 +390,7 @@ TEST(OutputFaults, InterruptedPreviewLeavesNoTemporaryFolder) {
 // writer now says one line naming its output, exit 1.
 TEST(OutputFaults, ReadOnlyFolderIsOneErrorLineForEveryWriter) {
   const fs::path d = ahd_test::temp_dir("faults_ro");
-  ASSERT_EQ(convert(d / "s" / "room.ktx2", "uncompressed", 0, true).exit_code, 0);
+  ASSERT_EQ(convert_room(d / "s" / "room.ktx2", "uncompressed", 0, true).exit_code, 0);
   ASSERT_EQ(run_cli({"decode", (d / "s" / "room.json").string(), "-o", (d / "in.exr").string()}).exit_code, 0);
   std::unique_ptr<ReadOnlyFolder> ro_folder = std::make_unique<ReadOnlyFolder>(d / "ro");
   const ReadOnlyFolder& ro = *ro_folder;
@@ -456,25 +446,25 @@ TEST(OutputFaults, SetNamesDecodeWouldRefuseAreRefusedUpFront) {
 // files only when their content hash is the one in their name (ahdpack's, left by a killed run).
 TEST(OutputFaults, PlaneCleanUpKeepsTheUsersOwnFiles) {
   const fs::path d = ahd_test::temp_dir("faults_users_files");
-  ASSERT_EQ(convert(d / "room.ktx2", "uncompressed", 0).exit_code, 0);
+  ASSERT_EQ(convert_room(d / "room.ktx2", "uncompressed", 0).exit_code, 0);
   const std::map<std::string, std::string> mine = {{"room.iz.dds", "mine 1"},
                                                    {"room.coverage.ktx2", "mine 2"},
                                                    {"room.dir.0123456789ab.ktx2", "mine 3 (a hash that is not its own)"}};
   for (const auto& [f, text] : mine) spit(d / f, text);
   // An orphan plane of a killed run: a real plane file under its own content-addressed name.
   const std::string orphan = fs::path(ahd_test::plane_file((d / "room.json").string(), "iz")).filename().string();
-  ASSERT_EQ(convert(d / "room.ktx2", "pc-bc", 1).exit_code, 0);
-  for (const auto& [f, text] : mine) EXPECT_EQ(slurp(d / f), text) << f;
+  ASSERT_EQ(convert_room(d / "room.ktx2", "pc-bc", 1).exit_code, 0);
+  for (const auto& [f, text] : mine) EXPECT_EQ(ahd_test::read_text(d / f), text) << f;
   ASSERT_FALSE(fs::exists(d / orphan));  // the first set's plane went with its manifest
-  ASSERT_EQ(convert(d / "room.ktx2", "uncompressed", 0).exit_code, 0);  // brings it back
+  ASSERT_EQ(convert_room(d / "room.ktx2", "uncompressed", 0).exit_code, 0);  // brings it back
   ASSERT_TRUE(fs::exists(d / orphan));
   fs::copy_file(d / orphan, d / "keep.tmp");
-  ASSERT_EQ(convert(d / "room.ktx2", "pc-bc", 1).exit_code, 0);
+  ASSERT_EQ(convert_room(d / "room.ktx2", "pc-bc", 1).exit_code, 0);
   fs::rename(d / "keep.tmp", d / orphan);  // as a killed run would leave it: unnamed by the manifest
-  ASSERT_EQ(convert(d / "room.ktx2", "pc-bc", 1).exit_code, 0);
+  ASSERT_EQ(convert_room(d / "room.ktx2", "pc-bc", 1).exit_code, 0);
   EXPECT_FALSE(fs::exists(d / orphan));
-  std::set<std::string> want = set_files(d, "room");
+  std::set<std::string> want = fault_set_files(d, "room");
   for (const auto& [f, text] : mine) want.insert(f);
-  EXPECT_EQ(names_in(d), want);
+  EXPECT_EQ(ahd_test::names_in(d), want);
   fs::remove_all(d);
 }

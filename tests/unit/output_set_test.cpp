@@ -18,21 +18,17 @@
 #include "io/output_set.h"
 #include "pipeline/convert.h"
 #include "pipeline/manifest.h"
+#include "file_bytes.h"
 
 namespace fs = std::filesystem;
 using namespace ahd;
 
 namespace {
 
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(f), {});
-}
-
-std::map<std::string, std::string> snapshot(const fs::path& d) {
+std::map<std::string, std::string> snapshot_files(const fs::path& d) {
   std::map<std::string, std::string> m;
   for (const auto& e : fs::directory_iterator(d))
-    if (e.is_regular_file()) m[e.path().filename().string()] = slurp(e.path());
+    if (e.is_regular_file()) m[e.path().filename().string()] = ahd_test::read_text(e.path());
   return m;
 }
 
@@ -51,20 +47,14 @@ void expect_complete_set(const fs::path& manifest) {
   EXPECT_EQ(uint32_t(p.width), m.width);
 }
 
-ahd_test::CliResult convert(const fs::path& d, const std::string& profile) {
+ahd_test::CliResult convert_set(const fs::path& d, const std::string& profile) {
   return ahd_test::run_cli({"convert", "-o", (d / "room.ktx2").string(), "--sample-size", "16", "--profile", profile, "-q"});
 }
 
 // The plane, report and manifest files of a set: what the folder must hold after a clean run.
-std::set<std::string> set_files(const fs::path& manifest) {
+std::set<std::string> manifest_set_files(const fs::path& manifest) {
   std::set<std::string> s = {manifest.filename().string(), "room.report.json"};
   for (const auto& p : read_manifest_file(manifest.string()).planes) s.insert(p.file);
-  return s;
-}
-
-std::set<std::string> names_in(const fs::path& d) {
-  std::set<std::string> s;
-  for (const auto& e : fs::directory_iterator(d)) s.insert(e.path().filename().string());
   return s;
 }
 
@@ -78,21 +68,21 @@ TEST(OutputSet, KilledBeforeEachRenameLeavesOldOrNewSetCompleteAndNextRunCleansU
   const fs::path ref_old = root / "ref_old", ref_new = root / "ref_new";
   fs::create_directories(ref_old);
   fs::create_directories(ref_new);
-  ASSERT_EQ(convert(ref_old, "uncompressed").exit_code, 0);
-  ASSERT_EQ(convert(ref_new, "pc-bc").exit_code, 0);
-  const std::string old_manifest = slurp(ref_old / "room.json"), new_manifest = slurp(ref_new / "room.json");
+  ASSERT_EQ(convert_set(ref_old, "uncompressed").exit_code, 0);
+  ASSERT_EQ(convert_set(ref_new, "pc-bc").exit_code, 0);
+  const std::string old_manifest = ahd_test::read_text(ref_old / "room.json"), new_manifest = ahd_test::read_text(ref_new / "room.json");
   ASSERT_NE(old_manifest, new_manifest);
-  const size_t renames = set_files(ref_new / "room.json").size();  // planes, report, manifest
+  const size_t renames = manifest_set_files(ref_new / "room.json").size();  // planes, report, manifest
   for (size_t k = 0; k <= renames; ++k) {
     SCOPED_TRACE("killed before rename " + std::to_string(k));
     const fs::path d = root / ("k" + std::to_string(k));
     fs::create_directories(d);
-    ASSERT_EQ(convert(d, "uncompressed").exit_code, 0);
+    ASSERT_EQ(convert_set(d, "uncompressed").exit_code, 0);
     ::setenv("AHDPACK_TEST_KILL_BEFORE_RENAME", std::to_string(k).c_str(), 1);
-    const auto killed = convert(d, "pc-bc");
+    const auto killed = convert_set(d, "pc-bc");
     ::unsetenv("AHDPACK_TEST_KILL_BEFORE_RENAME");
     EXPECT_TRUE(killed.exit_code == 128 + SIGKILL || killed.exit_code == -1) << "not killed: " << killed.output;
-    const std::string now = slurp(d / "room.json");
+    const std::string now = ahd_test::read_text(d / "room.json");
     // The manifest is renamed last (index renames - 1): before it the old set, after it the new.
     EXPECT_EQ(now, k < renames ? old_manifest : new_manifest);
     expect_complete_set(d / "room.json");
@@ -100,10 +90,10 @@ TEST(OutputSet, KilledBeforeEachRenameLeavesOldOrNewSetCompleteAndNextRunCleansU
       EXPECT_GT(temporaries_in(d), 0u) << "the kill left no temporaries: the hook did not fire?";
     }
     // The next run publishes its set and leaves exactly that set: no temporary, no old plane.
-    ASSERT_EQ(convert(d, "pc-bc").exit_code, 0);
+    ASSERT_EQ(convert_set(d, "pc-bc").exit_code, 0);
     EXPECT_EQ(temporaries_in(d), 0u);
-    EXPECT_EQ(names_in(d), set_files(d / "room.json"));
-    EXPECT_EQ(slurp(d / "room.json"), new_manifest);
+    EXPECT_EQ(ahd_test::names_in(d), manifest_set_files(d / "room.json"));
+    EXPECT_EQ(ahd_test::read_text(d / "room.json"), new_manifest);
     expect_complete_set(d / "room.json");
   }
   fs::remove_all(root);
@@ -114,17 +104,17 @@ TEST(OutputSet, KilledBeforeEachRenameLeavesOldOrNewSetCompleteAndNextRunCleansU
 // the previous set byte for byte, with no temporary file left.
 TEST(OutputSet, FailedConversionLeavesThePreviousSetUntouched) {
   const fs::path d = ahd_test::temp_dir("output_set_fail");
-  ASSERT_EQ(convert(d, "uncompressed").exit_code, 0);
-  const auto before = snapshot(d);
+  ASSERT_EQ(convert_set(d, "uncompressed").exit_code, 0);
+  const auto before = snapshot_files(d);
   for (const char* fault : {"0:ENOSPC", "1:ENOSPC", "3:EROFS", "4:ENOSPC"}) {
     SCOPED_TRACE(fault);
     ::setenv("AHDPACK_TEST_WRITE_FAULT", fault, 1);
-    const auto r = convert(d, "pc-bc");
+    const auto r = convert_set(d, "pc-bc");
     ::unsetenv("AHDPACK_TEST_WRITE_FAULT");
     EXPECT_EQ(r.exit_code, 1) << r.output;
     EXPECT_EQ(r.output.rfind("ahdpack: error: " + d.string() + "/room.", 0), 0u) << r.output;
     EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
-    EXPECT_EQ(snapshot(d), before);
+    EXPECT_EQ(snapshot_files(d), before);
     EXPECT_EQ(temporaries_in(d), 0u);
     expect_complete_set(d / "room.json");
   }
@@ -139,13 +129,13 @@ TEST(OutputSet, PublishIsAllOrNothingInProcess) {
                                    {(d / "a.dir.0.ktx2").string(), {4, 5}},
                                    {(d / "a.json").string(), {'{', '}'}}};
   publish_output_set(files);
-  EXPECT_EQ(slurp(d / "a.json"), "{}");
-  const auto before = snapshot(d);
+  EXPECT_EQ(ahd_test::read_text(d / "a.json"), "{}");
+  const auto before = snapshot_files(d);
   std::vector<FileToPublish> next = {{(d / "a.iz.1.ktx2").string(), {9}}, {(d / "a.json").string(), {'[', ']'}}};
   ::setenv("AHDPACK_TEST_WRITE_FAULT", "1:ENOSPC", 1);
   EXPECT_THROW(publish_output_set(next), Error);
   ::unsetenv("AHDPACK_TEST_WRITE_FAULT");
-  EXPECT_EQ(snapshot(d), before);
+  EXPECT_EQ(snapshot_files(d), before);
   // A folder in the way of the manifest: refused before anything is written.
   fs::create_directories(d / "b.json");
   try {
@@ -154,13 +144,13 @@ TEST(OutputSet, PublishIsAllOrNothingInProcess) {
   } catch (const Error& e) {
     EXPECT_EQ(std::string(e.what()), (d / "b.json").string() + ": is a folder");
   }
-  EXPECT_EQ(snapshot(d), before);
+  EXPECT_EQ(snapshot_files(d), before);
   // Superseded files go once the new manifest is in place; the published ones stay.
   publish_output_set(next, {(d / "a.iz.0.ktx2").string(), (d / "a.dir.0.ktx2").string(), (d / "a.iz.1.ktx2").string()});
   EXPECT_FALSE(fs::exists(d / "a.iz.0.ktx2"));
   EXPECT_FALSE(fs::exists(d / "a.dir.0.ktx2"));
-  EXPECT_EQ(slurp(d / "a.iz.1.ktx2"), "\x09");
-  EXPECT_EQ(slurp(d / "a.json"), "[]");
+  EXPECT_EQ(ahd_test::read_text(d / "a.iz.1.ktx2"), "\x09");
+  EXPECT_EQ(ahd_test::read_text(d / "a.json"), "[]");
   fs::remove_all(d);
 }
 
@@ -177,7 +167,7 @@ TEST(OutputSet, StaleTemporariesOfDeadProcessesAreRemoved) {
   std::ofstream(d / "room.ahdtmp.notours") << "x";
   EXPECT_TRUE(is_temporary_name(dead_tmp));
   EXPECT_FALSE(is_temporary_name("room.ahdtmp.notours"));
-  ASSERT_EQ(convert(d, "uncompressed").exit_code, 0);
+  ASSERT_EQ(convert_set(d, "uncompressed").exit_code, 0);
   EXPECT_FALSE(fs::exists(d / dead_tmp));
   EXPECT_TRUE(fs::exists(d / live_tmp));
   EXPECT_TRUE(fs::exists(d / "room.ahdtmp.notours"));

@@ -16,7 +16,7 @@ using namespace ahd;
 
 namespace {
 
-ShImage scene(int size, int coeffs, uint32_t seed = 0) {
+ShImage pipeline_scene(int size, int coeffs, uint32_t seed = 0) {
   BakerOptions bo;
   bo.width = bo.height = size;
   bo.coeffs = coeffs;
@@ -29,7 +29,7 @@ ShImage scene(int size, int coeffs, uint32_t seed = 0) {
 
 TEST(Pipeline, AnalyticSceneFitKeepsIzAndSigns) {
   for (int coeffs : {4, 9}) {
-    const ShImage sh = scene(64, coeffs);
+    const ShImage sh = pipeline_scene(64, coeffs);
     FitOptions opt;
     FitStats st;
     const AhdImage fit = fit_image(sh, opt, 2, &st);
@@ -76,7 +76,7 @@ TEST(Pipeline, BakerHandlesTinyAndOddSizes) {
 }
 
 TEST(Pipeline, UncompressedProfileClosedLoopBeatsOpenLoop) {
-  const ShImage sh = scene(64, 9);
+  const ShImage sh = pipeline_scene(64, 9);
   PipelineOptions opt;
   opt.measure = Measure::Full;
   opt.threads = 2;
@@ -96,7 +96,7 @@ TEST(Pipeline, UncompressedProfileClosedLoopBeatsOpenLoop) {
 }
 
 TEST(Pipeline, ConvertIsDeterministicAcrossThreadCounts) {
-  const ShImage sh = scene(40, 9);
+  const ShImage sh = pipeline_scene(40, 9);
   PipelineOptions a;
   a.threads = 1;
   PipelineOptions b = a;
@@ -108,7 +108,7 @@ TEST(Pipeline, ConvertIsDeterministicAcrossThreadCounts) {
 }
 
 TEST(Pipeline, DecodedPlanesReproduceIzAtTexelCentres) {
-  const ShImage sh = scene(32, 9);
+  const ShImage sh = pipeline_scene(32, 9);
   PipelineOptions opt;
   const PipelineResult r = run_conversion(sh, load_profile("uncompressed"), opt);
   const DecodedPlanes p = decode_planes(r.planes, false);

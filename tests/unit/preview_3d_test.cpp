@@ -19,19 +19,13 @@
 #include "io/manifest_file.h"
 #include "io/sh_exr.h"
 #include "pipeline/plane_decode.h"
+#include "test_data.h"
 
 namespace fs = std::filesystem;
 using ahd_test::run_cli;
 
 namespace {
 
-const fs::path kSource = AHD_SOURCE_DIR;
-
-std::string chromium_binary() {
-  for (const char* p : {"/usr/bin/chromium", "/usr/bin/chromium-browser"})
-    if (fs::exists(p)) return p;
-  return "";
-}
 
 // A folded n×n grid (a ridge along x) with one UV set covering [0,1]² (glTF: v down), as .glb.
 void write_glb(const fs::path& path, int n = 9) {
@@ -123,9 +117,9 @@ return { diffs, hist, readout, text: $('readout').textContent };
 }  // namespace
 
 TEST(Preview3d, MeshViewClicksThroughAbAndNormalMapAndReadsTheDecoderValue) {
-  if (chromium_binary().empty()) GTEST_SKIP() << "chromium is not installed (scripts/setup.sh installs it)";
+  if (ahd_test::chromium_binary().empty()) GTEST_SKIP() << "chromium is not installed (scripts/setup.sh installs it)";
   if (ahd_test::run_shell("command -v node").empty()) GTEST_SKIP() << "node is not installed (scripts/setup.sh)";
-  if (!fs::exists(kSource / "tests" / "tools" / "node_modules" / "three" / "build" / "three.module.js"))
+  if (!fs::exists(ahd_test::kSourceDir / "tests" / "tools" / "node_modules" / "three" / "build" / "three.module.js"))
     GTEST_SKIP() << "tests/tools/node_modules/three is missing (scripts/setup.sh runs npm ci there)";
   const fs::path dir = ahd_test::temp_dir("preview3d");
   const fs::path src = dir / "s.exr", glb = dir / "ridge.glb", man = dir / "c" / "s.json", out = dir / "page";
@@ -148,7 +142,7 @@ TEST(Preview3d, MeshViewClicksThroughAbAndNormalMapAndReadsTheDecoderValue) {
     for (size_t p; (p = script.find(k)) != std::string::npos;) script.replace(p, 2, std::to_string(v));
   std::ofstream(dir / "click.js") << script;
   const std::string log = ahd_test::run_shell(
-      "node '" + (kSource / "tests" / "tools" / "chromium_cdp.mjs").string() + "' --chromium '" + chromium_binary() +
+      "node '" + (ahd_test::kSourceDir / "tests" / "tools" / "chromium_cdp.mjs").string() + "' --chromium '" + ahd_test::chromium_binary() +
       "' --url 'file://" + (out / "view3d.html").string() + "' --script '" + (dir / "click.js").string() + "' --out '" +
       (dir / "r.json").string() + "' --screenshot '" + (dir / "shot.png").string() + "' --timeout 60 2>&1");
   std::ifstream rf(dir / "r.json");
@@ -219,7 +213,7 @@ TEST(Preview3d, WithoutThreeTheStaticPageSaysWhy) {
 
 TEST(Preview3d, BadMeshIsOneErrorLineAndNoFolder) {
   // Without three.js the page is the static one and the mesh is never read (WithoutThree… above).
-  if (!fs::exists(kSource / "tests" / "tools" / "node_modules" / "three" / "build" / "three.module.js"))
+  if (!fs::exists(ahd_test::kSourceDir / "tests" / "tools" / "node_modules" / "three" / "build" / "three.module.js"))
     GTEST_SKIP() << "tests/tools/node_modules/three is missing (scripts/setup.sh runs npm ci there)";
   const fs::path dir = ahd_test::temp_dir("preview3d_bad");
   ASSERT_EQ(run_cli({"sample", "-o", (dir / "s.exr").string(), "--size", "16"}).exit_code, 0);

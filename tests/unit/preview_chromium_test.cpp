@@ -15,17 +15,13 @@
 #include "io/image_io.h"
 #include "io/sh_exr.h"
 #include "sh/sh_image.h"
+#include "file_bytes.h"
+#include "test_data.h"
 
 namespace fs = std::filesystem;
 using ahd_test::run_cli;
 
 namespace {
-
-std::string chromium_binary() {
-  for (const char* p : {"/usr/bin/chromium", "/usr/bin/chromium-browser"})
-    if (fs::exists(p)) return p;
-  return "";
-}
 
 // Runs a shell command; stdout into `out`, stderr into `err`. Returns the exit status.
 int run(const std::string& cmd, const fs::path& err_file, std::string* out) {
@@ -35,11 +31,6 @@ int run(const std::string& cmd, const fs::path& err_file, std::string* out) {
   while (p && (n = fread(buf, 1, sizeof buf, p)) > 0) out->append(buf, n);
   const int st = p ? pclose(p) : -1;
   return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-}
-
-std::string read_text(const fs::path& p) {
-  std::ifstream f(p);
-  return std::string(std::istreambuf_iterator<char>(f), {});
 }
 
 double luminance(const ahd::ImageF& img, size_t i) {
@@ -59,7 +50,7 @@ struct Page {
     EXPECT_EQ(r.exit_code, 0) << r.output;
   }
   std::string chromium(const std::string& what) const {
-    return "'" + chromium_binary() + "' --headless=new --no-sandbox --disable-gpu --hide-scrollbars "
+    return "'" + ahd_test::chromium_binary() + "' --headless=new --no-sandbox --disable-gpu --hide-scrollbars "
            "--user-data-dir='" + (dir / "profile").string() + "' --enable-logging=stderr --v=0 "
            "--virtual-time-budget=5000 " + what + " 'file://" + (out / "index.html").string() + "'";
   }
@@ -68,14 +59,14 @@ struct Page {
 }  // namespace
 
 TEST(PreviewChromium, PageLoadsWithoutErrorsAndShowsSomething) {
-  if (chromium_binary().empty()) GTEST_SKIP() << "chromium is not installed (scripts/setup.sh installs it)";
+  if (ahd_test::chromium_binary().empty()) GTEST_SKIP() << "chromium is not installed (scripts/setup.sh installs it)";
   Page p("preview_chromium");
   ASSERT_TRUE(fs::exists(p.out / "index.html"));
   // The DOM after load: the page's script writes data-status="ok" only when every image loaded
   // and no script error happened.
   std::string dom;
   const int rc = run(p.chromium("--dump-dom"), p.dir / "dom.err", &dom);
-  const std::string log = read_text(p.dir / "dom.err");
+  const std::string log = ahd_test::read_text(p.dir / "dom.err");
   ASSERT_EQ(rc, 0) << log;
   EXPECT_NE(dom.find("data-status=\"ok\""), std::string::npos) << dom.substr(0, 2000) << "\n" << log;
   // The exposure script ran: the filter's red table holds the 256 entries of the log codes.
@@ -94,7 +85,7 @@ TEST(PreviewChromium, PageLoadsWithoutErrorsAndShowsSomething) {
   const fs::path shot = p.dir / "shot.png";
   std::string ignored;
   ASSERT_EQ(run(p.chromium("--window-size=1200,1400 --screenshot='" + shot.string() + "'"), p.dir / "shot.err", &ignored),
-            0) << read_text(p.dir / "shot.err");
+            0) << ahd_test::read_text(p.dir / "shot.err");
   const ahd::ImageF s = ahd::read_image(shot.string());
   double lo = 1, hi = 0, sum = 0, sum2 = 0;
   std::vector<int> hist(256, 0);

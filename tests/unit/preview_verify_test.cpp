@@ -8,16 +8,12 @@
 #include <tuple>
 
 #include "cli_runner.h"
+#include "file_bytes.h"
 
 namespace fs = std::filesystem;
 using ahd_test::run_cli;
 
 namespace {
-
-std::string read_text(const fs::path& p) {
-  std::ifstream f(p);
-  return std::string(std::istreambuf_iterator<char>(f), {});
-}
 
 // The SVG parsed by python3's XML parser (independent of our writer); returns the number of
 // elements whose class attribute is exactly `cls`, or -1 when the file is not well-formed XML.
@@ -58,7 +54,7 @@ struct Fixture {
   fs::path swapped_iz(const fs::path& into, const fs::path& from, const std::string& tag) {
     const fs::path d = dir / tag;
     fs::create_directories(d);
-    nlohmann::json mi = nlohmann::json::parse(read_text(into)), mf = nlohmann::json::parse(read_text(from));
+    nlohmann::json mi = nlohmann::json::parse(ahd_test::read_text(into)), mf = nlohmann::json::parse(ahd_test::read_text(from));
     for (auto& p : mi["planes"]) {
       fs::path folder = into.parent_path();
       if (p["name"] == "iz") {

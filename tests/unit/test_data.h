@@ -8,6 +8,16 @@
 
 namespace ahd_test {
 
+// The source tree (AHD_SOURCE_DIR): the docs and scripts some tests read.
+inline const std::filesystem::path kSourceDir = AHD_SOURCE_DIR;
+
+// The Chromium binary the browser tests run, or "" when none is installed (they skip).
+inline std::string chromium_binary() {
+  for (const char* p : {"/usr/bin/chromium", "/usr/bin/chromium-browser"})
+    if (std::filesystem::exists(p)) return p;
+  return "";
+}
+
 inline std::filesystem::path test_data(const std::string& relative) {
   return std::filesystem::path(AHD_TEST_DATA_DIR) / relative;
 }

@@ -21,20 +21,14 @@
 #include "fit/ahd_decode.h"
 #include "io/manifest_file.h"
 #include "pipeline/plane_decode.h"
+#include "test_data.h"
 
 namespace fs = std::filesystem;
 using ahd_test::run_cli;
 
 namespace {
 
-const fs::path kSource = AHD_SOURCE_DIR;
-const fs::path kTools = kSource / "tests" / "tools";
-
-std::string chromium_binary() {
-  for (const char* p : {"/usr/bin/chromium", "/usr/bin/chromium-browser"})
-    if (fs::exists(p)) return p;
-  return "";
-}
+const fs::path kTools = ahd_test::kSourceDir / "tests" / "tools";
 
 // The fragment shader's ahd_detail_normal (formats/engine/three/ahd_three.js), in double.
 void detail_normal(double u, double v, double n[3]) {
@@ -55,7 +49,7 @@ ahd::DecodedPlanes reference_planes(const std::string& manifest, int level, ahd:
 }  // namespace
 
 TEST(ThreeRender, KtxPlanesLitInChromiumMatchTheReferenceDecoder) {
-  if (chromium_binary().empty()) GTEST_SKIP() << "chromium is not installed (scripts/setup.sh installs it)";
+  if (ahd_test::chromium_binary().empty()) GTEST_SKIP() << "chromium is not installed (scripts/setup.sh installs it)";
   if (!fs::exists(kTools / "node_modules" / "three" / "examples" / "jsm" / "loaders" / "KTX2Loader.js"))
     GTEST_SKIP() << "tests/tools/node_modules/three is missing (scripts/setup.sh runs npm ci there)";
   if (ahd_test::run_shell("command -v node").empty())
@@ -69,8 +63,8 @@ TEST(ThreeRender, KtxPlanesLitInChromiumMatchTheReferenceDecoder) {
   const fs::path site = dir / "site";
   fs::create_directories(site / "ahd");
   fs::create_directory_symlink(kTools / "node_modules" / "three", site / "three");
-  fs::create_directory_symlink(kSource / "formats", site / "ahd" / "formats");
-  fs::create_directory_symlink(kSource / "docs" / "examples" / "three", site / "page");
+  fs::create_directory_symlink(ahd_test::kSourceDir / "formats", site / "ahd" / "formats");
+  fs::create_directory_symlink(ahd_test::kSourceDir / "docs" / "examples" / "three", site / "page");
   for (const auto& p : profiles) {
     const auto r = run_cli({"convert", src.string(), "-o", (site / "conv" / p / "s.ktx2").string(), "--profile", p});
     ASSERT_EQ(r.exit_code, 0) << r.output;
@@ -85,7 +79,7 @@ TEST(ThreeRender, KtxPlanesLitInChromiumMatchTheReferenceDecoder) {
   script += "return out;\n";
   std::ofstream(dir / "check.js") << script;
   const fs::path result = dir / "result.json";
-  const std::string cmd = "node '" + (kTools / "chromium_cdp.mjs").string() + "' --chromium '" + chromium_binary() +
+  const std::string cmd = "node '" + (kTools / "chromium_cdp.mjs").string() + "' --chromium '" + ahd_test::chromium_binary() +
                           "' --serve '" + site.string() + "' --url '{origin}/page/render_check.html' --script '" +
                           (dir / "check.js").string() + "' --out '" + result.string() + "' --timeout 90 2>&1";
   const std::string log = ahd_test::run_shell(cmd);
