@@ -56,7 +56,6 @@ __attribute__((target("avx2"))) void nearest_avx2(const float v[16], const float
 }
 #endif
 
-
 uint64_t read_indices(const uint8_t* b) {
   uint64_t v = 0;
   for (int i = 0; i < 6; ++i) v |= uint64_t(b[2 + i]) << (8 * i);

@@ -4,7 +4,6 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <limits>
 #include <memory>
 
 #include "core/error.h"
@@ -30,6 +29,15 @@ inline void prefetch(const void* p) {
 #endif
 }
 
+// d[x] = min(d[x], max(k, g[x])) over a row: one step of the distance's vertical pass (a loop the
+// compiler vectorises: the pointers are the row's own, restrict-qualified).
+void lower_by_row(uint8_t* __restrict d, const uint8_t* __restrict g, uint8_t k, size_t n) {
+  for (size_t x = 0; x < n; ++x) d[x] = std::min(d[x], std::max(k, g[x]));
+}
+
+// Texels per distance 0 … kDilateRings + 1 ("beyond").
+using RingCounts = std::array<size_t, kDilateRings + 2>;
+
 // The ring schedule of the rule above over texel values reached through accessors: read(i, covered,
 // v) copies texel i's `ch` values into v (covered: whether texel i is), write(i, v) stores them.
 // Only the texels of earlier rings count, so a caller can dilate values held in any layout without
@@ -41,22 +49,13 @@ inline void prefetch(const void* p) {
 // kDilateRings + 1 ("beyond"). It is separable: g = each row's own distance (two scans of the
 // row), then D(x, y) = min over |k| ≤ kDilateRings of max(|k|, g(x, y + k)) — exact wherever the
 // distance is ≤ kDilateRings, and "beyond" elsewhere; both passes run rows in parallel, the second
-// as 17 vectorised min/max sweeps per row. A counting sort by distance (per band of rows, in
+// as 16 vectorised min/max sweeps per row. A counting sort by distance (per band of rows, in
 // parallel) then lists every ring at once, each in row-major order. A texel of ring r has
 // neighbours in rings r−1, r and r+1 only, so "filled before ring r" is "distance < r": ring r
 // reads only texels of ring r−1 (or covered ones), which are final, and its values are written in
 // place — each is the same sum, in the same order, as a ring-by-ring Jacobi step with a separate
 // value buffer would form, whatever the threads or chunks.
 //
-// d[x] = min(d[x], max(k, g[x])) over a row: one step of the distance's vertical pass (a loop the
-// compiler vectorises: the pointers are the row's own, restrict-qualified).
-void lower_by_row(uint8_t* __restrict d, const uint8_t* __restrict g, uint8_t k, size_t n) {
-  for (size_t x = 0; x < n; ++x) d[x] = std::min(d[x], std::max(k, g[x]));
-}
-
-// Texels per distance 0 … kDilateRings + 1 ("beyond").
-using RingCounts = std::array<size_t, kDilateRings + 2>;
-
 // kCh: the channel count when known at compile time (the sums then stay in registers), 0 = `ch`.
 template <int kCh, class Index, class Read, class Write, class Touch>
 void fill_by_distance(int w, int h, int ch_runtime, const std::vector<uint8_t>& coverage, int threads, DilateStats* st,
