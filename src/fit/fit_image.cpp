@@ -142,6 +142,17 @@ AhdImage fit_image(const ShImage& sh, const FitOptions& opt, int threads, FitSta
   return out;
 }
 
+void ambient_level_iz_span(const ShImage& sh, size_t first, size_t count, float* out) {
+  if (!sh.normals.empty()) {
+    for (size_t j = 0; j < count; ++j) ambient_level_iz(sh, first + j, &out[j * 3]);
+    return;
+  }
+  const float* t = sh.texel(first);
+  const uint8_t* cov = &sh.coverage[first];
+  for (size_t j = 0; j < count; ++j)
+    for (int c = 0; c < 3; ++c) out[j * 3 + c] = cov[j] ? l0_texel_iz(t[j * 3 + c]) : t[j * 3 + c];
+}
+
 FitStats ambient_fit_stats(const ShImage& sh, const FitOptions& opt, int threads) {
   if (sh.coeffs != 1) throw Error("ambient_fit_stats: needs an L0 image (1 coefficient)");
   // The rules' counts per row, summed in row order after (no shared counters between threads).

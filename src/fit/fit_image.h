@@ -94,6 +94,10 @@ inline void ambient_level_iz(const ShImage& sh, size_t i, float iz[3]) {
   }
 }
 
+// ambient_level_iz of texels [first, first + count) into out (count * 3 floats), the same bits:
+// the quantiser's I_z plane of an ambient-only level, in loops the compiler vectorises.
+void ambient_level_iz_span(const ShImage& sh, size_t first, size_t count, float* out);
+
 // Texel i's I_z, whichever form the level holds: fitted_texel(l, i).iz without making the texel
 // (the quantiser's I_z plane reads every texel of every level).
 inline void fitted_iz(const FittedLevel& l, size_t i, float iz[3]) {

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <memory>
 
 #include "core/error.h"
@@ -35,6 +36,16 @@ void lower_by_row(uint8_t* __restrict d, const uint8_t* __restrict g, uint8_t k,
   for (size_t x = 0; x < n; ++x) d[x] = std::min(d[x], std::max(k, g[x]));
 }
 
+// Eight bytes as one word (any alignment), for the scans that skip uniform runs of eight texels.
+inline uint64_t load8(const uint8_t* p) {
+  uint64_t v;
+  std::memcpy(&v, p, 8);
+  return v;
+}
+inline void store8(uint8_t* p, uint64_t v) { std::memcpy(p, &v, 8); }
+// Whether any of the eight bytes of v is 0 (the classic bit trick: exact, no false positives).
+inline bool has_zero_byte(uint64_t v) { return ((v - 0x0101010101010101ull) & ~v & 0x8080808080808080ull) != 0; }
+
 // Texels per distance 0 … kDilateRings + 1 ("beyond").
 using RingCounts = std::array<size_t, kDilateRings + 2>;
 
@@ -57,13 +68,14 @@ using RingCounts = std::array<size_t, kDilateRings + 2>;
 // value buffer would form, whatever the threads or chunks.
 //
 // kCh: the channel count when known at compile time (the sums then stay in registers), 0 = `ch`.
-template <int kCh, class Index, class Read, class Write, class Touch>
+template <int kCh, class Index, class Read, class Write, class Clear, class Touch>
 void fill_by_distance(int w, int h, int ch_runtime, const std::vector<uint8_t>& coverage, int threads, DilateStats* st,
-                      const Read& read, const Write& write, const Touch& touch) {
+                      const Read& read, const Write& write, const Clear& clear, const Touch& touch) {
   using Dist = uint8_t;
   constexpr int kR = kDilateRings;
   constexpr Dist kBeyond = Dist(kR + 1);
   static_assert(kR + 1 < 256, "distances are bytes");
+  constexpr uint64_t kBeyondWord = 0x0101010101010101ull * kBeyond;  // eight texels beyond
   const int ch = kCh > 0 ? kCh : ch_runtime;
   const size_t wn = size_t(w), hn = size_t(h), n = wn * hn;
   // Uninitialised: every element is written by its pass (one first touch, not two).
@@ -73,10 +85,40 @@ void fill_by_distance(int w, int h, int ch_runtime, const std::vector<uint8_t>& 
   parallel_for(hn, threads, 16, [&](size_t y) {  // g: the distance along the row, capped
     Dist* g = row_dist.get() + y * wn;
     const uint8_t* cov = coverage.data() + y * wn;
+    // Eight texels at a time where the step cannot change them (gutters far from any chart,
+    // chart interiors): the scans then run at memory speed, and the bytes are the texel loop's.
     Dist run = kBeyond;
-    for (size_t x = 0; x < wn; ++x) g[x] = run = cov[x] ? 0 : Dist(std::min<int>(run + 1, kBeyond));
+    for (size_t x = 0; x < wn;) {
+      if (x + 8 <= wn) {
+        const uint64_t c = load8(cov + x);
+        if (c == 0 && run == kBeyond) {  // no chart: stays beyond
+          store8(g + x, kBeyondWord);
+          x += 8;
+          continue;
+        }
+        if (!has_zero_byte(c)) {  // all covered
+          store8(g + x, 0);
+          run = 0;
+          x += 8;
+          continue;
+        }
+      }
+      g[x] = run = cov[x] ? 0 : Dist(std::min<int>(run + 1, kBeyond));
+      ++x;
+    }
     run = kBeyond;
-    for (size_t x = wn; x-- > 0;) g[x] = run = std::min<Dist>(g[x], Dist(std::min<int>(run + 1, kBeyond)));
+    for (size_t x = wn; x > 0;) {
+      if (x >= 8) {
+        const uint64_t v = load8(g + x - 8);
+        if ((v == kBeyondWord && run == kBeyond) || v == 0) {  // min(v, anything ≥ v) = v
+          run = Dist(v & 0xFF);
+          x -= 8;
+          continue;
+        }
+      }
+      --x;
+      g[x] = run = std::min<Dist>(g[x], Dist(std::min<int>(run + 1, kBeyond)));
+    }
   });
   // Bands of rows: each counts its rings, then lists its texels at its own offsets (so the lists
   // are in row-major order whatever the threads).
@@ -92,7 +134,15 @@ void fill_by_distance(int w, int h, int ch_runtime, const std::vector<uint8_t>& 
       for (int k = 1; k <= kR; ++k)
         for (size_t yy : {y - size_t(k), y + size_t(k)})  // wraps below 0: then ≥ hn
           if (yy < hn) lower_by_row(d, row_dist.get() + yy * wn, Dist(k), wn);
-      for (size_t x = 0; x < wn; ++x) count[d[x]]++;
+      for (size_t x = 0; x < wn;) {
+        const uint64_t v = x + 8 <= wn ? load8(d + x) : 1;  // 1: not a uniform word
+        if (v == 0 || v == kBeyondWord) {
+          count[v & 0xFF] += 8;
+          x += 8;
+        } else {
+          count[d[x++]]++;
+        }
+      }
     }
   });
   row_dist.reset();
@@ -114,14 +164,26 @@ void fill_by_distance(int w, int h, int ch_runtime, const std::vector<uint8_t>& 
   for (size_t band = 0; band < bands; ++band)
     for (size_t r = 1; r <= last; ++r)
       band_pos[band][r] = band == 0 ? start[r] : band_pos[band - 1][r] + band_count[band - 1][r];
-  const std::vector<float> zeros(size_t(ch), 0.0f);
   parallel_for(bands, threads, 1, [&](size_t band) {
     RingCounts pos = band_pos[band];
-    for (size_t i = band * kBandRows * wn; i < std::min(hn, (band + 1) * kBandRows) * wn; ++i) {
+    const size_t end = std::min(hn, (band + 1) * kBandRows) * wn;
+    for (size_t i = band * kBandRows * wn; i < end;) {
+      const uint64_t v = i + 8 <= end ? load8(&dist[i]) : 1;  // 1: not a uniform word
+      if (v == 0) {  // covered
+        i += 8;
+        continue;
+      }
+      if (v == kBeyondWord) {  // a run of words beyond the rings, zeroed at once
+        size_t j = i + 8;
+        while (j + 8 <= end && load8(&dist[j]) == kBeyondWord) j += 8;
+        clear(i, j - i);
+        i = j;
+        continue;
+      }
       const Dist d = dist[i];
-      if (d == 0) continue;
-      if (d <= last) order[pos[d]++] = Index(i);
-      else write(i, zeros.data());  // beyond the rings
+      if (d > 0 && d <= last) order[pos[d]++] = Index(i);
+      else if (d > last) clear(i, 1);  // beyond the rings
+      ++i;
     }
   });
   st->guard = start[2] - start[1];
@@ -203,22 +265,24 @@ void fill_by_distance(int w, int h, int ch_runtime, const std::vector<uint8_t>& 
   }
 }
 
-template <int kCh = 0, class Read, class Write, class Touch>
+// clear(i, count) sets texels [i, i + count) to 0 (beyond the rings, or no covered texel at all).
+template <int kCh = 0, class Read, class Write, class Clear, class Touch>
 void dilate_rings(int w, int h, int ch, const std::vector<uint8_t>& coverage, int threads, DilateStats* stats,
-                  const Read& read, const Write& write, const Touch& touch) {
+                  const Read& read, const Write& write, const Clear& clear, const Touch& touch) {
   const size_t n = size_t(w) * h;
   DilateStats st;
   const size_t wn = size_t(w);
   std::vector<size_t> covered_rows(static_cast<size_t>(h), 0);
   parallel_for(size_t(h), threads, 16, [&](size_t y) {
-    for (size_t i = y * wn; i < (y + 1) * wn; ++i) covered_rows[y] += coverage[i] ? 1 : 0;
+    size_t c = 0;  // a local sum: a byte store could alias covered_rows[y], which kept the loop scalar
+    for (size_t i = y * wn; i < (y + 1) * wn; ++i) c += coverage[i] ? 1 : 0;
+    covered_rows[y] = c;
   });
   for (size_t c : covered_rows) st.covered += c;
   st.filled = n - st.covered;
   if (st.covered == 0) {
     // Nothing to extend: a defined value rather than whatever was there.
-    const std::vector<float> zeros(size_t(ch), 0.0f);
-    for (size_t i = 0; i < n; ++i) write(i, zeros.data());
+    clear(0, n);
     if (stats) *stats = st;
     return;
   }
@@ -227,8 +291,8 @@ void dilate_rings(int w, int h, int ch, const std::vector<uint8_t>& coverage, in
     return;
   }
   // The smallest index type that holds every texel index of this image.
-  if (n <= 0xFFFFFFFFu) fill_by_distance<kCh, uint32_t>(w, h, ch, coverage, threads, &st, read, write, touch);
-  else fill_by_distance<kCh, size_t>(w, h, ch, coverage, threads, &st, read, write, touch);
+  if (n <= 0xFFFFFFFFu) fill_by_distance<kCh, uint32_t>(w, h, ch, coverage, threads, &st, read, write, clear, touch);
+  else fill_by_distance<kCh, size_t>(w, h, ch, coverage, threads, &st, read, write, clear, touch);
   if (stats) *stats = st;
 }
 
@@ -242,19 +306,20 @@ void dilate(ImageF& plane, const std::vector<uint8_t>& coverage, int threads, Di
   float* data = plane.data.data();
   auto read = [&](size_t i, bool, float* v) { std::copy_n(data + i * size_t(ch), ch, v); };
   auto write = [&](size_t i, const float* v) { std::copy_n(v, ch, data + i * size_t(ch)); };
+  auto clear = [&](size_t i, size_t count) { std::fill_n(data + i * size_t(ch), count * size_t(ch), 0.0f); };
   auto touch = [&](size_t i) { prefetch(data + i * size_t(ch)); };
   const int w = plane.width, h = plane.height;
   switch (ch) {  // the pipeline's plane widths with their sums in registers
     case 1:
-      return dilate_rings<1>(w, h, 1, coverage, threads, stats, read, write, touch);
+      return dilate_rings<1>(w, h, 1, coverage, threads, stats, read, write, clear, touch);
     case 2:
-      return dilate_rings<2>(w, h, 2, coverage, threads, stats, read, write, touch);
+      return dilate_rings<2>(w, h, 2, coverage, threads, stats, read, write, clear, touch);
     case 3:
-      return dilate_rings<3>(w, h, 3, coverage, threads, stats, read, write, touch);
+      return dilate_rings<3>(w, h, 3, coverage, threads, stats, read, write, clear, touch);
     case 4:
-      return dilate_rings<4>(w, h, 4, coverage, threads, stats, read, write, touch);
+      return dilate_rings<4>(w, h, 4, coverage, threads, stats, read, write, clear, touch);
     default:
-      return dilate_rings(w, h, ch, coverage, threads, stats, read, write, touch);
+      return dilate_rings(w, h, ch, coverage, threads, stats, read, write, clear, touch);
   }
 }
 
@@ -278,13 +343,18 @@ void dilate_ahd(AhdImage& img, double dz_min, int threads, DilateStats* stats) {
     std::copy_n(v + 3, 3, &img.d[i * 3]);
     std::copy_n(v + 6, nr, &img.ratio[i * nr]);
   };
+  auto clear = [&](size_t i, size_t count) {
+    std::fill_n(&img.iz[i * 3], count * 3, 0.0f);
+    std::fill_n(&img.d[i * 3], count * 3, 0.0f);
+    std::fill_n(&img.ratio[i * nr], count * nr, 0.0f);
+  };
   auto touch = [&](size_t i) {
     prefetch(&img.iz[i * 3]);
     prefetch(&img.d[i * 3]);
     prefetch(&img.ratio[i * nr]);
   };
-  if (nr == 1) dilate_rings<7>(img.width, img.height, 7, img.coverage, threads, stats, read, write, touch);
-  else dilate_rings<9>(img.width, img.height, 9, img.coverage, threads, stats, read, write, touch);
+  if (nr == 1) dilate_rings<7>(img.width, img.height, 7, img.coverage, threads, stats, read, write, clear, touch);
+  else dilate_rings<9>(img.width, img.height, 9, img.coverage, threads, stats, read, write, clear, touch);
   parallel_for(n, threads, 1024, [&](size_t i) {
     if (img.coverage[i]) return;
     AhdFit f = img.texel(i);
@@ -317,6 +387,7 @@ void dilate_ambient(ShImage& sh, int threads, DilateStats* stats) {
   auto write = [&](size_t i, const float* v) {
     for (int c = 0; c < 3; ++c) sh.texel(i)[c] = std::max(0.0f, v[c]);
   };
+  auto clear = [&](size_t i, size_t count) { std::fill_n(sh.texel(i), count * 3, 0.0f); };
   // The three texels x−1 … x+1 of a neighbour row: 36 bytes, at most two cache lines.
   const float* data = sh.data.data();
   auto touch = [&, last = n - 1](size_t i) {
@@ -326,7 +397,7 @@ void dilate_ambient(ShImage& sh, int threads, DilateStats* stats) {
   if (!sh.normals.empty()) {
     dilate_rings<3>(
         sh.width, sh.height, 3, sh.coverage, threads, stats,
-        [&](size_t i, bool, float* v) { ambient_level_iz(sh, i, v); }, write, touch);
+        [&](size_t i, bool, float* v) { ambient_level_iz(sh, i, v); }, write, clear, touch);
     return;
   }
   // ambient_level_iz without normals, its coverage test answered by the caller (no load of
@@ -337,7 +408,7 @@ void dilate_ambient(ShImage& sh, int threads, DilateStats* stats) {
         const float* t = sh.texel(i);
         for (int c = 0; c < 3; ++c) v[c] = covered ? l0_texel_iz(t[c]) : t[c];
       },
-      write, touch);
+      write, clear, touch);
 }
 
 Image8 coverage_plane(int width, int height, const std::vector<uint8_t>& coverage) {

@@ -120,8 +120,9 @@ LevelPlanes quantise_level(const FittedLevel& lv, const Profile& profile, const 
     // 4096 texels per call (one std::function call per texel was 7 % of a plain map's conversion).
     constexpr size_t kSpan = 4096;
     parallel_for((band.texels() + kSpan - 1) / kSpan, opt.threads, 1, [&](size_t c) {
-      for (size_t j = c * kSpan; j < std::min(band.texels(), (c + 1) * kSpan); ++j)
-        fitted_iz(lv, first + j, &band.data[j * 3]);
+      const size_t b = c * kSpan, e = std::min(band.texels(), (c + 1) * kSpan);
+      if (lv.ahd.empty()) return ambient_level_iz_span(lv.sh, first + b, e - b, &band.data[b * 3]);
+      for (size_t j = b; j < e; ++j) fitted_iz(lv, first + j, &band.data[j * 3]);
     });
   });
   if (!directional) return out;

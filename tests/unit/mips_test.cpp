@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <random>
 
 #include "fit_bits.h"
@@ -401,7 +402,11 @@ TEST(Mips, AmbientLevelHoldsTheFullFitsIz) {
     img.texel(40)[1] = -0.25f;  // SH ringing: negative I_z, clamped and counted
     img.texel(41)[0] = -0.0f;   // the sign of a zero must come out as the full fit's
     for (int k = 0; k < 3; ++k) img.texel(42)[k] = 0.0f;  // black
-    img.coverage[40] = img.coverage[41] = img.coverage[42] = 1;
+    // Not finite (readers replace these; the fit stays total when called directly).
+    img.texel(43)[0] = std::numeric_limits<float>::quiet_NaN();
+    img.texel(44)[1] = std::numeric_limits<float>::infinity();
+    img.texel(45)[2] = -std::numeric_limits<float>::infinity();
+    for (size_t i = 40; i <= 45; ++i) img.coverage[i] = 1;
     FitStats fa, ff;
     DilateStats da, df;
     const FittedLevel a = fit_ambient_level(ShImage(img), FitOptions{}, 2, &fa, &da);
