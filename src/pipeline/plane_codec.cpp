@@ -185,11 +185,11 @@ void decode_plane_texel(PixelFormat f, const TextureLevel& lvl, uint32_t x, uint
   switch (f) {
     case PixelFormat::BC6H_UFLOAT:
     case PixelFormat::BC6H_SFLOAT: {
-      uint16_t h[48];
-      bc6h_decode_block(blk, f == PixelFormat::BC6H_SFLOAT, h);
+      uint16_t h[3];
+      bc6h_decode_texel(blk, f == PixelFormat::BC6H_SFLOAT, t, h);
       for (int c = 0; c < 3; ++c) {
         Imath::half v;
-        v.setBits(h[t * 3 + c]);
+        v.setBits(h[c]);
         out[c] = float(v);
       }
       return;

@@ -23,15 +23,22 @@ struct BitReader {
 
 }  // namespace
 
-void bc6h_decode_block(const uint8_t block[16], bool is_signed, uint16_t out[48]) {
-  BitReader r{block};
+namespace {
+
+// A block's header as the specification reads it: its mode, partition and unquantised endpoints,
+// with the reader left at the first index bit. False for the reserved modes.
+struct Header {
+  const ModeInfo* mi = nullptr;
+  int u[12];  // unquantised endpoints: region r's pair at u[r*6 .. r*6+6)
+  uint16_t mask = 0;  // the partition: bit t set when texel t lies in region 1
+  int anchor = -1;    // region 1's anchor texel (two regions)
+};
+
+bool read_header(BitReader& r, bool is_signed, Header* h) {
   int code = r.get(2);
   if (code > 1) code |= r.get(3) << 2;
   const int m = mode_from_code(uint32_t(code));
-  if (m < 0) {  // reserved: the spec decodes these to 0
-    for (int i = 0; i < 48; ++i) out[i] = 0;
-    return;
-  }
+  if (m < 0) return false;
   const ModeInfo& mi = mode(m);
   int e[12] = {};  // RW GW BW RX GX BX RY GY BY RZ GZ BZ
   int partition = 0;
@@ -55,19 +62,46 @@ void bc6h_decode_block(const uint8_t block[16], bool is_signed, uint16_t out[48]
       }
     }
   }
-  int u[12];
-  for (int k = 0; k < ends * 3; ++k) u[k] = unquantize(e[k], mi.epb, is_signed);
+  for (int k = 0; k < ends * 3; ++k) h->u[k] = unquantize(e[k], mi.epb, is_signed);
+  h->mi = &mi;
+  h->mask = mi.regions == 2 ? kPartitions[partition] : 0;
+  h->anchor = mi.regions == 2 ? kAnchor2[partition] : -1;
+  return true;
+}
 
-  const uint16_t mask = mi.regions == 2 ? kPartitions[partition] : 0;
-  const int anchor = mi.regions == 2 ? kAnchor2[partition] : -1;
+// Texel t of the block, its index read at the reader's position.
+void decode_texel_at(BitReader& r, const Header& h, bool is_signed, int t, uint16_t out[3]) {
+  const ModeInfo& mi = *h.mi;
+  const int nbits = (t == 0 || t == h.anchor) ? mi.index_bits - 1 : mi.index_bits;
+  const int idx = r.get(nbits);
   const uint8_t* weights = mi.index_bits == 3 ? kWeights3 : kWeights4;
-  for (int t = 0; t < 16; ++t) {
-    const int nbits = (t == 0 || t == anchor) ? mi.index_bits - 1 : mi.index_bits;
-    const int idx = r.get(nbits);
-    const int region = (mask >> t) & 1;
-    const int* a = &u[region * 6];
-    for (int c = 0; c < 3; ++c) out[t * 3 + c] = finish_unquantize(interpolate(a[c], a[3 + c], weights[idx]), is_signed);
+  const int* a = &h.u[((h.mask >> t) & 1) * 6];
+  for (int c = 0; c < 3; ++c) out[c] = finish_unquantize(interpolate(a[c], a[3 + c], weights[idx]), is_signed);
+}
+
+}  // namespace
+
+void bc6h_decode_block(const uint8_t block[16], bool is_signed, uint16_t out[48]) {
+  BitReader r{block};
+  Header h;
+  if (!read_header(r, is_signed, &h)) {  // reserved: the spec decodes these to 0
+    for (int i = 0; i < 48; ++i) out[i] = 0;
+    return;
   }
+  for (int t = 0; t < 16; ++t) decode_texel_at(r, h, is_signed, t, &out[t * 3]);
+}
+
+void bc6h_decode_texel(const uint8_t block[16], bool is_signed, int t, uint16_t out[3]) {
+  BitReader r{block};
+  Header h;
+  if (!read_header(r, is_signed, &h)) {
+    out[0] = out[1] = out[2] = 0;
+    return;
+  }
+  // Texel t's index follows those of texels 0 .. t-1, each index_bits long except texel 0's and
+  // the anchor's, one bit shorter.
+  r.pos += t * h.mi->index_bits - (t > 0 ? 1 : 0) - (h.anchor >= 0 && t > h.anchor ? 1 : 0);
+  decode_texel_at(r, h, is_signed, t, out);
 }
 
 ImageF bc6h_decode_image(const uint8_t* blocks, int width, int height, bool is_signed) {

@@ -18,6 +18,11 @@ namespace ahd {
 // Safe on any 16 bytes.
 void bc6h_decode_block(const uint8_t block[16], bool is_signed, uint16_t out_half_rgb[48]);
 
+// Decodes texel t (0..15, row-major in the block) of one block: out = bc6h_decode_block's
+// out[t*3 .. t*3+3), without the other fifteen (the error estimate decodes one texel a block).
+// Safe on any 16 bytes; t outside 0..15 is the caller's error.
+void bc6h_decode_texel(const uint8_t block[16], bool is_signed, int t, uint16_t out_half_rgb[3]);
+
 // Quality levels of the encoder: which candidates it tries (see bc6h_encoder.cpp).
 bool bc6h_quality_from_name(const std::string& name, Bc6hQuality* out);
 const char* bc6h_quality_name(Bc6hQuality q);
