@@ -177,8 +177,7 @@ inline size_t nonzero_bytes(uint64_t w) {
 }
 
 // Covered texels among n coverage bytes, eight a word (the sample is drawn at every level of
-// every conversion, and level 0 of a 2048² map is 4 M bytes; the vectorised byte loop widened
-// each byte to 64 bits).
+// every conversion, and level 0 of a 2048² map is 4 M bytes).
 size_t count_covered(const uint8_t* c, size_t n) {
   size_t k = 0, i = 0;
   for (; i + 8 <= n; i += 8) {

@@ -21,10 +21,6 @@ struct BitReader {
   }
 };
 
-}  // namespace
-
-namespace {
-
 // A block's header as the specification reads it: its mode, partition and unquantised endpoints,
 // with the reader left at the first index bit. False for the reserved modes.
 struct Header {
