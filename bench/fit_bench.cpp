@@ -4,7 +4,7 @@
 #include <random>
 #include <string>
 
-#include "io/profile_file.h"
+#include "files/profile_file.h"
 #include "fit/ahd_fit.h"
 #include "fit/fit_image.h"
 #include "pipeline/convert.h"

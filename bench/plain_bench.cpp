@@ -6,8 +6,8 @@
 #include <string>
 
 #include "fit/fit_image.h"
-#include "io/baker_layout.h"
-#include "io/profile_file.h"
+#include "bakers/baker_layout.h"
+#include "files/profile_file.h"
 #include "mips/dilate.h"
 #include "mips/mips.h"
 #include "pipeline/convert.h"

@@ -5,7 +5,7 @@ find_package(PkgConfig REQUIRED)
 pkg_check_modules(ZSTD REQUIRED IMPORTED_TARGET GLOBAL libzstd)
 find_package(nlohmann_json CONFIG REQUIRED)
 
-# EXR files are read by OpenEXR directly (src/io/exr_read.cpp): no OpenImageIO start-up for them.
+# EXR files are read by OpenEXR directly (src/image/exr_read.cpp): no OpenImageIO start-up for them.
 find_package(OpenEXR CONFIG REQUIRED)
 find_package(OpenImageIO CONFIG REQUIRED)
 # Debian's OpenImageIO config names /usr/include/opencv4 even when OpenCV's headers are not
@@ -22,7 +22,7 @@ set_target_properties(OpenImageIO::OpenImageIO PROPERTIES INTERFACE_INCLUDE_DIRE
 # draco::draco, minizip and a static librt.a to every consumer's link line although the shared
 # libassimp.so already carries its own dependencies.
 pkg_check_modules(ASSIMP REQUIRED IMPORTED_TARGET GLOBAL assimp)
-# Colour spaces of inputs (io/colour_space.cpp): OpenColorIO 2.1's raw config and builtin transforms.
+# Colour spaces of inputs (image/colour_space.cpp): OpenColorIO 2.1's raw config and builtin transforms.
 # Debian ships no CMake config for it, only OpenColorIO.pc. Linked to ahd_io only.
 pkg_check_modules(OCIO REQUIRED IMPORTED_TARGET GLOBAL OpenColorIO>=2.1)
 if(AHD_BUILD_CLI)

@@ -23,7 +23,7 @@ install(FILES ${CMAKE_CURRENT_BINARY_DIR}/ahdpackConfig.cmake ${CMAKE_CURRENT_BI
   ${CMAKE_CURRENT_SOURCE_DIR}/cmake/ahdpack_lightmaps.cmake DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/ahdpack)
 if(AHD_BUILD_CLI)
   install(TARGETS ahdpack RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
-  # OpenImageIO's module, opened by ahdpack relative to its bin/ folder (io/oiio_loader.cpp).
+  # OpenImageIO's module, opened by ahdpack relative to its bin/ folder (image/oiio_loader.cpp).
   install(TARGETS ahd_oiio LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/ahdpack)
   install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/formats/ DESTINATION ${CMAKE_INSTALL_DATADIR}/ahdpack/formats)
   # three.js (MIT) for the 3D view of `ahdpack preview`, from the lockfile-pinned npm package that

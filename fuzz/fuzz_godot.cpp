@@ -2,7 +2,7 @@
 // text, read_godot_import); 1: NAME.lmbake (binary resource, godot_resource_names); 2: the
 // project.godot version line (godot_project_version). Seeds: minimal files from scripts/fuzz.sh.
 #include "fuzz_common.h"
-#include "io/godot_import.h"
+#include "bakers/godot/godot_import.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 1) return 0;

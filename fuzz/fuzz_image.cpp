@@ -3,7 +3,7 @@
 // each kind written by scripts/fuzz.sh. A header claiming more than the file holds must be an
 // ahd::Error before anything is allocated (-malloc_limit_mb catches a bomb).
 #include "fuzz_common.h"
-#include "io/image_io.h"
+#include "image/image_io.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 1) return 0;

@@ -1,7 +1,7 @@
 // The mesh reader (Assimp's parser, then our validation of indices, UVs and normals). Byte 0 picks
 // the format (.obj / .gltf / .glb), the rest is the file. Seeds: the small meshes of scripts/fuzz.sh.
 #include "fuzz_common.h"
-#include "io/mesh_io.h"
+#include "scene/mesh_io.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 1) return 0;

@@ -20,7 +20,7 @@
 #include <Imath/half.h>
 
 #include "codecs/bc6h/bc6h_codec.h"
-#include "io/image_io.h"
+#include "image/image_io.h"
 // basisu_transcoder.h first: basisu_astc_hdr_core.h uses what it declares.
 #include "transcoder/basisu_transcoder.h"
 #include "transcoder/basisu_astc_hdr_core.h"

@@ -7,9 +7,9 @@
 
 #include "cli/commands.h"
 #include "codecs/bc6h/bc6h_codec.h"
-#include "io/container_file.h"
+#include "files/container_file.h"
 #include "core/error.h"
-#include "io/image_io.h"
+#include "image/image_io.h"
 
 namespace ahd::cli {
 

@@ -15,25 +15,25 @@
 #include "cli/batch_schedule.h"
 #include "cli/commands.h"
 #include "cli/conversion_args.h"
-#include "cli/conversion_input.h"
-#include "cli/conversion_key.h"
+#include "bakers/bake_input.h"
+#include "cook/conversion_key.h"
 #include "cli/output.h"
 #include "cli/progress.h"
 #include "core/error.h"
 #include "core/parallel.h"
-#include "io/ahd_intermediate.h"
-#include "io/baker_layout.h"
-#include "io/colour_space.h"
-#include "io/conversion_cache.h"
-#include "io/depfile.h"
-#include "io/input_record.h"
-#include "io/image_io.h"
-#include "io/layout_detect.h"
-#include "io/layout_pages.h"
-#include "io/mesh_io.h"
-#include "io/placement_io.h"
-#include "io/profile_file.h"
-#include "io/sh_exr.h"
+#include "image/ahd_intermediate.h"
+#include "bakers/baker_layout.h"
+#include "image/colour_space.h"
+#include "cook/conversion_cache.h"
+#include "cook/depfile.h"
+#include "files/input_record.h"
+#include "image/image_io.h"
+#include "bakers/layout_detect.h"
+#include "bakers/layout_pages.h"
+#include "scene/mesh_io.h"
+#include "scene/placement_io.h"
+#include "files/profile_file.h"
+#include "image/sh_exr.h"
 #include "pipeline/manifest.h"
 #include "pipeline/run.h"
 #include "sh/sh.h"
@@ -43,12 +43,12 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct ConvertArgs : InputArgs {
+struct ConvertArgs : BakeInput {
   std::string output;
   std::string iz_scale = "E";  // --iz-scale: stored I_z = E, E/pi, or a factor times E (a conversion option)
   bool keep_intermediate = false;
   std::string depfile;        // --depfile: the Make/Ninja depfile of every file read
-  std::string cache;          // --cache: the folder of finished conversions (io/conversion_cache.h)
+  std::string cache;          // --cache: the folder of finished conversions (cook/conversion_cache.h)
   std::string cache_max_size = "10G";
   bool print_key = false;     // --print-key: print the key, convert nothing
   ConversionArgs conv;
@@ -99,7 +99,7 @@ BatchRow row_of(const Manifest& m) {
   return row;
 }
 
-// --cache's direct lookup (io/conversion_cache.h): what this command read last time, if every file
+// --cache's direct lookup (cook/conversion_cache.h): what this command read last time, if every file
 // it probed is as it was then, gives the conversion key without reading an image. The hit's files
 // and the files read, or nullopt (then the input is read as without a cache).
 struct DirectHit {
@@ -159,7 +159,7 @@ BatchRow run_convert(ConvertArgs a, const BatchJob* job = nullptr) {
     }
   }
 
-  // Everything read from here to the end of the block is noted in `record` (io/input_record.h):
+  // Everything read from here to the end of the block is noted in `record` (files/input_record.h):
   // the one list the depfile names and the key hashes. Nothing read after it is an input.
   InputRecord record;
   OutputPaths out;
@@ -174,7 +174,7 @@ BatchRow run_convert(ConvertArgs a, const BatchJob* job = nullptr) {
   {
     const RecordInputs recording(&record);
     resolve_auto_layout(&a);
-    find_godot_scene_for_input(&a);
+    find_scene_for_input(&a);
     detection_notes = a.notes.size();  // why this path was taken: printed even on failure
     std::string out_path = a.output;
     if (out_path.empty())
@@ -188,9 +188,9 @@ BatchRow run_convert(ConvertArgs a, const BatchJob* job = nullptr) {
     // Checked before anything is read or written: one clear line, no output.
     ro = resolve_options(co, out.name, load_profile(a.conv.profile));
     iz_scale = iz_scale_factor(a.iz_scale);
-    check_input_args(a);
+    check_bake_input(a);
     try {
-      pages = read_input_pages(a, a.conv.options.threads, &rs, &source);
+      pages = read_bake_pages(a, a.conv.options.threads, &rs, &source);
     } catch (const std::exception&) {
       // What detection found says why the run took this path: printed before the one error line.
       if (!a.conv.quiet && !a.print_key) std::fputs(a.notes.substr(0, detection_notes).c_str(), stdout), std::fflush(stdout);

@@ -3,12 +3,12 @@
 #include <filesystem>
 #include <string>
 
-#include "io/manifest_file.h"
+#include "files/manifest_file.h"
 #include "cli/commands.h"
-#include "io/container_file.h"
+#include "files/container_file.h"
 #include "core/error.h"
 #include "fit/ahd_decode.h"
-#include "io/image_io.h"
+#include "image/image_io.h"
 #include "pipeline/convert.h"
 #include "pipeline/manifest.h"
 

@@ -2,11 +2,11 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "io/manifest_file.h"
+#include "files/manifest_file.h"
 #include "cli/commands.h"
-#include "io/container_file.h"
+#include "files/container_file.h"
 #include "core/error.h"
-#include "io/image_io.h"
+
 #include "pipeline/manifest.h"
 
 namespace ahd::cli {

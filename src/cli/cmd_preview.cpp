@@ -31,8 +31,8 @@
 #include "cli/report_file.h"
 #include "core/error.h"
 #include "fit/ahd_decode.h"
-#include "io/image_io.h"
-#include "io/output_set.h"
+#include "image/image_io.h"
+#include "files/output_set.h"
 
 namespace ahd::cli {
 namespace fs = std::filesystem;

@@ -2,7 +2,7 @@
 #include <cstdio>
 
 #include "cli/commands.h"
-#include "io/sh_exr.h"
+#include "image/sh_exr.h"
 #include "sample/analytic_baker.h"
 
 namespace ahd::cli {

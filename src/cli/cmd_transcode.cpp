@@ -10,8 +10,8 @@
 #include "cli/output.h"
 #include "cli/progress.h"
 #include "core/error.h"
-#include "io/ahd_intermediate.h"
-#include "io/profile_file.h"
+#include "image/ahd_intermediate.h"
+#include "files/profile_file.h"
 #include "pipeline/run.h"
 
 namespace ahd::cli {

@@ -1,5 +1,5 @@
 // ahdpack verify NAME.json --source IN [--layout …] [--normals …|--mesh …] [--max-rel-p99 X] [--max-log-rmse Y]
-//   [--max-iz-rel-p99 Z]: IN and the input options as convert takes them (cli/conversion_input.h)
+//   [--max-iz-rel-p99 Z]: IN and the input options as convert takes them (bakers/bake_input.h)
 // ahdpack verify NAME.json --golden OTHER.json [--max-diff-p99 X] [--max-diff-max Y]
 // A check for users' CI: decodes a conversion (every plane's size and SHA-256 checked first) and
 // compares it with the source SH or with a stored golden conversion. One line per check,
@@ -14,7 +14,7 @@
 #include <cstdio>
 
 #include "cli/commands.h"
-#include "cli/conversion_input.h"
+#include "cli/conversion_args.h"
 #include "cli/conversion_view.h"
 #include "core/error.h"
 #include "core/parallel.h"
@@ -25,7 +25,7 @@ namespace {
 
 struct VerifyArgs {
   std::string manifest, golden;
-  InputArgs source;  // --source and the input options: what convert read
+  BakeInput source;  // --source and the input options: what convert read
   double max_rel_p99 = 0.30, max_log_rmse = 0.15, max_iz_rel_p99 = 0.05;  // against the source
   double max_diff_p99 = 0.01, max_diff_max = 0.10;                        // against a golden conversion
 };
@@ -88,13 +88,13 @@ void run_verify(const VerifyArgs& a) {
   Checks c;
   const ConversionView v = read_conversion(a.manifest);
   if (!a.source.input.empty()) {
-    InputArgs in = a.source;
+    BakeInput in = a.source;
     resolve_auto_layout(&in);
-    find_godot_scene_for_input(&in);
-    check_input_args(in);
+    find_scene_for_input(&in);
+    check_bake_input(in);
     ReadStats rs;
     std::string described;
-    const std::vector<ShImage> pages = read_input_pages(in, 0, &rs, &described);
+    const std::vector<ShImage> pages = read_bake_pages(in, 0, &rs, &described);
     if (pages.size() != v.manifest.layers)
       throw file_error(a.source.input, "holds " + std::to_string(pages.size()) + " atlas page(s), the conversion " +
                                            std::to_string(v.manifest.layers));

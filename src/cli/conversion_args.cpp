@@ -1,10 +1,24 @@
 #include "cli/conversion_args.h"
 
+#include <limits>
+
 #include "codecs/bc6h/bc6h_codec.h"
 #include "core/error.h"
 #include "fit/direction_refine.h"
 
 namespace ahd::cli {
+
+void add_input_options(CLI::App* c, BakeInput* a) {
+  for (const BakeInputOption& o : bake_input_options()) {
+    if (auto s = std::get_if<std::string BakeInput::*>(&o.field)) {
+      c->add_option(o.flag, a->**s, o.help);
+    } else if (auto i = std::get_if<int BakeInput::*>(&o.field)) {
+      c->add_option(o.flag, a->**i, o.help)->check(CLI::Range(o.min_value, std::numeric_limits<int>::max()));
+    } else {
+      c->add_flag(o.flag, a->*std::get<bool BakeInput::*>(o.field), o.help);
+    }
+  }
+}
 
 void add_conversion_options(CLI::App* c, ConversionArgs* a, bool fit) {
   ConversionOptions& o = a->options;

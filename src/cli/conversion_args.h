@@ -6,6 +6,8 @@
 #include <CLI/CLI.hpp>
 #include <string>
 
+#include "bakers/bake_input.h"
+
 namespace ahd::cli {
 
 struct ConversionArgs {
@@ -29,5 +31,8 @@ void add_conversion_options(CLI::App* c, ConversionArgs* a, bool fit);
 // The parsed flags as library options (the profile is resolved separately, by name or path).
 // Throws ahd::Error on a bad value.
 ConversionOptions conversion_options(const ConversionArgs& a);
+
+// The input options (bakers/bake_input.h bake_input_options(): declared there, added here).
+void add_input_options(CLI::App* c, BakeInput* a);
 
 }  // namespace ahd::cli

@@ -6,8 +6,8 @@
 
 #include "core/error.h"
 #include "core/parallel.h"
-#include "io/manifest_file.h"
-#include "io/sh_exr.h"
+#include "files/manifest_file.h"
+#include "image/sh_exr.h"
 
 namespace ahd::cli {
 

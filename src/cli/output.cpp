@@ -5,11 +5,11 @@
 
 #include "cli/report.h"
 #include "containers/container.h"
-#include "io/image_io.h"
+#include "files/file_io.h"
 #include "containers/sha256.h"
 #include "core/error.h"
-#include "io/manifest_file.h"
-#include "io/output_set.h"
+#include "files/manifest_file.h"
+#include "files/output_set.h"
 
 namespace ahd::cli {
 namespace fs = std::filesystem;

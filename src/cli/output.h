@@ -31,7 +31,7 @@ struct IntermediateFile {
 };
 
 // Publishes the files of a conversion (package.h: planes, NAME.report.json, NAME.json) in out.dir
-// as one set (io/output_set.h's publish_output_set: the folder locked; temporaries, fsync; planes,
+// as one set (files/output_set.h's publish_output_set: the folder locked; temporaries, fsync; planes,
 // then NAME.json as the commit, then the report and intermediate): each step's kill leaves a set
 // whose every file belongs to its manifest. Removes once the new manifest is in place: the files
 // the previous NAME.json names, and plane files of NAME that an interrupted run left unnamed

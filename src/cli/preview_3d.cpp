@@ -18,10 +18,11 @@
 #include "cli/markup.h"
 #include "core/error.h"
 #include "fit/ahd_fit.h"
-#include "io/image_io.h"
-#include "io/mesh_io.h"
-#include "io/paths.h"
-#include "mesh/lightmap_raster.h"
+#include "files/file_io.h"
+#include "files/output_set.h"
+#include "scene/mesh_io.h"
+#include "files/paths.h"
+#include "scene/lightmap_raster.h"
 
 namespace ahd::cli {
 namespace fs = std::filesystem;

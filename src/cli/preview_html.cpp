@@ -11,24 +11,23 @@
 namespace ahd::cli {
 namespace {
 
-// Every text that reaches the page goes through this one function (names, report keys and values,
+// Every text that reaches the page goes through xml_escape (names, report keys and values,
 // manifest strings): the report and manifest are files anyone can edit.
-std::string esc(const std::string& s) { return xml_escape(s); }
 std::string fmt(double v, const char* f = "%.3g") { return format_number(v, f); }
 
 // Displayed width of a level: level 0 scaled by a whole factor to about 256–512 px, mips alike.
 int display_width(int w0) { return w0 >= 256 ? std::min(w0, 512) : w0 * std::max(1, 256 / w0); }
 
 std::string figure(const std::string& file, const std::string& caption, int width, bool hdr) {
-  return "<figure><img src=\"" + esc(file) + "\" alt=\"" + esc(file) + "\" style=\"width:" + std::to_string(width) +
-         "px\"" + (hdr ? " class=\"hdr\"" : "") + "><figcaption>" + esc(caption) + "</figcaption></figure>\n";
+  return "<figure><img src=\"" + xml_escape(file) + "\" alt=\"" + xml_escape(file) + "\" style=\"width:" + std::to_string(width) +
+         "px\"" + (hdr ? " class=\"hdr\"" : "") + "><figcaption>" + xml_escape(caption) + "</figcaption></figure>\n";
 }
 
 // Any JSON value as HTML: objects as two-column tables, arrays of objects as tables, else text.
 std::string json_html(const nlohmann::json& j) {
   if (j.is_object()) {
     std::string o = "<table>";
-    for (auto it = j.begin(); it != j.end(); ++it) o += "<tr><th>" + esc(it.key()) + "</th><td>" + json_html(*it) + "</td></tr>";
+    for (auto it = j.begin(); it != j.end(); ++it) o += "<tr><th>" + xml_escape(it.key()) + "</th><td>" + json_html(*it) + "</td></tr>";
     return o + "</table>";
   }
   if (j.is_array() && !j.empty() && j[0].is_object()) {
@@ -38,7 +37,7 @@ std::string json_html(const nlohmann::json& j) {
         for (auto it = e.begin(); it != e.end(); ++it)
           if (std::find(keys.begin(), keys.end(), it.key()) == keys.end()) keys.push_back(it.key());
     std::string o = "<table><tr><th>#</th>";
-    for (const auto& k : keys) o += "<th>" + esc(k) + "</th>";
+    for (const auto& k : keys) o += "<th>" + xml_escape(k) + "</th>";
     o += "</tr>";
     for (size_t i = 0; i < j.size(); ++i) {
       o += "<tr><td>" + std::to_string(i) + "</td>";
@@ -48,8 +47,8 @@ std::string json_html(const nlohmann::json& j) {
     return o + "</table>";
   }
   if (j.is_number_float()) return fmt(j.get<double>());
-  if (j.is_string()) return esc(j.get<std::string>());
-  return esc(j.dump());
+  if (j.is_string()) return xml_escape(j.get<std::string>());
+  return xml_escape(j.dump());
 }
 
 // The report's error block: one row per stage of the measurement, the usual columns.
@@ -63,7 +62,7 @@ std::string error_table(const nlohmann::json& e) {
   for (auto it = e.begin(); it != e.end(); ++it) {
     const auto& r = *it;
     if (!r.is_object()) continue;
-    o += "<tr><th>" + esc(it.key()) + "</th><td>" + (r.contains("texels") ? json_html(r["texels"]) : "") + "</td>" +
+    o += "<tr><th>" + xml_escape(it.key()) + "</th><td>" + (r.contains("texels") ? json_html(r["texels"]) : "") + "</td>" +
          cell(r, "relative", "mean") + cell(r, "relative", "p99") + cell(r, "relative", "max") + cell(r, "log2", "mean") +
          cell(r, "log2", "p99") + cell(r, "iz_relative", "p99") + cell(r, "iz_relative", "max") + "<td>" +
          (r.contains("negative_texels") ? json_html(r["negative_texels"]) : "") + "</td></tr>";
@@ -80,7 +79,7 @@ std::string seconds_table(const nlohmann::json& s) {
   for (auto it = s.begin(); it != s.end(); ++it) {
     if (!it->is_number()) continue;
     const double v = it->get<double>(), f = total > 0 ? std::clamp(v / total, 0.0, 1.0) : 0;
-    o += "<tr><th>" + esc(it.key()) + "</th><td>" + fmt(v, "%.4f") + "</td><td><span class=\"bar\" style=\"width:" +
+    o += "<tr><th>" + xml_escape(it.key()) + "</th><td>" + fmt(v, "%.4f") + "</td><td><span class=\"bar\" style=\"width:" +
          fmt(200 * f, "%.0f") + "px\"></span> " + fmt(100 * f, "%.1f") + " %</td></tr>";
   }
   return o + "</table>";
@@ -162,17 +161,17 @@ MapSummary summarise_map(const std::vector<float>& v) {
 std::string preview_html(const PreviewPage& p) {
   const Manifest& m = p.manifest;
   const int w0 = display_width(int(m.width));
-  std::string h = "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>ahdpack preview: " + esc(p.name) +
+  std::string h = "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>ahdpack preview: " + xml_escape(p.name) +
                   "</title>\n<style>" + kStyle + "</style></head>\n<body data-status=\"loading\">\n";
   h += "<svg width=\"0\" height=\"0\" style=\"position:absolute\" aria-hidden=\"true\"><filter id=\"exposure\" "
        "color-interpolation-filters=\"sRGB\"><feComponentTransfer><feFuncR id=\"fr\" type=\"table\" tableValues=\"0 1\"/>"
        "<feFuncG id=\"fg\" type=\"table\" tableValues=\"0 1\"/><feFuncB id=\"fb\" type=\"table\" tableValues=\"0 1\"/>"
        "</feComponentTransfer></filter></svg>\n";
-  h += "<h1>" + esc(p.name) + "</h1>\n<p>profile <b>" + esc(m.profile) + "</b>, " + std::to_string(m.width) + "×" +
+  h += "<h1>" + xml_escape(p.name) + "</h1>\n<p>profile <b>" + xml_escape(m.profile) + "</b>, " + std::to_string(m.width) + "×" +
        std::to_string(m.height) + ", " + std::to_string(m.levels) + " mip level(s)" +
-       (m.layers > 1 ? ", " + std::to_string(m.layers) + " pages (page 0 shown)" : "") + ", " + esc(m.container) +
+       (m.layers > 1 ? ", " + std::to_string(m.layers) + " pages (page 0 shown)" : "") + ", " + xml_escape(m.container) +
        ", ratio " + (m.ratio_form == RatioForm::Rgb ? "rgb" : "luminance") + ", ε = " + fmt(m.dz_min) + ", direction " +
-       (m.directional ? "planes kept" : "planes dropped (I_z only)") + ", frame " + esc(m.direction_frame) + ".</p>\n";
+       (m.directional ? "planes kept" : "planes dropped (I_z only)") + ", frame " + xml_escape(m.direction_frame) + ".</p>\n";
   h += "<div id=\"controls\">Exposure <input type=\"range\" id=\"ev\" min=\"-10\" max=\"6\" step=\"0.25\" value=\"-1\"> "
        "<span id=\"evv\">0</span> EV (0 EV: luminance " + fmt(p.white) + " = white, the p99 of I_z) · status: "
        "<span id=\"status\">loading</span></div>\n";
@@ -183,7 +182,7 @@ std::string preview_html(const PreviewPage& p) {
   for (const auto& [file, caption] : p.irradiance) h += figure(file, caption, w0, true);
 
   if (!p.source.empty()) {
-    h += "<h2>Error against the source SH</h2>\n<p>Source: " + esc(p.source) + ". Per covered texel of level 0.</p>\n";
+    h += "<h2>Error against the source SH</h2>\n<p>Source: " + xml_escape(p.source) + ". Per covered texel of level 0.</p>\n";
     auto row = [](const char* what, const MapSummary& s) {
       return "<tr><th>" + std::string(what) + "</th><td>" + std::to_string(s.texels) + "</td><td>" + fmt(s.mean) +
              "</td><td>" + fmt(s.p99) + "</td><td>" + fmt(s.max) + "</td></tr>";
@@ -211,20 +210,20 @@ std::string preview_html(const PreviewPage& p) {
   }
   h += "</table>\n<h3>Files</h3>\n<table><tr><th>plane</th><th>file</th><th>format</th><th>size</th><th>levels</th><th>bytes</th></tr>";
   for (const ManifestPlane& mp : m.planes)
-    h += "<tr><td>" + esc(mp.name) + "</td><td>" + esc(mp.file) + "</td><td>" + esc(format_info(mp.format).name) +
+    h += "<tr><td>" + xml_escape(mp.name) + "</td><td>" + xml_escape(mp.file) + "</td><td>" + xml_escape(format_info(mp.format).name) +
          "</td><td>" + std::to_string(mp.width) + "×" + std::to_string(mp.height) + "</td><td>" + std::to_string(mp.levels) +
          "</td><td>" + std::to_string(mp.bytes) + "</td></tr>";
   h += "</table>\n";
 
   h += "<h2>Report</h2>\n";
   if (!p.report.is_object()) {
-    h += "<p>No " + esc(p.name) + ".report.json beside the manifest.</p>\n";
+    h += "<p>No " + xml_escape(p.name) + ".report.json beside the manifest.</p>\n";
   } else {
     if (p.report.contains("seconds")) h += "<h3>Time per stage</h3>\n" + seconds_table(p.report["seconds"]) + "\n";
     if (p.report.contains("error") && p.report["error"].is_object())
       h += "<h3>Error</h3>\n" + error_table(p.report["error"]) + "\n";
     for (auto it = p.report.begin(); it != p.report.end(); ++it)
-      if (it.key() != "seconds" && it.key() != "error") h += "<h3>" + esc(it.key()) + "</h3>\n" + json_html(*it) + "\n";
+      if (it.key() != "seconds" && it.key() != "error") h += "<h3>" + xml_escape(it.key()) + "</h3>\n" + json_html(*it) + "\n";
   }
   h += "<script>var LOG_LO = " + fmt(kLogLo, "%g") + ", LOG_HI = " + fmt(kLogHi, "%g") + ";" + kScript +
        "</script>\n</body></html>\n";

@@ -2,7 +2,7 @@
 
 #include "core/error.h"
 #include "core/json_depth.h"
-#include "io/image_io.h"
+#include "files/file_io.h"
 
 namespace ahd::cli {
 

@@ -1,4 +1,4 @@
-// Containers: one Texture ↔ the bytes of a KTX2 or DDS file (bytes only: files are io/container_file.h).
+// Containers: one Texture ↔ the bytes of a KTX2 or DDS file (bytes only: files are files/container_file.h).
 #pragma once
 #include <ahd/types.h>
 #include <cstddef>

@@ -1,5 +1,5 @@
 // libahd_oiio.so: OpenImageIO's calls for ahdpack, loaded with dlopen only when a file needs them
-// (src/io/oiio_module.h). Plain calls, no ahdpack state: the checks stay in the process.
+// (src/image/oiio_module.h). Plain calls, no ahdpack state: the checks stay in the process.
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
@@ -7,7 +7,7 @@
 #include <fstream>
 #include <memory>
 
-#include "io/oiio_module.h"
+#include "image/oiio_module.h"
 
 namespace {
 

@@ -63,7 +63,7 @@ PackagedConversion package_conversion(PipelineResult& r, const Profile& profile,
   report["profile"] = profile.name;
   for (auto it = opt.report_extra.begin(); it != opt.report_extra.end(); ++it) report[it.key()] = *it;
   const std::string report_text = report.dump(2) + "\n";
-  // The manifest last: publishing it commits the set (io/output_set.h).
+  // The manifest last: publishing it commits the set (files/output_set.h).
   out.files.push_back({opt.name + ".report.json", std::vector<uint8_t>(report_text.begin(), report_text.end())});
   out.files.push_back({opt.name + ".json", std::vector<uint8_t>(manifest_text.begin(), manifest_text.end())});
   return out;

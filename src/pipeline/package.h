@@ -1,5 +1,5 @@
 // Packaging a conversion: its planes as container bytes, the manifest and the report, all in memory
-// and named, ready for a caller to publish (io/output_set.h does it atomically on disk).
+// and named, ready for a caller to publish (files/output_set.h does it atomically on disk).
 #pragma once
 #include <ahd/convert.h>
 
@@ -34,7 +34,7 @@ PackagedConversion package_conversion(PipelineResult& r, const Profile& profile,
 
 // NAME.<plane>.<12 hex digits of the SHA-256 of bytes>.<ext>: a plane's file name in a set.
 // Content-addressed, so a new set never overwrites a plane the previous manifest names
-// (io/output_set.h publishes a set whole on that basis).
+// (files/output_set.h publishes a set whole on that basis).
 std::string plane_file_name(const std::string& name, const std::string& plane, const std::string& ext,
                             const std::vector<uint8_t>& bytes);
 

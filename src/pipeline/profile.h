@@ -1,6 +1,6 @@
 // Output profiles: which planes a conversion writes and in which formats. The standard profiles are
 // built into the library (generated from formats/profiles/*.json at build time, so the library needs
-// no data files and no environment); io/profile_file.h finds profiles on disk by name or path.
+// no data files and no environment); files/profile_file.h finds profiles on disk by name or path.
 #pragma once
 #include <string>
 #include <vector>

@@ -9,7 +9,7 @@
 
 #include "codecs/bc6h/bc6h_codec.h"
 #include "gl_fixture.h"
-#include "io/image_io.h"
+#include "image/image_io.h"
 
 using namespace ahd;
 

@@ -10,7 +10,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "io/profile_file.h"
+#include "files/profile_file.h"
 #include "codecs/octahedral.h"
 #include "fit/ahd_decode.h"
 #include "gl_shader.h"

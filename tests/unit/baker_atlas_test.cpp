@@ -7,10 +7,11 @@
 #include <cstring>
 #include <fstream>
 
-#include "io/container_file.h"
-#include "io/godot_import.h"
-#include "io/layout_detect.h"
-#include "io/layout_pages.h"
+#include "files/file_io.h"
+#include "files/container_file.h"
+#include "bakers/godot/godot_import.h"
+#include "bakers/layout_detect.h"
+#include "bakers/layout_pages.h"
 #include "layout_test_scene.h"
 #include "pipeline/manifest.h"
 #include "test_data.h"

@@ -7,8 +7,8 @@
 
 #include <OpenImageIO/imageio.h>
 
-#include "io/colour_space.h"
-#include "io/sh_exr.h"
+#include "image/colour_space.h"
+#include "image/sh_exr.h"
 #include "layout_test_scene.h"
 
 namespace fs = std::filesystem;

@@ -8,8 +8,8 @@
 #include <random>
 
 #include "cli_runner.h"
-#include "io/baker_layout.h"
-#include "io/image_io.h"
+#include "bakers/baker_layout.h"
+#include "image/image_io.h"
 #include "layout_test_scene.h"
 
 namespace fs = std::filesystem;

@@ -7,10 +7,11 @@
 #include <fstream>
 #include <sstream>
 
-#include "io/mesh_io.h"
-#include "io/placement_io.h"
+#include "files/file_io.h"
+#include "scene/mesh_io.h"
+#include "scene/placement_io.h"
 #include "layout_test_scene.h"
-#include "mesh/placement.h"
+#include "scene/placement.h"
 
 namespace fs = std::filesystem;
 using namespace ahd;

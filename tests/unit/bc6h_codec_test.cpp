@@ -20,7 +20,7 @@
 #include "codecs/bc6h/bc6h_search_avx2.h"
 #include "codecs/bc6h/bc6h_tables.h"
 #include "core/cpu.h"
-#include "io/image_io.h"
+#include "image/image_io.h"
 #include "sanitized.h"
 #include "test_data.h"
 

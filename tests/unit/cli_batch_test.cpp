@@ -10,7 +10,7 @@
 
 #include "cli/batch_schedule.h"
 #include "cli_runner.h"
-#include "io/sh_exr.h"
+#include "image/sh_exr.h"
 #include "sample/analytic_baker.h"
 
 namespace fs = std::filesystem;

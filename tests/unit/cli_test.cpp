@@ -9,11 +9,11 @@
 #include <fstream>
 
 #include "cli_runner.h"
-#include "io/container_file.h"
+#include "files/container_file.h"
 #include "core/image.h"
-#include "io/profile_file.h"
-#include "io/image_io.h"
-#include "io/sh_exr.h"
+#include "files/profile_file.h"
+#include "image/image_io.h"
+#include "image/sh_exr.h"
 #include "pipeline/convert.h"
 #include "pipeline/plane_codec.h"
 #include "sample/analytic_baker.h"

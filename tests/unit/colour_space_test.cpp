@@ -1,4 +1,4 @@
-// Colour spaces through OpenColorIO (io/colour_space.h, docs/colour.md): an input declaring another
+// Colour spaces through OpenColorIO (image/colour_space.h, docs/colour.md): an input declaring another
 // linear working space is converted to linear Rec.709 per SH coefficient; --input-space replaces a
 // wrong or missing declaration; what cannot be converted is refused with one line; sRGB-encoded
 // colour planes are decoded with the sRGB EOTF. The reference matrices come from
@@ -14,9 +14,9 @@
 #include <sstream>
 
 #include "cli_runner.h"
-#include "io/baker_layout.h"
-#include "io/colour_space.h"
-#include "io/sh_exr.h"
+#include "bakers/baker_layout.h"
+#include "image/colour_space.h"
+#include "image/sh_exr.h"
 
 namespace ahd {
 namespace {

@@ -189,7 +189,8 @@ TEST(Container, KindFromPathAndMagic) {
 
 #include <filesystem>
 
-#include "io/image_io.h"
+#include "image/image_io.h"
+#include "files/output_set.h"
 
 // OpenImageIO (a reader we did not write) re-reads our DDS files where its DDS reader supports the
 // format: OIIO 2.4 reads legacy BC4/BC5 and RGBA8; it does not read DX10-extended files (BC6H,

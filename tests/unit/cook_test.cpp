@@ -12,8 +12,8 @@
 #include <sstream>
 
 #include "cli_runner.h"
-#include "io/conversion_cache.h"
-#include "io/depfile.h"
+#include "cook/conversion_cache.h"
+#include "cook/depfile.h"
 #include "layout_test_scene.h"
 #include "test_data.h"
 #include "file_bytes.h"
@@ -304,7 +304,7 @@ TEST(Cook, TruncatedOrCorruptCacheEntryIsIgnoredAndReplaced) {
 }
 
 // The second run of a command finds its conversion without reading the images (the direct lookup
-// of io/conversion_cache.h) — unless a file it found absent has appeared: a .lmbake that now says
+// of cook/conversion_cache.h) — unless a file it found absent has appeared: a .lmbake that now says
 // how the L1 is stored must be read, so the run reads again and misses.
 TEST(Cook, CacheDirectLookupRereadsWhenAProbedFileAppears) {
   const fs::path d = ahd_test::temp_dir("cook_direct");

@@ -9,10 +9,10 @@
 #include <sstream>
 
 #include "cli_runner.h"
-#include "io/container_file.h"
+#include "files/container_file.h"
 #include "core/error.h"
-#include "io/profile_file.h"
-#include "io/image_io.h"
+#include "files/profile_file.h"
+#include "image/image_io.h"
 #include "pipeline/convert.h"
 #include "pipeline/manifest.h"
 #include "sample/analytic_baker.h"

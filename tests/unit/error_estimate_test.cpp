@@ -7,8 +7,8 @@
 #include <cstdio>
 #include <random>
 
-#include "io/image_io.h"
-#include "io/profile_file.h"
+#include "image/image_io.h"
+#include "files/profile_file.h"
 #include "cli_runner.h"
 #include "fit/hemisphere_error.h"
 #include "pipeline/convert.h"

@@ -1,4 +1,4 @@
-// The EXR reader on OpenEXR directly (src/io/exr_read.cpp) against OpenImageIO's reading of the
+// The EXR reader on OpenEXR directly (src/image/exr_read.cpp) against OpenImageIO's reading of the
 // same files: the same channel names in the same order, the same header facts and bit-identical
 // pixels, for half and float files, scanline and tiled, single and multi-part.
 #include <OpenImageIO/imageio.h>
@@ -10,7 +10,7 @@
 #include <unistd.h>
 
 #include "core/error.h"
-#include "io/image_io.h"
+#include "image/image_io.h"
 #include "test_data.h"
 
 namespace {

@@ -22,8 +22,8 @@
 #include "fit/fit_image.h"
 #include "lab/fit_quality.h"
 #include "fit/refine_objective.h"
-#include "io/ahd_intermediate.h"
-#include "io/sh_exr.h"
+#include "image/ahd_intermediate.h"
+#include "image/sh_exr.h"
 #include "sample/analytic_baker.h"
 #include "lab/hard_cases.h"
 

@@ -9,7 +9,7 @@
 #include "fit/ahd_decode.h"
 #include "fit/ahd_fit.h"
 #include "fit/fit_image.h"
-#include "io/sh_exr.h"
+#include "image/sh_exr.h"
 #include "lab/hard_cases.h"
 #include "sanitized.h"
 

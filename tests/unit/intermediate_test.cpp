@@ -6,8 +6,8 @@
 #include <filesystem>
 
 #include "core/error.h"
-#include "io/profile_file.h"
-#include "io/ahd_intermediate.h"
+#include "files/profile_file.h"
+#include "image/ahd_intermediate.h"
 #include "pipeline/convert.h"
 #include "sample/analytic_baker.h"
 

@@ -11,7 +11,7 @@
 
 #include "cli_runner.h"
 #include "containers/ktx2.h"
-#include "io/image_io.h"
+#include "files/output_set.h"
 
 namespace fs = std::filesystem;
 using namespace ahd;

@@ -14,13 +14,13 @@
 #include <sstream>
 
 #include "cli_runner.h"
-#include "io/container_file.h"
+#include "files/container_file.h"
 #include "core/error.h"
-#include "io/baker_layout.h"
-#include "io/image_io.h"
-#include "io/mesh_io.h"
+#include "bakers/baker_layout.h"
+#include "image/image_io.h"
+#include "scene/mesh_io.h"
 #include "layout_test_scene.h"
-#include "mesh/lightmap_raster.h"
+#include "scene/lightmap_raster.h"
 #include "sample/analytic_baker.h"
 #include "sh/sh.h"
 

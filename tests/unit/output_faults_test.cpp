@@ -2,7 +2,7 @@
 // between renames, two writers into one -o) and hostile reports given to `preview`. Each test makes
 // its own fault: a full disk is a file-size limit (ulimit -f, SIGXFSZ ignored, so write() fails
 // with EFBIG as on a full disk), a read-only folder a read-only tmpfs (skipped where mounting is
-// not allowed), kills the AHDPACK_TEST_KILL_BEFORE_RENAME hook of io/output_set.h.
+// not allowed), kills the AHDPACK_TEST_KILL_BEFORE_RENAME hook of files/output_set.h.
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/mount.h>
@@ -17,9 +17,9 @@
 #include <set>
 
 #include "cli_runner.h"
-#include "io/ahd_intermediate.h"
-#include "io/manifest_file.h"
-#include "io/output_set.h"
+#include "image/ahd_intermediate.h"
+#include "files/manifest_file.h"
+#include "files/output_set.h"
 #include "pipeline/convert.h"
 #include "pipeline/manifest.h"
 #include "file_bytes.h"
@@ -287,7 +287,7 @@ TEST(OutputFaults, SignalBetweenRenamesLeavesNoOrphan) {
 }
 
 // Defect 9: two conversions into one -o at once both exited 0, but in 77 of 150 pairs the
-// manifest named a plane the other run had deleted. The folder lock of io/output_set.h makes them
+// manifest named a plane the other run had deleted. The folder lock of files/output_set.h makes them
 // take turns: after each of 100 pairs (different profiles and seeds, so different plane files),
 // the folder holds one complete set, its report of the same run, and nothing else.
 TEST(OutputFaults, HundredPairsOfConcurrentConversionsLeaveOneCompleteSet) {

@@ -10,12 +10,12 @@
 #include <map>
 #include <set>
 
-#include "io/manifest_file.h"
-#include "io/container_file.h"
-#include "io/profile_file.h"
+#include "files/manifest_file.h"
+#include "files/container_file.h"
+#include "files/profile_file.h"
 #include "cli_runner.h"
 #include "core/error.h"
-#include "io/output_set.h"
+#include "files/output_set.h"
 #include "pipeline/convert.h"
 #include "pipeline/manifest.h"
 #include "file_bytes.h"

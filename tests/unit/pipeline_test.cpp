@@ -5,7 +5,7 @@
 #include <cstring>
 #include <random>
 
-#include "io/profile_file.h"
+#include "files/profile_file.h"
 #include "fit/ahd_decode.h"
 #include "fit/fit_image.h"
 #include "pipeline/convert.h"

@@ -9,7 +9,7 @@
 #include <cstdlib>
 #include <functional>
 
-#include "io/profile_file.h"
+#include "files/profile_file.h"
 #include "fit/ahd_decode.h"
 #include "layout_test_scene.h"
 #include "pipeline/convert.h"

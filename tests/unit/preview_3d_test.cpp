@@ -16,8 +16,8 @@
 #include "cli_runner.h"
 #include "core/texture.h"
 #include "fit/ahd_decode.h"
-#include "io/manifest_file.h"
-#include "io/sh_exr.h"
+#include "files/manifest_file.h"
+#include "image/sh_exr.h"
 #include "pipeline/plane_decode.h"
 #include "test_data.h"
 

@@ -12,8 +12,8 @@
 #include <fstream>
 
 #include "cli_runner.h"
-#include "io/image_io.h"
-#include "io/sh_exr.h"
+#include "image/image_io.h"
+#include "image/sh_exr.h"
 #include "sh/sh_image.h"
 #include "file_bytes.h"
 #include "test_data.h"

@@ -19,7 +19,7 @@
 #include "cli_runner.h"
 #include "core/texture.h"
 #include "fit/ahd_decode.h"
-#include "io/manifest_file.h"
+#include "files/manifest_file.h"
 #include "pipeline/plane_decode.h"
 #include "test_data.h"
 

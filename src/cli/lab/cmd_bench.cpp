@@ -31,7 +31,8 @@
 #include "codecs/bc6h/bc6h_codec.h"
 #include "core/error.h"
 #include "core/parallel.h"
-#include "io/image_io.h"
+#include "image/image_io.h"
+#include "files/output_set.h"
 
 namespace ahd::cli {
 

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "io/profile_file.h"
+#include "files/profile_file.h"
 #include "cli/commands.h"
 #include "fit/direction_refine.h"
 #include "lab/fit_quality.h"

@@ -17,7 +17,7 @@
 #include "fit/ahd_fit.h"
 #include "fit/fit_image.h"
 #include "lab/fit_quality.h"
-#include "io/profile_file.h"
+#include "files/profile_file.h"
 #include "pipeline/convert.h"
 #include "sh/sh_image.h"
 

@@ -9,7 +9,6 @@
 namespace ahd::cli {
 namespace {
 
-std::string esc(const std::string& s) { return xml_escape(s); }
 std::string num(double v, const char* f = "%.1f") { return format_number(v, f); }
 
 // One axis: data range → pixel range, with its tick values.
@@ -68,7 +67,7 @@ std::string tick_label(double v) {
 }
 
 std::string marker(char m, double x, double y, const std::string& colour) {
-  const std::string c = "fill=\"" + esc(colour) + "\" stroke=\"#222\" stroke-width=\"0.6\"";
+  const std::string c = "fill=\"" + xml_escape(colour) + "\" stroke=\"#222\" stroke-width=\"0.6\"";
   if (m == 's') return "<rect x=\"" + num(x - 4.5) + "\" y=\"" + num(y - 4.5) + "\" width=\"9\" height=\"9\" " + c + "/>";
   if (m == 'd')
     return "<polygon points=\"" + num(x) + "," + num(y - 6) + " " + num(x + 6) + "," + num(y) + " " + num(x) + "," +
@@ -93,8 +92,8 @@ std::string plot_svg(const Plot& plot) {
                   num(W, "%.0f") + "\" height=\"" + num(H, "%.0f") + "\" viewBox=\"0 0 " + num(W, "%.0f") + " " +
                   num(H, "%.0f") + "\" font-family=\"sans-serif\" font-size=\"12\">\n";
   o += "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
-  o += "<text x=\"" + num(L) + "\" y=\"28\" font-size=\"17\" font-weight=\"bold\">" + esc(plot.title) + "</text>\n";
-  if (!plot.note.empty()) o += "<text x=\"" + num(L) + "\" y=\"48\" fill=\"#555\">" + esc(plot.note) + "</text>\n";
+  o += "<text x=\"" + num(L) + "\" y=\"28\" font-size=\"17\" font-weight=\"bold\">" + xml_escape(plot.title) + "</text>\n";
+  if (!plot.note.empty()) o += "<text x=\"" + num(L) + "\" y=\"48\" fill=\"#555\">" + xml_escape(plot.note) + "</text>\n";
   // Grid and ticks.
   o += "<g class=\"axes\" stroke=\"#ddd\">\n";
   for (double t : ax.ticks()) {
@@ -111,10 +110,10 @@ std::string plot_svg(const Plot& plot) {
   }
   o += "</g>\n<rect x=\"" + num(L) + "\" y=\"" + num(T) + "\" width=\"" + num(W - R - L) + "\" height=\"" +
        num(H - B - T) + "\" fill=\"none\" stroke=\"#333\"/>\n";
-  o += "<text x=\"" + num((L + W - R) / 2) + "\" y=\"" + num(H - 18) + "\" text-anchor=\"middle\">" + esc(plot.x_label) +
+  o += "<text x=\"" + num((L + W - R) / 2) + "\" y=\"" + num(H - 18) + "\" text-anchor=\"middle\">" + xml_escape(plot.x_label) +
        (plot.log_x ? " (log)" : "") + "</text>\n";
   o += "<text transform=\"translate(22," + num((T + H - B) / 2) + ") rotate(-90)\" text-anchor=\"middle\">" +
-       esc(plot.y_label) + (plot.log_y ? " (log)" : "") + "</text>\n";
+       xml_escape(plot.y_label) + (plot.log_y ? " (log)" : "") + "</text>\n";
   // Points, each series in its own group; labels beside the points, moved down or up past labels
   // already placed (boxes estimated at 5.5 px per character, 11 px high).
   struct Box {
@@ -136,19 +135,19 @@ std::string plot_svg(const Plot& plot) {
     return y - 5;
   };
   for (const PlotSeries& s : plot.series) {
-    o += "<g class=\"series\" data-series=\"" + esc(s.name) + "\">\n";
+    o += "<g class=\"series\" data-series=\"" + xml_escape(s.name) + "\">\n";
     for (const PlotPoint& p : s.points) {
       if (!usable(p.x, plot.log_x) || !usable(p.y, plot.log_y)) {
         ++dropped;
         continue;
       }
       const double x = ax.map(p.x), y = ay.map(p.y);
-      o += "<g class=\"" + esc(s.kind) + "\" data-series=\"" + esc(s.name) + "\" data-x=\"" + num(p.x, "%.6g") +
-           "\" data-y=\"" + num(p.y, "%.6g") + "\"><title>" + esc(s.name + (p.label.empty() ? "" : ", " + p.label)) +
+      o += "<g class=\"" + xml_escape(s.kind) + "\" data-series=\"" + xml_escape(s.name) + "\" data-x=\"" + num(p.x, "%.6g") +
+           "\" data-y=\"" + num(p.y, "%.6g") + "\"><title>" + xml_escape(s.name + (p.label.empty() ? "" : ", " + p.label)) +
            "</title>" + marker(s.marker, x, y, s.colour);
       if (!p.label.empty())
         o += "<text x=\"" + num(x + 7) + "\" y=\"" + num(label_y(x + 7, y, p.label.size())) +
-             "\" font-size=\"10\" fill=\"#333\">" + esc(p.label) + "</text>";
+             "\" font-size=\"10\" fill=\"#333\">" + xml_escape(p.label) + "</text>";
       o += "</g>\n";
     }
     o += "</g>\n";
@@ -158,7 +157,7 @@ std::string plot_svg(const Plot& plot) {
   o += "<g class=\"legend\">\n";
   for (const PlotSeries& s : plot.series) {
     o += marker(s.marker, W - R + 24, ly, s.colour) + "<text x=\"" + num(W - R + 36) + "\" y=\"" + num(ly + 4) + "\">" +
-         esc(s.name) + "</text>\n";
+         xml_escape(s.name) + "</text>\n";
     ly += 20;
   }
   o += "</g>\n";

@@ -1,0 +1,254 @@
+#include "bakers/bake_input.h"
+
+#include <ahd/sample.h>
+
+#include "core/error.h"
+#include "image/colour_space.h"
+#include "bakers/baker_layout.h"
+#include "bakers/godot/godot_scene.h"
+#include "bakers/layout_detect.h"
+#include "bakers/layout_pages.h"
+#include "scene/mesh_io.h"
+#include "scene/placement_io.h"
+#include "scene/coverage_check.h"
+#include "scene/lightmap_raster.h"
+#include "sh/sh.h"
+
+#include <cctype>
+#include <filesystem>
+
+namespace ahd {
+
+const std::vector<BakeInputOption>& bake_input_options() {
+  static const std::vector<BakeInputOption> options = [] {
+    std::string names;
+    for (const std::string& n : input_space_names()) names += (names.empty() ? "" : ", ") + n;
+    return std::vector<BakeInputOption>{
+        {"--layout", &BakeInput::layout,
+         "Baker layout preset (ahdpack layouts), FILE.json, or auto (the default for an input that is not the "
+         "canonical EXR): the input is then any file of the baker's set, or its base path"},
+        {"--pages", &BakeInput::pages,
+         "Atlas pages of a stacked layout (Godot: slices/vertical / 4), when NAME.exr.import is not beside it", 1},
+        {"--normals", &BakeInput::normals, "Lightmap-space normal EXR, for world-space layouts"},
+        {"--mesh", &BakeInput::mesh,
+         "Mesh (.gltf, .glb, .obj) rasterised in its lightmap UVs: the normals (world-space layouts) and the "
+         "coverage (any layout); instead of --normals. Lightmap row 0 = glTF v=0 = OBJ v=1"},
+        {"--uv-set", &BakeInput::uv_set,
+         "The mesh's lightmap UV set (glTF TEXCOORD_n); default: the second set when the meshes have 2 or "
+         "more, else the first"},
+        {"--placement", &BakeInput::placement,
+         "Atlas placement of the mesh's instances (node name -> page, scale, offset): ahdpack's JSON or a Unity "
+         "scene (.unity: m_LightmapIndex, m_LightmapTilingOffset); each instance's UVs become uv*scale+offset"},
+        {"--godot-scene", &BakeInput::scene,
+         "A Godot project's scene (.tscn) holding the LightmapGI that baked the input: every lightmap user's "
+         "mesh (.glb + its .unwrap_cache UV2, or TEXCOORD_1), transform and atlas rectangle (.lmbake); "
+         "found by itself when the .tscn lies beside the EXR. Or the scene exported from Godot's editor as "
+         "glTF (.glb/.gltf with UV2 as TEXCOORD_1), placed by the NAME.lmbake beside the EXR"},
+        {"--input-space", &BakeInput::input_space,
+         "The input's colour space, replacing what its files declare (or a missing declaration): " + names +
+             "; converted to linear Rec.709 through OpenColorIO (docs/colour.md)"},
+        {"--allow-mismatch", &BakeInput::allow_mismatch,
+         "Convert even when the mesh's coverage disagrees with the lightmap (lit texels outside it, covered "
+         "texels black, overlapping instances without placement)"},
+    };
+  }();
+  return options;
+}
+
+void resolve_auto_layout(BakeInput* a) {
+  if (a->input.empty() || (!a->layout.empty() && a->layout != "auto")) return;
+  if (a->layout.empty() && is_canonical_sh_file(a->input)) return;
+  std::optional<LayoutDetection> d;
+  if (a->layout == "auto") d = detect_layout(a->input);
+  else d = try_detect_layout(a->input);
+  if (!d) return;
+  a->layout = d->preset == "canonical" ? "" : d->preset;
+  a->input = d->base;
+  a->notes += "layout auto: " + d->preset + " (base " + d->base + ")\n";
+  for (const std::string& r : d->reasons) a->notes += "  because " + r + "\n";
+  for (const std::string& n : d->notes) a->notes += "  note: " + n + "\n";
+}
+
+void find_scene_for_input(BakeInput* a) {
+  if (a->layout.empty() || a->input.empty() || !a->normals.empty() || !a->mesh.empty() || !a->scene.empty()) return;
+  const LayoutPreset layout = load_layout(a->layout);
+  if (!layout.world_space || layout.name.rfind("godot", 0) != 0) return;
+  const std::string exr = layout_base(layout, a->input) + ".exr";
+  const std::string scene = find_godot_scene(exr);
+  if (scene.empty()) return;
+  a->scene = scene;
+  a->notes += "godot scene: " + scene + " (its LightmapGI baked " + std::filesystem::path(exr).filename().string() +
+              "): meshes, normals and atlas placement from the project\n";
+}
+
+void check_bake_input(const BakeInput& a) {
+  if (!a.input_space.empty()) {
+    if (a.input.empty()) throw Error("--input-space needs an input (the built-in sample is in the working space)");
+    parse_input_space(a.input_space);  // an unknown name, before anything is read
+  }
+  if (!a.mesh.empty() && !a.normals.empty()) throw Error("--mesh and --normals both give the normals: use one");
+  if (!a.scene.empty() && (!a.mesh.empty() || !a.normals.empty() || !a.placement.empty()))
+    throw Error("--godot-scene gives the meshes, normals and placement: not with --mesh, --normals or --placement");
+  if (!a.mesh.empty() && a.layout.empty()) throw Error("--mesh needs --layout (a baker's files to pair it with)");
+  if (a.uv_set >= 0 && a.mesh.empty()) throw Error("--uv-set needs --mesh");
+  if (!a.placement.empty() && a.mesh.empty()) throw Error("--placement needs --mesh (the instances it places)");
+}
+
+namespace {
+
+// The baker's files through a layout preset, with normals/coverage from --normals or --mesh.
+// The mesh's triangles for atlas page `page`: as stored, or each instance moved into its atlas
+// rectangle by --placement (overlaps printed; *note says what was placed).
+// What gives the normals and coverage: the mesh file or the Godot scene.
+const std::string& mesh_source(const BakeInput& a) { return a.scene.empty() ? a.mesh : a.scene; }
+
+// A .tscn of the project, or the editor's glTF export of the scene placed by the bake's .lmbake
+// (NAME.lmbake beside NAME.exr, as Godot writes them).
+GodotSceneMeshes load_godot_meshes(const BakeInput& a) {
+  std::string ext = std::filesystem::path(a.scene).extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  if (ext != ".glb" && ext != ".gltf") return load_godot_scene(a.scene);
+  const std::string lmbake = layout_base(load_layout(a.layout), a.input) + ".lmbake";
+  if (!std::filesystem::exists(lmbake))
+    throw file_error(a.scene, "a glTF export is placed by the bake's .lmbake, expected beside the lightmap: " + lmbake +
+                                        " not found");
+  return load_godot_export(a.scene, lmbake);
+}
+
+MeshTriangles godot_page_mesh(const BakeInput& a, int page, MeshReadInfo* mi, std::string* note) {
+  if (!a.godot) {
+    a.godot = std::make_shared<const GodotSceneMeshes>(load_godot_meshes(a));
+    for (const std::string& n : a.godot->notes) a.notes += "godot scene: " + n + "\n";
+  }
+  const GodotSceneMeshes& g = *a.godot;
+  PlacedMesh pm = place_instances(g.scene, g.placements, page, g.lmbake);
+  *mi = {2, 2, int(pm.placed.size()), pm.mesh.indices.size() / 3};
+  *note = ", " + std::to_string(pm.placed.size()) + " of " + std::to_string(g.users) + " lightmap users placed by " + g.lmbake;
+  for (const std::string& o : pm.overlaps) a.notes += "placement: page " + std::to_string(page) + ": instances " + o + " overlap in the atlas\n";
+  return std::move(pm.mesh);
+}
+
+MeshTriangles page_mesh(const BakeInput& a, int page, MeshReadInfo* mi, std::string* note) {
+  if (!a.scene.empty()) return godot_page_mesh(a, page, mi, note);
+  if (a.placement.empty()) {
+    // Several instances whose lightmap UVs overlap need their atlas placement: merged, they
+    // would be rasterised on top of each other.
+    const MeshInstances scene = read_mesh_instances(a.mesh, a.uv_set, mi);
+    if (!a.allow_mismatch) {
+      const PlacedMesh all = place_instances(scene, identity_placements(scene, page), page, a.mesh);
+      if (!all.overlaps.empty())
+        throw file_error(a.mesh, std::to_string(all.overlaps.size()) + " pair(s) of instances overlap in UV set " +
+                                     std::to_string(mi->uv_set) + " (first: " + all.overlaps.front() +
+                                     ") and no placement was given: give --placement (JSON or the Unity scene), "
+                                     "--godot-scene for a Godot project, or --allow-mismatch");
+    }
+    return read_mesh_lightmap(a.mesh, a.uv_set, mi);
+  }
+  const MeshInstances scene = read_mesh_instances(a.mesh, a.uv_set, mi);
+  PlacedMesh pm = place_instances(scene, read_placements(a.placement), page, a.placement);
+  *note = ", " + std::to_string(pm.placed.size()) + " instance(s) placed by " + a.placement +
+          (pm.unplaced.empty() ? "" : " (" + std::to_string(pm.unplaced.size()) + " without placement left out)");
+  for (const std::string& o : pm.overlaps) {
+    *note += ", overlap: " + o;
+    a.notes += "placement: page " + std::to_string(page) + ": instances " + o + " overlap in the atlas\n";
+  }
+  return std::move(pm.mesh);
+}
+
+ShImage read_layout_input(const BakeInput& a, const LayoutPreset& layout, ReadStats* rs, std::string* source,
+                          int page = 0) {
+  std::string from_mesh;
+  ShImage sh;
+  if (!a.mesh.empty() || !a.scene.empty()) {
+    const std::string& src = mesh_source(a);
+    if (layout.canonical)
+      throw Error("layout " + layout.name + " is the tool's own EXR (coverage and normals inside): --mesh does not apply");
+    // The mesh is rasterised at the lightmap's size, known from the first file's header.
+    int w = 0, h = 0;
+    layout_size(layout, a.input, &w, &h);
+    MeshReadInfo mi;
+    std::string placed;
+    const MeshTriangles mesh = page_mesh(a, page, &mi, &placed);
+    RasterisedNormals rn = rasterise_lightmap_normals(mesh, w, h);
+    mesh_normals_to_layout_axes(layout, &rn.normals);  // glTF's axes → the baker's world
+    size_t covered = 0;
+    for (uint8_t c : rn.coverage) covered += c;
+    const std::vector<uint8_t> mesh_coverage = rn.coverage;
+    if (covered == 0)
+      throw file_error(src, "no triangle covers any texel of the " + std::to_string(w) + "x" + std::to_string(h) +
+                                   " lightmap in UV set " + std::to_string(mi.uv_set) + " (wrong --uv-set?)");
+    // Tangent-space layouts take the coverage only (read_layout uses normals for world space).
+    const LayoutNormals ln{src, w, h, std::move(rn.normals), std::move(rn.coverage)};
+    sh = read_layout(layout, a.input, &ln, rs);
+    // Never silently wrong: the mesh's coverage against what the baker wrote.
+    const CoverageComparison cc = compare_coverage(mesh_coverage, sh);
+    a.notes += "coverage: page " + std::to_string(page) + ": " + describe_coverage(cc) + "\n";
+    // A lightmap lit in every texel (gutters filled) says nothing about its charts.
+    const std::string bad = cc.lit == sh.texels() ? "" : coverage_mismatch(cc);
+    if (!bad.empty() && !a.allow_mismatch)
+      throw file_error(src, "UV set " + std::to_string(mi.uv_set) + " does not match the lightmap (" + bad + "): " +
+                                (a.scene.empty() ? "give the UV set the lightmap was baked with (--uv-set), its atlas "
+                                                         "placement (--placement) or --godot-scene for a Godot project"
+                                                       : "the scene, meshes or unwrap caches are not the ones that baked it") +
+                                "; --allow-mismatch converts anyway");
+    from_mesh = ", " + std::string(layout.world_space ? "normals and coverage" : "coverage") + " from " + src + " (" +
+                std::to_string(mi.triangles) + " triangles, UV set " + std::to_string(mi.uv_set) + ", " +
+                std::to_string(covered) + " texels covered" + placed + ")";
+  } else {
+    sh = read_layout(layout, a.input, a.normals, rs);
+  }
+  *source = a.input + " (layout " + layout.name + ", " + std::to_string(sh.width) + "x" + std::to_string(sh.height) +
+            " " + std::string(sh_order_name(sh.coeffs)) + (sh.normals.empty() ? ", tangent space" : ", world space + normals") +
+            from_mesh + ")";
+  return sh;
+}
+
+// The SH to convert: the built-in sample, a baker's files (--layout) or the canonical EXR.
+ShImage read_input(const BakeInput& a, int threads, ReadStats* rs, std::string* source) {
+  if (a.input.empty()) {
+    *source = "built-in sample (analytic scene, " + std::to_string(a.sample_size) + "x" + std::to_string(a.sample_size) +
+              (a.sample_order == 2 ? " L2" : " L1") + ", seed " + std::to_string(a.seed) + ")";
+    return bake_sample(a.sample_size, a.sample_order, a.seed, threads);
+  }
+  if (!a.layout.empty()) {
+    LayoutPreset layout = load_layout(a.layout);
+    layout.input_space = a.input_space;
+    return read_layout_input(a, layout, rs, source);
+  }
+  ShImage sh = read_canonical_sh(a.input, rs, a.input_space);
+  *source = a.input + " (" + std::to_string(sh.width) + "x" + std::to_string(sh.height) + " " + std::string(sh_order_name(sh.coeffs)) +
+            (sh.normals.empty() ? ", tangent space)" : ", world space + normals)");
+  return sh;
+}
+
+}  // namespace
+
+namespace {
+
+// The summary names a conversion of colour (nothing for the working space: its lines as before).
+void note_colour(const ReadStats* rs, std::string* source) {
+  if (rs && !rs->input_space.empty()) *source += ", colour converted from " + rs->input_space;
+}
+
+}  // namespace
+
+std::vector<ShImage> read_bake_pages(const BakeInput& a, int threads, ReadStats* rs, std::string* source) {
+  if (a.layout.empty() || a.input.empty()) {
+    if (a.pages > 1) throw Error("--pages needs a paged layout (Godot's stacked atlas)");
+    std::vector<ShImage> one;
+    one.push_back(read_input(a, threads, rs, source));
+    note_colour(rs, source);
+    return one;
+  }
+  LayoutPreset layout = load_layout(a.layout);
+  layout.input_space = a.input_space;
+  const LayoutPages lp = layout_pages(layout, a.input, a.pages);
+  if (!lp.why.empty()) a.notes += "atlas: " + lp.why + "\n";
+  std::vector<ShImage> pages;
+  for (int p = 0; p < lp.pages; ++p) pages.push_back(read_layout_input(a, layout_page(layout, p, lp.pages), rs, source, p));
+  if (lp.pages > 1) *source += ", " + std::to_string(lp.pages) + " atlas pages -> array layers";
+  note_colour(rs, source);
+  return pages;
+}
+
+}  // namespace ahd

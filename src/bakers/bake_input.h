@@ -1,0 +1,76 @@
+// The input of a conversion, as `convert` and `verify` take it and as a cook reads it: the
+// canonical SH EXR, a baker's files through a layout preset (auto-detected, or `layout`), with
+// normals from a normal map, a mesh (and its placement) or the baker's own scene (a Godot project),
+// one page or every page of a stacked atlas; or, with no input, the built-in sample. One reader so
+// that a cook's gate (`verify`) reads exactly what its conversion read.
+//
+// The command-line flags of these fields are declared once, in bake_input_options() below; the CLI
+// only adds them to its parser (it names no baker).
+#pragma once
+#include <memory>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "image/sh_exr.h"
+#include "sh/sh_image.h"
+
+namespace ahd {
+
+struct GodotSceneMeshes;
+
+struct BakeInput {
+  std::string input;      // "" = the built-in sample
+  std::string layout;     // baker layout preset (name or .json); input is then the base path
+  std::string normals;    // lightmap-space normals for world-space layouts
+  std::string mesh;       // or: the mesh, rasterised in its lightmap UVs (normals and coverage)
+  int uv_set = -1;        // the mesh's lightmap UV set (−1 = the default rule of scene/mesh_io.h)
+  int pages = 0;          // atlas pages of a paged layout (0 = as recorded by the baker)
+  std::string placement;  // per-instance atlas placement of the mesh (JSON or Unity scene)
+  std::string scene;      // or: the baker's scene (a Godot .tscn, or its editor's glTF export)
+  bool allow_mismatch = false;  // convert even when the mesh's coverage disagrees with the lightmap
+  std::string input_space;      // the input's colour space, replacing its declaration ("" = as declared)
+  mutable std::shared_ptr<const GodotSceneMeshes> godot;  // the scene, loaded once for every page
+  int sample_size = 256;
+  int sample_order = 2;
+  unsigned seed = 0;
+  // What reading found (detection, pages, overlaps), printed once the input has been read, so that
+  // a failure prints its one error line and nothing else.
+  mutable std::string notes;
+};
+
+// One command-line option of a BakeInput field: its flag, help, the field, and the least value an
+// integer takes (CLI checks). The CLI adds every row; the cache key names every field.
+struct BakeInputOption {
+  const char* flag;
+  std::variant<std::string BakeInput::*, int BakeInput::*, bool BakeInput::*> field;
+  std::string help;
+  int min_value = 0;  // integers: the least valid value
+};
+
+// --layout, --pages, --normals, --mesh, --uv-set, --placement, --godot-scene, --input-space,
+// --allow-mismatch (the input itself is the caller's positional argument; the sample's options
+// are convert's).
+const std::vector<BakeInputOption>& bake_input_options();
+
+// `layout` "auto", and the default for an input that is not the canonical EXR: the baker's set is
+// detected from the files present and their contents, and what was found goes to a->notes.
+// Without a layout, an input nothing recognises goes to the canonical reader (its errors).
+void resolve_auto_layout(BakeInput* a);
+
+// A world-space bake without normals, mesh or scene: the baker's scene that baked it (a Godot
+// project's .tscn beside the EXR), then a->scene is set and a note says so. Call after
+// resolve_auto_layout.
+void find_scene_for_input(BakeInput* a);
+
+// Throws ahd::Error for options that contradict each other (mesh with normals, …), before
+// anything is read.
+void check_bake_input(const BakeInput& a);
+
+// The input's atlas pages: one, unless a paged layout (Godot) holds several — then every page, in
+// order. *source describes what was read (for the summary and the report). `threads` bakes the
+// sample. Throws ahd::Error("<file>: <cause>"). Every file opened is noted in the current input
+// record (files/input_record.h).
+std::vector<ShImage> read_bake_pages(const BakeInput& a, int threads, ReadStats* rs, std::string* source);
+
+}  // namespace ahd

@@ -1,0 +1,47 @@
+// A Godot project's baked scene as meshes placed in its lightmap atlas, from the files a Godot
+// repository holds: the scene (.tscn, nested scenes instanced by ext_resource), the LightmapGI's
+// .lmbake (bakers/godot/godot_lmbake.h: each user's node path, page and rectangle), the meshes (.glb/.gltf
+// through Assimp) and their lightmap UVs — the importer's cache NAME.glb.unwrap_cache
+// (bakers/godot/godot_unwrap_cache.h) for meshes imported with meshes/light_baking=2, or the file's second
+// UV set (TEXCOORD_1, e.g. the editor's glTF export).
+//
+// Godot's conventions used (from its scene importer and glTF module): an imported .glb is a
+// Node3D named after the file holding the glTF scene's root nodes; node names have '.', ':', '@',
+// '/', '"' and '%' replaced by '_'; the unwrap cache's source vertices index the mesh's surfaces
+// concatenated in glTF primitive order (the accessor's vertex order, which Assimp keeps).
+#pragma once
+#include <string>
+#include <vector>
+
+#include "scene/mesh_io.h"
+#include "scene/placement.h"
+
+namespace ahd {
+
+struct GodotSceneMeshes {
+  MeshInstances scene;               // one instance per placed user, world space, UV2 v up (OBJ convention)
+  std::vector<Placement> placements; // per instance: page = slice, atlas_uv = uv2 · size + position (v up)
+  std::string lmbake;                // the .lmbake read
+  std::vector<std::string> files;    // every file read, in order (for dependency files)
+  std::vector<std::string> notes;    // what was read and what was left out (users without a mesh …)
+  int users = 0;                     // users in the .lmbake
+};
+
+// Loads `tscn` (its project: the nearest project.godot above it resolves res:// paths), the
+// LightmapGI's light_data (`lmbake` overrides it; "" = as the scene says), every instanced scene
+// and mesh. Throws ahd::Error("<file>: <cause>") for an unreadable scene, lmbake or mesh, a scene
+// without a LightmapGI, a cache entry inconsistent with its mesh, or no user with a mesh.
+GodotSceneMeshes load_godot_scene(const std::string& tscn, const std::string& lmbake = "");
+
+// A baked scene exported from Godot's editor as glTF (Scene > Export As > glTF 2.0: the node tree
+// with its names, UV2 as TEXCOORD_1), placed by `lmbake`: for a project without unwrap caches. The
+// users' node paths are resolved from the node under which most of them find a mesh (the export
+// may leave the LightmapGI node out). Throws ahd::Error("<file>: <cause>") like load_godot_scene,
+// and when no user is found in the file.
+GodotSceneMeshes load_godot_export(const std::string& gltf, const std::string& lmbake);
+
+// The scene that baked `exr` (Godot's NAME.exr): a .tscn in the same folder whose text references
+// NAME.lmbake; "" when there is none.
+std::string find_godot_scene(const std::string& exr);
+
+}  // namespace ahd

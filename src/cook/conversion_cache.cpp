@@ -1,0 +1,259 @@
+#include "cook/conversion_cache.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cctype>
+#include <cstring>
+#include <filesystem>
+#include <sstream>
+
+#include "containers/sha256.h"
+#include "core/error.h"
+#include "files/file_io.h"
+#include "files/output_set.h"
+
+namespace ahd {
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kMagic = "ahdpack-cache 1\n";
+constexpr const char* kExt = ".ahdcache";
+constexpr const char* kInputsExt = ".ahdinputs";
+constexpr size_t kMaxFiles = 4096;
+constexpr uint64_t kMaxEntryBytes = uint64_t(1) << 36;  // refuse to read anything larger
+
+bool is_key(const std::string& key) {
+  return key.size() == 64 && std::all_of(key.begin(), key.end(), [](char c) { return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f'); });
+}
+
+bool plain_name(const std::string& n) {
+  return !n.empty() && n.size() <= 255 && n != "." && n != ".." && n.find_first_of("/\\\n\r") == std::string::npos &&
+         n.find('\0') == std::string::npos;
+}
+
+// One header line from `pos` (without its '\n'); false when there is none within 1024 bytes.
+bool next_line(const std::vector<uint8_t>& b, size_t* pos, std::string* line) {
+  const size_t end = std::min(b.size(), *pos + 1024);
+  for (size_t i = *pos; i < end; ++i)
+    if (b[i] == '\n') {
+      line->assign(reinterpret_cast<const char*>(b.data()) + *pos, i - *pos);
+      *pos = i + 1;
+      return true;
+    }
+  return false;
+}
+
+bool parse_u64(const std::string& s, uint64_t* v) {
+  if (s.empty() || s.size() > 19) return false;
+  uint64_t x = 0;
+  for (char c : s) {
+    if (c < '0' || c > '9') return false;
+    x = x * 10 + uint64_t(c - '0');
+  }
+  *v = x;
+  return true;
+}
+
+}  // namespace
+
+ConversionCache::ConversionCache(std::string dir, uint64_t max_bytes) : dir_(std::move(dir)), max_bytes_(max_bytes) {}
+
+std::string ConversionCache::entry_path(const std::string& key) const { return (fs::path(dir_) / (key + kExt)).string(); }
+
+std::vector<uint8_t> ConversionCache::encode(const std::string& key, const std::vector<OutputFile>& files) {
+  std::string header = std::string(kMagic) + "key " + key + "\nfiles " + std::to_string(files.size()) + "\n";
+  for (const OutputFile& f : files) {
+    if (!plain_name(f.name)) throw Error("cache: not a plain file name: " + f.name);
+    header += "file " + std::to_string(f.bytes.size()) + " " + sha256_hex(f.bytes.data(), f.bytes.size()) + " " + f.name + "\n";
+  }
+  std::vector<uint8_t> out(header.begin(), header.end());
+  for (const OutputFile& f : files) out.insert(out.end(), f.bytes.begin(), f.bytes.end());
+  return out;
+}
+
+std::optional<std::vector<OutputFile>> ConversionCache::decode(const std::string& key, const std::vector<uint8_t>& b) {
+  const size_t magic = std::strlen(kMagic);
+  if (b.size() < magic || std::memcmp(b.data(), kMagic, magic) != 0) return std::nullopt;
+  size_t pos = magic;
+  std::string line;
+  if (!next_line(b, &pos, &line) || line != "key " + key) return std::nullopt;
+  uint64_t n = 0;
+  if (!next_line(b, &pos, &line) || line.rfind("files ", 0) != 0 || !parse_u64(line.substr(6), &n) || n == 0 ||
+      n > kMaxFiles)
+    return std::nullopt;
+  struct Item {
+    uint64_t size;
+    std::string sha, name;
+  };
+  std::vector<Item> items;
+  uint64_t total = 0;
+  for (uint64_t i = 0; i < n; ++i) {
+    if (!next_line(b, &pos, &line) || line.rfind("file ", 0) != 0) return std::nullopt;
+    const size_t s1 = line.find(' ', 5);
+    if (s1 == std::string::npos || line.size() < s1 + 1 + 64 + 2 || line[s1 + 65] != ' ') return std::nullopt;
+    Item it;
+    if (!parse_u64(line.substr(5, s1 - 5), &it.size)) return std::nullopt;
+    it.sha = line.substr(s1 + 1, 64);
+    it.name = line.substr(s1 + 66);
+    if (!is_key(it.sha) || !plain_name(it.name) || it.size > kMaxEntryBytes) return std::nullopt;
+    total += it.size;
+    items.push_back(std::move(it));
+  }
+  if (total != b.size() - pos) return std::nullopt;  // truncated, or bytes appended
+  std::vector<OutputFile> files;
+  for (const Item& it : items) {
+    OutputFile f{it.name, std::vector<uint8_t>(b.begin() + std::ptrdiff_t(pos), b.begin() + std::ptrdiff_t(pos + it.size))};
+    pos += it.size;
+    if (sha256_hex(f.bytes.data(), f.bytes.size()) != it.sha) return std::nullopt;
+    files.push_back(std::move(f));
+  }
+  return files;
+}
+
+std::optional<std::vector<OutputFile>> ConversionCache::lookup(const std::string& key) const {
+  if (!is_key(key)) return std::nullopt;
+  const std::string path = entry_path(key);
+  std::error_code ec;
+  const auto size = fs::file_size(path, ec);
+  if (ec || size > kMaxEntryBytes) return std::nullopt;
+  std::vector<uint8_t> bytes;
+  try {
+    bytes = read_file_bytes(path, kMaxEntryBytes);
+  } catch (const Error&) {
+    return std::nullopt;  // removed by another process's eviction meanwhile: a miss
+  }
+  std::optional<std::vector<OutputFile>> files = decode(key, bytes);
+  if (files) fs::last_write_time(path, fs::file_time_type::clock::now(), ec);  // LRU: recently used
+  return files;
+}
+
+CacheStats ConversionCache::store(const std::string& key, const std::vector<OutputFile>& files) const {
+  if (!is_key(key)) throw Error("cache: not a key: " + key);
+  const std::string path = entry_path(key);
+  std::error_code ec;
+  fs::create_directories(dir_, ec);
+  if (ec) throw file_error(dir_, "cannot create the cache folder (" + ec.message() + ")");
+  write_file_atomic(path, encode(key, files));
+
+  // Eviction: least recently used first. Races with other processes are harmless: a file another
+  // one removed first is skipped, a reader that opened an entry keeps reading it (POSIX unlink).
+  CacheStats st;
+  struct Entry {
+    fs::path path;
+    fs::file_time_type mtime;
+    uint64_t bytes;
+  };
+  std::vector<Entry> entries;
+  const auto now = fs::file_time_type::clock::now();
+  for (const auto& e : fs::directory_iterator(dir_, ec)) {
+    std::error_code e2;
+    if (!e.is_regular_file(e2)) continue;
+    const std::string name = e.path().filename().string();
+    const auto mtime = e.last_write_time(e2);
+    if (e2) continue;
+    if (is_temporary_name(name)) {
+      if (now - mtime > std::chrono::hours(1)) fs::remove(e.path(), e2);
+      continue;
+    }
+    if (e.path().extension() != kExt && e.path().extension() != kInputsExt) continue;
+    const uint64_t bytes = e.file_size(e2);
+    if (e2) continue;
+    entries.push_back({e.path(), mtime, bytes});
+    st.bytes += bytes;
+  }
+  st.entries = entries.size();
+  if (max_bytes_ == 0 || st.bytes <= max_bytes_) return st;
+  std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
+    return a.mtime != b.mtime ? a.mtime < b.mtime : a.path < b.path;
+  });
+  for (const Entry& e : entries) {
+    if (st.bytes <= max_bytes_) break;
+    if (e.path == fs::path(path)) continue;
+    std::error_code e2;
+    if (fs::remove(e.path, e2)) ++st.evicted;
+    st.bytes -= e.bytes, --st.entries;
+  }
+  return st;
+}
+
+std::optional<InputsRecord> ConversionCache::lookup_inputs(const std::string& command_key) const {
+  if (!is_key(command_key)) return std::nullopt;
+  const std::string path = (fs::path(dir_) / (command_key + kInputsExt)).string();
+  std::vector<uint8_t> b;
+  try {
+    b = read_file_bytes(path, size_t(1) << 24);
+  } catch (const Error&) {
+    return std::nullopt;
+  }
+  const std::string text(b.begin(), b.end());
+  const size_t tail = text.rfind("sha256 ");
+  if (tail == std::string::npos || text.size() != tail + 7 + 64 + 1 || text.back() != '\n') return std::nullopt;
+  if (sha256_hex(b.data(), tail) != text.substr(tail + 7, 64)) return std::nullopt;
+  std::istringstream in(text.substr(0, tail));
+  std::string line;
+  if (!std::getline(in, line) || line != "ahdpack-inputs 1") return std::nullopt;
+  if (!std::getline(in, line) || line != "key " + command_key) return std::nullopt;
+  InputsRecord r;
+  while (std::getline(in, line)) {
+    if (line.rfind("opt ", 0) == 0) r.options_text += line.substr(4) + "\n";
+    else if (line.rfind("source ", 0) == 0) r.source = line.substr(7);
+    else if (line.rfind("file ", 0) == 0) r.files.push_back(line.substr(5));
+    else if (line.rfind("probe ", 0) == 0) {
+      const size_t sp = line.find(' ', 6);
+      if (sp == std::string::npos || sp == 6 || sp - 6 > 3) return std::nullopt;
+      InputProbe p;
+      for (size_t i = 6; i < sp; ++i) {
+        if (line[i] < '0' || line[i] > '9') return std::nullopt;
+        p.type = p.type * 10 + (line[i] - '0');
+      }
+      p.path = line.substr(sp + 1);
+      r.probes.push_back(std::move(p));
+    } else {
+      return std::nullopt;
+    }
+  }
+  if (r.options_text.empty()) return std::nullopt;
+  std::error_code ec;
+  fs::last_write_time(path, fs::file_time_type::clock::now(), ec);
+  return r;
+}
+
+void ConversionCache::store_inputs(const std::string& command_key, const InputsRecord& r) const {
+  if (!is_key(command_key)) throw Error("cache: not a key: " + command_key);
+  const auto one_line = [](const std::string& s) { return s.find_first_of("\n\r") == std::string::npos; };
+  for (const std::string& f : r.files)
+    if (!one_line(f)) return;
+  for (const InputProbe& p : r.probes)
+    if (!one_line(p.path)) return;
+  std::string t = "ahdpack-inputs 1\nkey " + command_key + "\n";
+  std::string source = r.source;
+  for (char& c : source)
+    if (c == '\n' || c == '\r') c = ' ';
+  t += "source " + source + "\n";
+  std::istringstream opts(r.options_text);
+  std::string line;
+  while (std::getline(opts, line)) t += "opt " + line + "\n";
+  for (const std::string& f : r.files) t += "file " + f + "\n";
+  for (const InputProbe& p : r.probes) t += "probe " + std::to_string(p.type) + " " + p.path + "\n";
+  t += "sha256 " + sha256_hex(reinterpret_cast<const uint8_t*>(t.data()), t.size()) + "\n";
+  std::error_code ec;
+  fs::create_directories(dir_, ec);
+  write_file_atomic((fs::path(dir_) / (command_key + kInputsExt)).string(), t);
+}
+
+uint64_t parse_byte_size(const std::string& text, const std::string& option) {
+  std::string digits = text;
+  uint64_t mult = 1;
+  if (!digits.empty()) {
+    const char s = char(std::toupper(static_cast<unsigned char>(digits.back())));
+    const int shift = s == 'K' ? 10 : s == 'M' ? 20 : s == 'G' ? 30 : s == 'T' ? 40 : 0;
+    if (shift) mult = uint64_t(1) << shift, digits.pop_back();
+  }
+  uint64_t v = 0;
+  if (!parse_u64(digits, &v) || v > (UINT64_MAX >> 40))
+    throw Error(option + " must be a byte count with an optional K, M, G or T suffix (got '" + text + "')");
+  return v * mult;
+}
+
+}  // namespace ahd

@@ -1,0 +1,121 @@
+#include "cook/conversion_key.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <vector>
+
+#include "containers/sha256.h"
+#include "core/error.h"
+#include "files/paths.h"
+
+#ifndef AHD_VERSION_STRING
+#error "AHD_VERSION_STRING must be defined (CMakeLists.txt)"
+#endif
+
+namespace ahd {
+
+namespace {
+
+std::string num(double v) {
+  char b[40];
+  std::snprintf(b, sizeof b, "%.17g", v);
+  return b;
+}
+
+}  // namespace
+
+std::string conversion_options_text(const BakeInput& in, const ConversionOptions& o, const std::string& out_name,
+                                    double iz_scale) {
+  std::string t = "ahdpack-conversion-key " + std::to_string(kKeyFormat) + "\n";
+  t += "version " AHD_VERSION_STRING "\n";
+  // Output naming.
+  t += "name " + out_name + "\n";
+  t += std::string("container ") + (o.container == ContainerKind::DDS ? "dds" : "ktx2") + "\n";
+  // ConversionOptions: every field that reaches the bytes (threads, progress and cancel do not).
+  t += "profile " + o.profile + "\n";
+  t += "profile_json " + sha256_hex(reinterpret_cast<const uint8_t*>(o.profile_json.data()), o.profile_json.size()) + "\n";
+  t += "ratio " + std::string(!o.ratio ? "profile" : *o.ratio == RatioForm::Rgb ? "rgb" : "luminance") + "\n";
+  t += "direction_fit " + std::to_string(int(o.direction_fit)) + "\n";
+  t += "bc6h_quality " + std::to_string(int(o.bc6h_quality)) + "\n";
+  t += "eps " + num(o.eps) + "\n";
+  t += "closed_loop " + std::to_string(int(o.closed_loop)) + "\n";
+  t += "levels " + std::to_string(o.levels) + "\n";
+  t += "coverage_plane " + std::to_string(int(o.coverage_plane)) + "\n";
+  t += "direction " + std::to_string(int(o.direction)) + "\n";
+  t += "ambient_threshold " + num(o.ambient_threshold) + "\n";
+  t += "zstd " + std::to_string(int(o.zstd)) + "\n";
+  t += "plane_metadata " + std::to_string(int(o.plane_metadata)) + "\n";
+  t += "measure " + std::to_string(int(o.measure)) + "\n";
+  // The input's options (which role each file plays; the files themselves follow).
+  t += "input " + std::string(in.input.empty() ? "sample" : "files") + "\n";
+  if (in.input.empty())
+    t += "sample " + std::to_string(in.sample_size) + " " + std::to_string(in.sample_order) + " " + std::to_string(in.seed) + "\n";
+  // A preset given as a .json file: its bytes are in the record, its path is not part of the key.
+  const bool layout_file = in.layout.size() > 5 && in.layout.compare(in.layout.size() - 5, 5, ".json") == 0;
+  t += "layout " + (layout_file ? std::string("(file)") : in.layout) + "\n";
+  t += "normals " + std::to_string(int(!in.normals.empty())) + "\n";
+  t += "mesh " + std::to_string(int(!in.mesh.empty())) + " uv_set " + std::to_string(in.uv_set) + "\n";
+  t += "placement " + std::to_string(int(!in.placement.empty())) + "\n";
+  t += "pages " + std::to_string(in.pages) + "\n";
+  // Godot's path and the mismatch gate change what is read and whether it converts; added only
+  // when used so that other keys stay as they were.
+  if (!in.scene.empty()) t += "godot_scene 1\n";
+  if (in.allow_mismatch) t += "allow_mismatch 1\n";
+  if (!in.input_space.empty())
+    t += "input_space " + in.input_space + "\n";  // the files' declarations are in their bytes
+  if (iz_scale != 1.0) t += "iz_scale " + num(iz_scale) + "\n";
+  return t;
+}
+
+// A file's content hash: SHA-256 of its 4 MiB chunks' SHA-256 digests (with the size beside it, as
+// collision-resistant as SHA-256 of the whole), read through one reused buffer: a cache hit on a
+// large EXR hashes it without holding it in memory.
+static std::string file_digest(const std::string& path, uint64_t* size) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw file_error(path, "cannot open (it was read a moment ago)");
+  std::vector<uint8_t> buf(size_t(4) << 20);
+  std::string digests;
+  *size = 0;
+  while (f) {
+    f.read(reinterpret_cast<char*>(buf.data()), std::streamsize(buf.size()));
+    const size_t n = size_t(f.gcount());
+    if (n == 0) break;
+    digests += sha256_hex(buf.data(), n);
+    *size += n;
+  }
+  if (f.bad()) throw file_error(path, "read failed");
+  return sha256_hex(reinterpret_cast<const uint8_t*>(digests.data()), digests.size());
+}
+
+std::string input_files_text(const std::vector<std::string>& files) {
+  std::string t;
+  for (const std::string& f : files) {
+    uint64_t size = 0;
+    const std::string digest = file_digest(f, &size);
+    t += "read " + std::to_string(size) + " " + digest + "\n";
+  }
+  return t;
+}
+
+std::string conversion_key_text(const BakeInput& in, const ConversionOptions& o, const std::string& out_name,
+                                const InputRecord& record, double iz_scale) {
+  return conversion_options_text(in, o, out_name, iz_scale) + input_files_text(record.files);
+}
+
+std::string command_key(const BakeInput& given, const ConversionOptions& o, const std::string& out_name,
+                        const std::string& profile_arg, double iz_scale) {
+  std::error_code ec;
+  std::string t = "ahdpack-command-key " + std::to_string(kKeyFormat) + "\n" + conversion_options_text(given, o, out_name, iz_scale);
+  t += "input_path " + given.input + "\nlayout_arg " + given.layout + "\nnormals_path " + given.normals + "\nmesh_path " +
+       given.mesh + "\nplacement_path " + given.placement +
+       "\ngodot_scene_path " + given.scene + "\nprofile_arg " + profile_arg + "\ncwd " +
+       std::filesystem::current_path(ec).string() + "\nformats " + formats_dir() + "\n";
+  return conversion_key(t);
+}
+
+std::string conversion_key(const std::string& key_text) {
+  return sha256_hex(reinterpret_cast<const uint8_t*>(key_text.data()), key_text.size());
+}
+
+}  // namespace ahd

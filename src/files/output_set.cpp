@@ -1,0 +1,363 @@
+#include "files/output_set.h"
+
+#include <fcntl.h>
+#include <sys/file.h>
+#include <signal.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <memory>
+#include <mutex>
+#include <regex>
+#include <set>
+
+#include "containers/sha256.h"
+#include "core/error.h"
+#include "files/file_io.h"
+
+namespace ahd {
+namespace fs = std::filesystem;
+
+namespace {
+
+// What to undo if SIGINT/SIGTERM arrives during a publish. Fixed storage: the handler may only call
+// async-signal-safe functions (unlink, rename, signal, raise). Each slot: kUnlink removes a[i]
+// (a temporary, or a member renamed before the commit), kRestore renames a[i] back to b[i] (an
+// annex moved aside).
+constexpr int kMaxSlots = 64;
+enum : int { kIdle = 0, kUnlink = 1, kRestore = 2 };
+char g_a[kMaxSlots][4096], g_b[kMaxSlots][4096];
+std::atomic<int> g_state[kMaxSlots];
+std::atomic<int> g_slots{0};
+
+extern "C" void on_interrupt(int sig) {
+  const int n = g_slots.load();
+  for (int i = 0; i < n && i < kMaxSlots; ++i) {
+    const int st = g_state[i].load();
+    if (st == kUnlink) ::unlink(g_a[i]);
+    else if (st == kRestore) ::rename(g_a[i], g_b[i]);
+  }
+  ::signal(sig, SIG_DFL);
+  ::raise(sig);
+}
+
+// Installs the handler for the lifetime of one publish; restores the previous ones after.
+struct InterruptGuard {
+  struct sigaction old_int {}, old_term {};
+  InterruptGuard() {
+    for (auto& s : g_state) s.store(kIdle);
+    g_slots.store(0);
+    struct sigaction sa {};
+    sa.sa_handler = on_interrupt;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, &old_int);
+    sigaction(SIGTERM, &sa, &old_term);
+  }
+  ~InterruptGuard() {
+    sigaction(SIGINT, &old_int, nullptr);
+    sigaction(SIGTERM, &old_term, nullptr);
+    for (auto& s : g_state) s.store(kIdle);
+    g_slots.store(0);
+  }
+  // A new slot (or -1 when full or the path is too long: that file is then only cleaned up by the
+  // next run, as a stale temporary).
+  int add() {
+    const int i = g_slots.load();
+    if (i >= kMaxSlots) return -1;
+    g_slots.store(i + 1);
+    return i;
+  }
+  // The slot's action from now on. The state goes idle while the paths change, so the handler
+  // never reads a half-written path.
+  static void set(int slot, int state, const std::string& a = {}, const std::string& b = {}) {
+    if (slot < 0) return;
+    g_state[slot].store(kIdle);
+    if (state == kIdle) return;
+    if (a.size() >= sizeof g_a[0] || b.size() >= sizeof g_b[0]) return;
+    std::memcpy(g_a[slot], a.c_str(), a.size() + 1);
+    std::memcpy(g_b[slot], b.c_str(), b.size() + 1);
+    g_state[slot].store(state);
+  }
+};
+
+// The folder's flock, held for the whole publish of a set (released by close).
+struct FolderLock {
+  int fd = -1;
+  explicit FolderLock(const fs::path& dir) {
+    fd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd < 0) throw file_error(dir.string(), "cannot open the folder (" + std::string(std::strerror(errno)) + ")");
+    while (::flock(fd, LOCK_EX) != 0) {
+      if (errno == EINTR) continue;
+      // A file system without locks (some network mounts): publish unlocked rather than not at all.
+      if (errno == ENOLCK || errno == EBADF || errno == EINVAL || errno == EOPNOTSUPP) break;
+      const int e = errno;
+      ::close(fd);
+      fd = -1;
+      throw file_error(dir.string(), "cannot lock the folder (" + std::string(std::strerror(e)) + ")");
+    }
+  }
+  ~FolderLock() {
+    if (fd >= 0) ::close(fd);
+  }
+};
+
+std::string errno_text(int e) { return std::strerror(e); }
+
+// Test hook AHDPACK_TEST_WRITE_FAULT="k:ENOSPC|EROFS|EACCES|EIO": writing the k-th file of a set
+// fails with that error after its temporary file was created (a full disk, a folder turned
+// read-only), since root ignores permissions and a real full disk cannot be had in a test.
+int injected_write_fault(size_t index) {
+  const char* s = std::getenv("AHDPACK_TEST_WRITE_FAULT");
+  if (!s || !*s) return 0;
+  char* end = nullptr;
+  const long k = std::strtol(s, &end, 10);
+  if (*end != ':' || k < 0 || size_t(k) != index) return 0;
+  const std::string e = end + 1;
+  return e == "ENOSPC" ? ENOSPC : e == "EROFS" ? EROFS : e == "EACCES" ? EACCES : EIO;
+}
+
+// Writes and fsyncs one temporary file; throws naming the final path.
+void write_synced(const std::string& tmp, const std::string& final_path, const std::vector<uint8_t>& bytes,
+                  int fault = 0) {
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+  if (fd < 0) throw file_error(final_path, "cannot create a file in its folder (" + errno_text(errno) + ")");
+  if (fault) {
+    ::close(fd);
+    ::unlink(tmp.c_str());
+    throw file_error(final_path, "write failed (" + errno_text(fault) + ")");
+  }
+  size_t done = 0;
+  while (done < bytes.size()) {
+    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const int e = n < 0 ? errno : ENOSPC;
+      ::close(fd);
+      ::unlink(tmp.c_str());
+      throw file_error(final_path, "write failed (" + errno_text(e) + ")");
+    }
+    done += size_t(n);
+  }
+  // fsync before the rename: otherwise a crash can publish a name whose data never reached the disk.
+  if (::fsync(fd) != 0) {
+    const int e = errno;
+    ::close(fd);
+    ::unlink(tmp.c_str());
+    throw file_error(final_path, "write failed (" + errno_text(e) + ")");
+  }
+  if (::close(fd) != 0) {
+    const int e = errno;
+    ::unlink(tmp.c_str());
+    throw file_error(final_path, "write failed (" + errno_text(e) + ")");
+  }
+}
+
+void fsync_dir(const fs::path& dir) {
+  const int fd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) return;
+  ::fsync(fd);  // best effort: some file systems refuse fsync on folders
+  ::close(fd);
+}
+
+// AHDPACK_TEST_KILL_BEFORE_RENAME="k" (SIGKILL), "k:INT" or "k:TERM": the signal this process sends
+// itself before rename k.
+struct KillHook {
+  long index = -1;
+  int sig = SIGKILL;
+};
+
+KillHook kill_before_rename_hook() {
+  KillHook h;
+  const char* s = std::getenv("AHDPACK_TEST_KILL_BEFORE_RENAME");
+  if (!s || !*s) return h;
+  char* end = nullptr;
+  const long v = std::strtol(s, &end, 10);
+  const std::string sig = *end == ':' ? end + 1 : "";
+  if (v < 0 || (*end != '\0' && *end != ':')) return h;
+  h.index = v;
+  h.sig = sig == "INT" ? SIGINT : sig == "TERM" ? SIGTERM : SIGKILL;
+  return h;
+}
+
+void maybe_kill(const KillHook& hook, size_t index) {
+  if (hook.index >= 0 && size_t(hook.index) == index) ::kill(::getpid(), hook.sig);
+}
+
+}  // namespace
+
+bool is_temporary_name(const std::string& filename) {
+  static const std::regex re(R"(^\..+\.ahdtmp-[0-9]+-[0-9a-f]{8}.*$)");
+  return std::regex_match(filename, re);
+}
+
+size_t remove_stale_temporaries(const std::string& dir) {
+  size_t removed = 0;
+  std::error_code ec;
+  fs::directory_iterator it(dir.empty() ? "." : dir, ec), end;
+  for (; !ec && it != end; it.increment(ec)) {
+    const std::string fn = it->path().filename().string();
+    if (!is_temporary_name(fn)) continue;
+    const size_t at = fn.find(".ahdtmp-") + 8;
+    const long pid = std::strtol(fn.c_str() + at, nullptr, 10);
+    // Another ahdpack still writing into this folder keeps its temporaries.
+    if (pid > 0 && pid != long(::getpid()) && (::kill(pid_t(pid), 0) == 0 || errno != ESRCH)) continue;
+    std::error_code rm;
+    if (pid != long(::getpid()) && fs::remove(it->path(), rm)) ++removed;
+  }
+  return removed;
+}
+
+
+namespace {
+
+std::mutex g_publish_mutex;  // one publish per process at a time: the signal clean-up is process-wide
+
+// Renames with the kill hook in front of each; `count` numbers every rename of one publish.
+struct Renamer {
+  KillHook hook = kill_before_rename_hook();
+  size_t count = 0;
+  void operator()(const std::string& from, const std::string& to) {
+    maybe_kill(hook, count++);
+    if (::rename(from.c_str(), to.c_str()) != 0)
+      throw file_error(to, "cannot rename its temporary file (" + errno_text(errno) + ")");
+  }
+};
+
+}  // namespace
+
+void publish_output_set(const OutputSet& set) {
+  std::lock_guard<std::mutex> process_lock(g_publish_mutex);
+  std::vector<const FileToPublish*> files;  // members, commit, annexes: the order of the writes
+  for (const auto& f : set.members) files.push_back(&f);
+  files.push_back(&set.commit);
+  for (const auto& f : set.annexes) files.push_back(&f);
+  const fs::path dir = fs::path(set.commit.path).parent_path();
+  {
+    std::error_code ec;
+    if (!dir.empty()) fs::create_directories(dir, ec);
+    if (ec) throw file_error(set.commit.path, "cannot create folder " + dir.string() + " (" + ec.message() + ")");
+  }
+  for (const FileToPublish* f : files) {
+    std::error_code ec;
+    if (fs::path(f->path).parent_path() != dir) throw Error("publish_output_set: " + f->path + " is not beside " + set.commit.path);
+    if (fs::is_directory(f->path, ec)) throw file_error(f->path, "is a folder");
+  }
+  const bool is_set = !set.members.empty() || !set.annexes.empty() || !set.annex_names.empty() || set.superseded;
+  std::unique_ptr<FolderLock> folder_lock;
+  if (is_set) folder_lock = std::make_unique<FolderLock>(dir);
+  remove_stale_temporaries(dir.string());
+  const std::vector<std::string> superseded = set.superseded ? set.superseded() : std::vector<std::string>{};
+
+  std::set<std::string> published;
+  for (const FileToPublish* f : files) published.insert(fs::path(f->path).lexically_normal().string());
+
+  InterruptGuard guard;
+  const size_t n = files.size(), n_members = set.members.size();
+  std::vector<std::string> temps(n);
+  std::vector<int> slots(n, -1);
+  std::vector<bool> renamed(n, false);
+  std::vector<std::string> created;  // members new to the folder, renamed before the commit
+  std::vector<int> created_slots;
+  struct Aside {
+    std::string final_path, tmp;
+    int slot;
+  };
+  std::vector<Aside> aside;  // previous annexes moved out of the way
+  bool committed = false;
+  auto undo = [&]() {
+    for (size_t i = 0; i < n; ++i)
+      if (!temps[i].empty() && !renamed[i]) ::unlink(temps[i].c_str());
+    if (committed) {
+      for (const Aside& a : aside) ::unlink(a.tmp.c_str());
+      return;
+    }
+    for (const auto& p : created) ::unlink(p.c_str());
+    for (const Aside& a : aside) ::rename(a.tmp.c_str(), a.final_path.c_str());
+  };
+  Renamer rename;
+  try {
+    for (size_t i = 0; i < n; ++i) {
+      temps[i] = temp_path_for(files[i]->path);
+      slots[i] = guard.add();
+      InterruptGuard::set(slots[i], kUnlink, temps[i]);
+      write_synced(temps[i], files[i]->path, files[i]->bytes, injected_write_fault(i));
+    }
+    for (size_t i = 0; i < n_members; ++i) {
+      const std::string& path = files[i]->path;
+      std::error_code ec;
+      const bool existed = fs::exists(path, ec);
+      rename(temps[i], path);
+      renamed[i] = true;
+      // New to the folder: an orphan to remove if the commit does not happen. A member that replaced
+      // a file had identical bytes (content-addressed) and stays.
+      InterruptGuard::set(slots[i], existed ? kIdle : kUnlink, path);
+      if (!existed) created.push_back(path);
+    }
+    for (const std::string& name : set.annex_names) {
+      std::error_code ec;
+      if (!fs::exists(fs::symlink_status(name, ec))) continue;
+      if (fs::is_directory(name, ec)) throw file_error(name, "is a folder");
+      Aside a{name, temp_path_for(name), guard.add()};
+      InterruptGuard::set(a.slot, kRestore, a.tmp, a.final_path);
+      rename(name, a.tmp);
+      aside.push_back(a);
+    }
+    rename(temps[n_members], set.commit.path);  // the commit point
+    renamed[n_members] = true;
+    committed = true;
+    for (size_t i = 0; i <= n_members; ++i) InterruptGuard::set(slots[i], kIdle);
+    for (const Aside& a : aside) InterruptGuard::set(a.slot, kUnlink, a.tmp);
+    // From the commit on, a signal finishes the clean-up the new set needs: the superseded files go.
+    for (const std::string& f : superseded)
+      if (!published.count(fs::path(f).lexically_normal().string())) InterruptGuard::set(guard.add(), kUnlink, f);
+    for (size_t i = n_members + 1; i < n; ++i) {
+      rename(temps[i], files[i]->path);
+      renamed[i] = true;
+      InterruptGuard::set(slots[i], kIdle);
+    }
+  } catch (...) {
+    undo();
+    fsync_dir(dir);
+    throw;
+  }
+  for (const Aside& a : aside) ::unlink(a.tmp.c_str());
+  fsync_dir(dir);
+  maybe_kill(rename.hook, rename.count);
+  bool removed = false;
+  for (const auto& s : superseded) {
+    if (published.count(fs::path(s).lexically_normal().string())) continue;
+    std::error_code ec;
+    removed |= fs::remove(s, ec);
+  }
+  if (removed) fsync_dir(dir);
+}
+
+void publish_output_set(const std::vector<FileToPublish>& files, const std::vector<std::string>& superseded) {
+  if (files.empty()) return;
+  OutputSet set;
+  set.members.assign(files.begin(), files.end() - 1);
+  set.commit = files.back();
+  if (!superseded.empty()) set.superseded = [superseded] { return superseded; };
+  publish_output_set(set);
+}
+
+void write_new_file(const std::string& path, const std::vector<uint8_t>& bytes) { write_synced(path, path, bytes); }
+
+void publish_file(const std::string& path, std::vector<uint8_t> bytes) {
+  OutputSet set;
+  set.commit = {path, std::move(bytes)};
+  publish_output_set(set);
+}
+
+void write_file_atomic(const std::string& path, std::vector<uint8_t> bytes) { publish_file(path, std::move(bytes)); }
+
+void write_file_atomic(const std::string& path, const std::string& text) {
+  publish_file(path, std::vector<uint8_t>(text.begin(), text.end()));
+}
+
+}  // namespace ahd

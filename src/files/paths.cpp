@@ -1,0 +1,53 @@
+#include "files/paths.h"
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+
+namespace ahd {
+
+std::string executable_prefix() {
+  std::error_code ec;
+  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (ec || exe.empty()) return {};
+  std::filesystem::path prefix = exe.parent_path();
+  for (const auto& part : std::filesystem::path(AHD_INSTALL_BINDIR))
+    if (!part.empty() && part != ".") prefix = prefix.parent_path();
+  return prefix.string();
+}
+
+namespace {
+
+// The installed data beside the running executable: <prefix>/share/ahdpack/formats for
+// <prefix>/bin/ahdpack. Empty when there is none (a build tree, or no /proc).
+std::string installed_formats_dir() {
+  const std::string prefix = executable_prefix();
+  if (prefix.empty()) return {};
+  std::error_code ec;
+  const std::filesystem::path dir = std::filesystem::path(prefix) / AHD_INSTALL_FORMATS_DIR;
+  return std::filesystem::is_directory(dir / "profiles", ec) ? dir.string() : std::string();
+}
+
+}  // namespace
+
+std::string formats_dir() {
+  if (const char* env = std::getenv("AHD_FORMATS_DIR"); env && *env) return env;
+  static const std::string installed = installed_formats_dir();
+  return installed.empty() ? AHD_FORMATS_DIR : installed;
+}
+
+std::string data_file_path(const std::string& folder, const std::string& name_or_path) {
+  if (std::filesystem::path(name_or_path).extension() == ".json") return name_or_path;
+  return formats_dir() + "/" + folder + "/" + name_or_path + ".json";
+}
+
+std::vector<std::string> list_data_files(const std::string& folder) {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (const auto& e : std::filesystem::directory_iterator(formats_dir() + "/" + folder, ec))
+    if (e.path().extension() == ".json") names.push_back(e.path().stem().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+}  // namespace ahd

@@ -1,0 +1,133 @@
+#include "scene/gltf_precheck.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cctype>
+#include <cstdint>
+#include <filesystem>
+#include <vector>
+
+#include "core/error.h"
+#include "core/json_depth.h"
+#include "files/file_io.h"
+
+namespace ahd {
+namespace fs = std::filesystem;
+
+namespace {
+
+uint32_t rd32(const std::vector<uint8_t>& b, size_t at) {
+  return uint32_t(b[at]) | uint32_t(b[at + 1]) << 8 | uint32_t(b[at + 2]) << 16 | uint32_t(b[at + 3]) << 24;
+}
+
+
+// Bytes a base64 data: URI decodes to (an upper bound is enough: padding is not subtracted).
+uint64_t data_uri_bytes(const std::string& uri) {
+  const size_t comma = uri.find(',');
+  if (comma == std::string::npos) return 0;
+  return uint64_t(uri.size() - comma - 1) / 4 * 3 + 3;
+}
+
+}  // namespace
+
+void check_gltf_structure(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  if (ext != ".gltf" && ext != ".glb") return;
+  const std::vector<uint8_t> bytes = read_file_bytes(path, size_t(1) << 31);
+  const char* json_text = reinterpret_cast<const char*>(bytes.data());
+  size_t json_size = bytes.size();
+  uint64_t bin_bytes = 0;
+  bool glb = false;
+  if (ext == ".glb" || (bytes.size() >= 4 && std::string(json_text, 4) == "glTF")) {
+    // GLB: 12-byte header, then chunks (length, type, data); JSON first, BIN optional second.
+    if (bytes.size() < 20 || std::string(json_text, 4) != "glTF") throw file_error(path, "not a GLB file (no glTF header)");
+    const uint64_t len0 = rd32(bytes, 12);
+    if (rd32(bytes, 16) != 0x4E4F534Au || 20 + len0 > bytes.size()) throw file_error(path, "GLB JSON chunk is truncated");
+    json_text += 20;
+    json_size = size_t(len0);
+    const uint64_t at = 20 + ((len0 + 3) & ~uint64_t(3));
+    if (at + 8 <= bytes.size() && rd32(bytes, size_t(at) + 4) == 0x004E4942u)
+      bin_bytes = std::min<uint64_t>(rd32(bytes, size_t(at)), bytes.size() - at - 8);
+    glb = true;
+  }
+  if (json_nesting_depth(json_text, json_size, kMaxGltfJsonDepth) > kMaxGltfJsonDepth)
+    throw file_error(path, "JSON nested more than " + std::to_string(kMaxGltfJsonDepth) + " levels deep");
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(json_text, json_text + json_size);
+  } catch (const std::exception&) {
+    return;  // not JSON: Assimp's own message says why
+  }
+  if (!j.is_object()) return;
+
+  // Buffers: byteLength against the bytes behind them.
+  if (j.contains("buffers") && j["buffers"].is_array()) {
+    size_t index = 0;
+    for (const auto& b : j["buffers"]) {
+      const std::string which = "buffer " + std::to_string(index++);
+      if (!b.is_object() || !b.contains("byteLength") || !b["byteLength"].is_number_unsigned()) continue;
+      const uint64_t claimed = b["byteLength"].get<uint64_t>();
+      uint64_t have = 0;
+      if (b.contains("uri") && b["uri"].is_string()) {
+        const std::string uri = b["uri"].get<std::string>();
+        if (uri.rfind("data:", 0) == 0) {
+          have = data_uri_bytes(uri);
+        } else {
+          std::error_code ec;
+          const fs::path f = fs::path(path).parent_path() / uri;
+          have = fs::is_regular_file(f, ec) ? uint64_t(fs::file_size(f, ec)) : 0;
+          if (ec || !fs::is_regular_file(f, ec)) continue;  // missing: Assimp names it
+        }
+      } else if (glb) {
+        have = bin_bytes;
+      } else {
+        continue;
+      }
+      if (claimed > have)
+        throw file_error(path, which + " claims " + std::to_string(claimed) + " bytes (byteLength) but its data has " +
+                                   std::to_string(have));
+    }
+  }
+
+  // Nodes: children indices in range, no cycle, depth bounded — with an explicit stack.
+  if (!j.contains("nodes") || !j["nodes"].is_array()) return;
+  const auto& nodes = j["nodes"];
+  const size_t n = nodes.size();
+  std::vector<std::vector<size_t>> children(n);
+  std::vector<uint32_t> parents(n, 0);
+  for (size_t i = 0; i < n; ++i) {
+    if (!nodes[i].is_object() || !nodes[i].contains("children") || !nodes[i]["children"].is_array()) continue;
+    for (const auto& c : nodes[i]["children"]) {
+      if (!c.is_number_unsigned() || c.get<uint64_t>() >= n)
+        throw file_error(path, "node " + std::to_string(i) + " has a child index out of range (" + c.dump() + ", " +
+                                   std::to_string(n) + " nodes)");
+      const size_t k = size_t(c.get<uint64_t>());
+      children[i].push_back(k);
+      if (++parents[k] > 1) throw file_error(path, "node " + std::to_string(k) + " has more than one parent");
+    }
+  }
+  std::vector<size_t> depth(n, 0);
+  std::vector<size_t> stack;
+  size_t reached = 0;
+  for (size_t r = 0; r < n; ++r) {
+    if (parents[r] != 0) continue;
+    depth[r] = 1;
+    stack.push_back(r);
+    while (!stack.empty()) {
+      const size_t i = stack.back();
+      stack.pop_back();
+      ++reached;
+      if (depth[i] > kMaxGltfNodeDepth)
+        throw file_error(path, "node hierarchy deeper than " + std::to_string(kMaxGltfNodeDepth) + " levels");
+      for (size_t k : children[i]) {
+        depth[k] = depth[i] + 1;
+        stack.push_back(k);
+      }
+    }
+  }
+  // Every node has at most one parent, so nodes not reached from a root lie on a cycle.
+  if (reached != n) throw file_error(path, "node hierarchy has a cycle");
+}
+
+}  // namespace ahd
