@@ -3,7 +3,8 @@
 // the project handed back into --out. See README.md beside this file for the protocol.
 //
 //   node run_godot.mjs --project DIR --out OUTDIR [--timeout 90] [--chromium /usr/bin/chromium]
-//        [--keep-pck FILE]
+//        [--add SRC=DEST ...] [--keep-pck FILE]
+// --add (repeatable) puts the file SRC into the pack as res://DEST as well.
 // Exit 0: the project called done(0) and every emitted file is written. Otherwise non-zero, with
 // Godot's console on stderr.
 import { spawnSync } from 'node:child_process';
@@ -15,8 +16,11 @@ import { tmpdir } from 'node:os';
 import { fileURLToPath } from 'node:url';
 
 const here = dirname(fileURLToPath(import.meta.url));
-const args = {};
-for (let i = 2; i < process.argv.length; i += 2) args[process.argv[i].replace(/^--/, '')] = process.argv[i + 1];
+const args = { add: [] };
+for (let i = 2; i < process.argv.length; i += 2) {
+  const k = process.argv[i].replace(/^--/, '');
+  if (k === 'add') args.add.push(process.argv[i + 1]); else args[k] = process.argv[i + 1];
+}
 if (!args.project || !args.out) {
   console.error('usage: node run_godot.mjs --project DIR --out OUTDIR [--timeout S] [--chromium PATH]');
   process.exit(64);
@@ -28,7 +32,7 @@ for (const f of [join(webExport, 'index.wasm'), join(webExport, 'index.js'), chr
   if (!existsSync(f)) { console.error(`run_godot: missing ${f} (run scripts/setup.sh)`); process.exit(65); }
 }
 
-// Every file under DIR (hidden files and folders left out), plus lib/harness.gd as res://harness.gd.
+// Every file under DIR (hidden files and folders left out).
 function listFiles(root) {
   const out = [];
   const walk = (d) => {
@@ -81,8 +85,17 @@ function buildPck(files) {
 const project = resolve(args.project);
 if (!existsSync(join(project, 'project.godot'))) { console.error(`run_godot: ${project}: no project.godot`); process.exit(64); }
 const files = listFiles(project);
-if (!files.some((f) => f.path === 'harness.gd'))
-  files.push({ path: 'harness.gd', data: readFileSync(join(here, 'lib', 'harness.gd')) });
+for (const a of args.add) {
+  const k = a.indexOf('=');
+  const dest = k > 0 ? a.slice(k + 1).replace(/^res:\/\//, '') : '';
+  if (!dest || dest.split('/').some((p) => p === '' || p === '.' || p === '..')) {
+    console.error(`run_godot: --add ${a}: want SRC=DEST with a relative DEST`); process.exit(64);
+  }
+  files.push({ path: dest, data: readFileSync(a.slice(0, k)) });
+}
+// lib/*.gd go in as res://<name> (a project's own file of that name wins).
+for (const name of readdirSync(join(here, 'lib')).filter((n) => n.endsWith('.gd')).sort())
+  if (!files.some((f) => f.path === name)) files.push({ path: name, data: readFileSync(join(here, 'lib', name)) });
 const pck = buildPck(files);
 if (args['keep-pck']) writeFileSync(args['keep-pck'], pck);
 

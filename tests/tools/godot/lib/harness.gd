@@ -27,6 +27,25 @@ static func emit_path(path: String, name: String = "") -> void:
 	emit_file(name if name != "" else path.get_file(), bytes)
 
 
+# PackedScene.pack(root), with the nodes' unique_id (Godot 4.6 draws them at random for every
+# pack; they are written as `unique_id=` in a .tscn) set to 1, 2, ... in node order, so that a
+# saved scene is the same at every run. null (after fail()) when pack fails.
+static func pack_scene(root: Node) -> PackedScene:
+	var scene := PackedScene.new()
+	var err := scene.pack(root)
+	if err != OK:
+		fail("PackedScene.pack: error %d" % err)
+		return null
+	var bundle: Dictionary = scene._get_bundled_scene()
+	if bundle.has("node_ids"):
+		var ids := PackedInt32Array()
+		for i in bundle["node_ids"].size():
+			ids.append(i + 1)
+		bundle["node_ids"] = ids
+		scene._set_bundled_scene(bundle)
+	return scene
+
+
 # Tells the page the project is done; code != 0 marks a failure.
 static func done(code: int = 0) -> void:
 	JavaScriptBridge.eval("window.__ahd.done(%d)" % code)
