@@ -9,10 +9,12 @@ window.__ahd = {
   emit(name, b64) { emitted[name] = b64; },
   done(code) { settle({ how: 'done', code }); },
 };
-const onPrint = (...a) => { lines.push('out: ' + a.join(' ')); };
+// Also to the page's console: chromium_cdp.mjs reports that one when the run times out.
+const onPrint = (...a) => { lines.push('out: ' + a.join(' ')); console.log(a.join(' ')); };
 const onPrintError = (...a) => {
   const s = a.join(' ');
   lines.push('err: ' + s);
+  console.error(s);
   // A GDScript error stops the generator's function, so `done` would never come.
   if (/SCRIPT ERROR|Parse Error|Failed to load script/.test(s)) setTimeout(() => settle({ how: 'script error', code: 1 }), 300);
 };

@@ -77,6 +77,10 @@ func _ready() -> void:
 			root.add_child(mi)
 			mi.owner = root
 			var hint := mesh.get_lightmap_size_hint()
+			# A release build skips GDScript's runtime checks: check what matters by hand.
+			if mesh.surface_get_arrays(0)[Mesh.ARRAY_VERTEX].size() == 0 or hint.x <= 0 or hint.y <= 0:
+				H.fail("%s: no arrays or no lightmap size hint" % node_name)
+				return
 			entries.append({
 				"type": type,
 				"node": node_name,
