@@ -55,16 +55,21 @@ printf '\0024.4' >"$corpus/godot/version"
 printf '%%YAML 1.1\n--- !u!1 &100\nGameObject:\n  m_Name: Cube\n--- !u!23 &200\nMeshRenderer:\n  m_GameObject: {fileID: 100}\n  m_LightmapIndex: 0\n  m_LightmapTilingOffset: {x: 0.5, y: 0.5, z: 0.25, w: 0}\n' >"$corpus/placement/scene.unity"
 printf '{"placements": [{"node": "Cube", "page": 0, "scale": [0.5, 0.5], "offset": [0.25, 0]}]}' >"$corpus/placement/p.json"
 seed profile formats/profiles/*.json
+# ArrayMesh resources (byte 0: 0 a `_surfaces` value, 1 a .tres/.res/.mesh, 2 a .tscn's inline mesh
+# "A"): a one-triangle surface, and Godot's own files when the generated fixtures are present.
+mkdir -p "$corpus/godot_mesh"
+printf '\000[{"aabb": AABB(0, 0, 0, 1, 1, 1), "attribute_data": PackedByteArray(0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 128, 63, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 128, 63), "format": 34359738401, "primitive": 3, "vertex_count": 3, "vertex_data": PackedByteArray("AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA")}]' >"$corpus/godot_mesh/triangle"
+for f in tests/data/godot/generated/arraymesh_*; do [ -f "$f" ] && { printf '\001'; cat "$f"; } >"$corpus/godot_mesh/$(basename "$f")"; done
 failed=0
 # A fixed number of runs per target with a fixed seed: the same inputs are tried on every machine,
 # so a run that passed here passes in CI (FUZZ_SECONDS only caps the time on a slow machine, which
 # then tries a prefix of the same sequence). About 15 s each on this 2-core machine (CI's budget:
 # the whole of .ci/run stays well under 30 minutes; a longer run is FUZZ_RUNS=… FUZZ_SECONDS=…).
 declare -A RUNS=([ktx2]=300000 [dds]=500000 [manifest]=50000 [layout]=30000 [intermediate]=250 [blocks]=30000 [mesh]=150
-                [image]=1500 [godot]=50000 [placement]=25000 [profile]=25000 [report]=25000)
+                [image]=1500 [godot]=50000 [placement]=25000 [profile]=25000 [report]=25000 [godot_mesh]=50000)
 # The issue-26 targets are capped at 12 s each.
-declare -A SECONDS_CAP=([image]=12 [godot]=12 [placement]=12 [profile]=12 [report]=12)
-for t in ${@:-ktx2 dds manifest layout intermediate blocks mesh image godot placement profile report}; do
+declare -A SECONDS_CAP=([image]=12 [godot]=12 [placement]=12 [profile]=12 [report]=12 [godot_mesh]=12)
+for t in ${@:-ktx2 dds manifest layout intermediate blocks mesh image godot placement profile report godot_mesh}; do
   extra=(-runs="${FUZZ_RUNS:-${RUNS[$t]}}")
   cap="${SECONDS_CAP[$t]:-$T}"; [ "$cap" -gt "$T" ] && cap="$T"
   # OpenEXR and Assimp are not instrumented and keep caches of their own: leaks are only ours to find elsewhere.

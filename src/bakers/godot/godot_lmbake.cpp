@@ -21,13 +21,9 @@ enum Tag : uint32_t {
   kProjection = 52, kPackedVector4 = 53,
 };
 
-// What the users need of a value; everything else is skipped (read and bounds-checked, not kept).
-struct Value {
-  uint32_t tag = kNil;
-  double num[4] = {0, 0, 0, 0};  // bool/int/float in num[0]; Rect2 x, y, w, h
-  std::string text;              // String, StringName, NodePath ("a/b/c", "/" prefix when absolute)
-  std::vector<Value> items;      // Array
-};
+// What the readers need of a value (GodotBinaryValue, godot_lmbake.h); everything else is skipped
+// (read and bounds-checked, not kept).
+using Value = GodotBinaryValue;
 
 class Reader {
  public:
@@ -118,16 +114,17 @@ struct Parser {
     const size_t rs = real64 ? 8 : 4;
     switch (v.tag) {
       case kNil: break;
-      case kBool: case kInt: v.num[0] = double(int32_t(r.u32())); break;
-      case kInt64: v.num[0] = double(int64_t(r.u64())); break;
+      case kBool: case kInt: v.i64 = int32_t(r.u32()), v.num[0] = double(v.i64); break;
+      case kInt64: v.i64 = int64_t(r.u64()), v.num[0] = double(v.i64); break;
       case kFloat: v.num[0] = r.f32(); break;
       case kDouble: v.num[0] = r.f64(); break;
       case kString: case kStringName: v.text = r.str(); break;
-      case kRect2: for (double& x : v.num) x = real(); break;
+      case kRect2: case kVector4: for (int k = 0; k < 4; ++k) v.num[k] = real(); break;
+      case kAabb: for (double& x : v.num) x = real(); break;
       case kVector2: skip_reals(2); break;
       case kVector3: skip_reals(3); break;
-      case kPlane: case kQuaternion: case kVector4: skip_reals(4); break;
-      case kAabb: case kTransform2D: skip_reals(6); break;
+      case kPlane: case kQuaternion: skip_reals(4); break;
+      case kTransform2D: skip_reals(6); break;
       case kBasis: skip_reals(9); break;
       case kTransform3D: skip_reals(12); break;
       case kProjection: skip_reals(16); break;
@@ -155,7 +152,8 @@ struct Parser {
       }
       case kDictionary: {
         const uint32_t n = r.count(r.u32() & 0x7fffffffu, 8);
-        for (uint32_t i = 0; i < n; ++i) value(depth + 1), value(depth + 1);
+        v.items.reserve(size_t(n) * 2);
+        for (uint32_t i = 0; i < 2 * n; ++i) v.items.push_back(value(depth + 1));
         break;
       }
       case kArray: {
@@ -166,7 +164,7 @@ struct Parser {
       }
       case kPackedByte: {
         const uint32_t n = r.count(r.u32(), 1);
-        r.take(n);
+        v.bytes = r.take(n), v.byte_count = n;
         r.take((4 - n % 4) % 4);  // padded to 4 bytes
         break;
       }
@@ -252,6 +250,58 @@ GodotLightmapData parse_godot_lmbake(const uint8_t* data, size_t size, const std
       if (u.slice < 0 || u.slice > 2047) throw file_error(source, "user '" + u.path + "' has slice " + std::to_string(u.slice));
       out.users.push_back(u);
     }
+  }
+  return out;
+}
+
+GodotBinaryResource parse_godot_binary_resource(const uint8_t* data, size_t size, const std::string& source) {
+  Reader r(data, size, source);
+  if (size >= 4 && std::memcmp(data, "RSCC", 4) == 0)
+    throw file_error(source, "compressed Godot binary resource (RSCC): not read");
+  if (size < 4 || std::memcmp(data, "RSRC", 4) != 0)
+    throw file_error(source, "not a Godot binary resource (no RSRC header)");
+  r.take(4);
+  if (r.u32() != 0) throw file_error(source, "big-endian Godot resource: not read");
+  const bool real64_header = r.u32() != 0;
+  GodotBinaryResource out;
+  out.engine_major = int(r.u32());
+  out.engine_minor = int(r.u32());
+  out.format = int(r.u32());
+  // Format 6 (Godot 4.3+) only adds the PackedVector4Array tag, which value() reads.
+  if (out.format < 3 || out.format > 6)
+    throw file_error(source, "Godot resource format " + std::to_string(out.format) + " is not read (3..6)");
+  out.type = r.str();
+  r.u64();  // import metadata offset
+  // Flags, the uid and 11 reserved words: 14 words in every format (Godot 3 writes them all as
+  // reserved zeros; Godot 4 writes the uid field whether or not the UID flag is set).
+  const uint32_t flags = r.u32();
+  Parser p{r, {}, real64_header || (flags & 4u)};
+  r.u64();                  // uid
+  if (flags & 8u) r.str();  // script class
+  r.take(11 * 4);           // reserved fields
+  const uint32_t nstrings = r.count(r.u32(), 4);
+  p.strings.reserve(nstrings);
+  for (uint32_t i = 0; i < nstrings; ++i) p.strings.push_back(r.str());
+  const uint32_t next = r.count(r.u32(), 8);
+  for (uint32_t i = 0; i < next; ++i) {
+    r.str(), r.str();  // type, path
+    if (flags & 2u) r.u64();
+  }
+  const uint32_t nint = r.count(r.u32(), 12);
+  if (nint == 0) throw file_error(source, "Godot resource holds no resource");
+  uint64_t main_offset = 0;
+  for (uint32_t i = 0; i < nint; ++i) {
+    r.str();                // path ("local://…")
+    main_offset = r.u64();  // the main resource is the last one
+  }
+  r.seek(main_offset);
+  const std::string type = r.str();
+  if (!type.empty()) out.type = type;
+  const uint32_t nprops = r.count(r.u32(), 8);
+  out.properties.reserve(nprops);
+  for (uint32_t i = 0; i < nprops; ++i) {
+    std::string key = p.name();
+    out.properties.emplace_back(std::move(key), p.value(0));
   }
   return out;
 }

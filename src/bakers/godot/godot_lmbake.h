@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace ahd {
@@ -30,6 +31,31 @@ struct GodotLightmapData {
   std::vector<std::string> external;    // external resources' paths (res://…), e.g. the lightmap texture
   std::vector<GodotLightmapUser> users;
 };
+
+// A value of Godot's binary resource format, as far as readers need it (the format's own variant
+// tags, resource_format_binary.cpp); other values are bounds-checked and skipped.
+struct GodotBinaryValue {
+  uint32_t tag = 1;                     // the format's tag: 1 nil, 2 bool, 3 int, 40 int64, 15 AABB, 26 Dictionary…
+  int64_t i64 = 0;                      // bool, int, int64
+  double num[6] = {0, 0, 0, 0, 0, 0};   // bool/int/float in num[0]; Rect2/Vector4 x, y, z|w, w|h; AABB position, size
+  std::string text;                     // String, StringName, NodePath ("a/b/c", "/" prefix when absolute)
+  std::vector<GodotBinaryValue> items;  // Array; Dictionary as key, value, key, value…
+  const uint8_t* bytes = nullptr;       // PackedByteArray: a view into the parsed buffer
+  size_t byte_count = 0;
+};
+
+// The main (last) resource of a Godot binary resource file (.res, .mesh: "RSRC", formats 3..6).
+struct GodotBinaryResource {
+  int engine_major = 0, engine_minor = 0, format = 0;
+  std::string type;  // e.g. "ArrayMesh"
+  std::vector<std::pair<std::string, GodotBinaryValue>> properties;
+};
+
+// Parses the header, string table and the main resource's properties. Pure, safe on untrusted
+// input (the bounds of parse_godot_lmbake); byte views point into `data`, which must outlive the
+// result. Throws ahd::Error("<source>: <cause>") for a file that is not an uncompressed
+// little-endian binary resource of format 3..6 or is truncated/inconsistent.
+GodotBinaryResource parse_godot_binary_resource(const uint8_t* data, size_t size, const std::string& source);
 
 // Parses the bytes of a .lmbake. Pure, safe on untrusted input: every count is bounded by the bytes
 // left before anything is allocated, nesting is limited, offsets are checked. Throws
