@@ -1,0 +1,193 @@
+// The Godot project reader on projects as they are in the wild: every binary resource format a
+// Godot 3.x–4.x editor writes (3..6), the 4.0 pre-release and Godot 3 text spellings, meshes
+// defined inside a scene, the scene found anywhere in its project, and each mesh's own entry of
+// the importer's unwrap cache (Godot's key, not the vertex count). The binary and text files are
+// made here from the format facts (core/io/resource_format_binary.cpp,
+// scene/resources/resource_format_text.cpp); the real project is tests/data/bakes/godot42-vermilion.
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "core/error.h"
+#include "io/godot_lmbake.h"
+#include "io/godot_tscn.h"
+
+using namespace ahd;
+
+namespace {
+
+bool contains(const std::string& s, const std::string& what) { return s.find(what) != std::string::npos; }
+
+// A little-endian writer of Godot's binary resource (RSRC) format.
+struct Rsrc {
+  std::vector<uint8_t> b;
+  void u32(uint32_t v) {
+    for (int i = 0; i < 4; ++i) b.push_back(uint8_t(v >> (8 * i)));
+  }
+  void u16(uint16_t v) { b.push_back(uint8_t(v)), b.push_back(uint8_t(v >> 8)); }
+  void u64(uint64_t v) { u32(uint32_t(v)), u32(uint32_t(v >> 32)); }
+  void f32(float f) {
+    uint32_t w;
+    std::memcpy(&w, &f, 4);
+    u32(w);
+  }
+  void str(const std::string& s) {  // length counts a trailing NUL
+    u32(uint32_t(s.size() + 1));
+    b.insert(b.end(), s.begin(), s.end());
+    b.push_back(0);
+  }
+};
+
+// A LightmapGIData with one user ("../Box", rectangle 0.25, 0.5, 0.5, 0.25, slice 1), a
+// PackedVector4Array and a Callable property before user_data, written as format `format`.
+// `uid_flag` false: flags without FORMAT_FLAG_UIDS (the uid field is written all the same).
+std::vector<uint8_t> lmbake_bytes(uint32_t format, bool uid_flag = true) {
+  Rsrc r;
+  r.b = {'R', 'S', 'R', 'C'};
+  r.u32(0), r.u32(0), r.u32(4), r.u32(format >= 6 ? 3 : 2), r.u32(format);
+  r.str("LightmapGIData");
+  r.u64(0);                      // import metadata offset
+  r.u32(uid_flag ? 3 : 1);       // named scene ids (+ uids)
+  r.u64(0x1234567890abcdefull);  // uid
+  for (int i = 0; i < 11; ++i) r.u32(0);
+  const std::vector<std::string> strings = {"extra", "later", "user_data", "uses_spherical_harmonics", "..", "Box"};
+  r.u32(uint32_t(strings.size()));
+  for (const std::string& s : strings) r.str(s);
+  r.u32(0);  // external resources
+  r.u32(1);  // internal resources
+  r.str("local://LightmapGIData_1");
+  const size_t offset_at = r.b.size();
+  r.u64(0);
+  const uint64_t main = r.b.size();
+  for (int i = 0; i < 8; ++i) r.b[offset_at + size_t(i)] = uint8_t(main >> (8 * i));
+  r.str("LightmapGIData");
+  r.u32(4);                       // properties
+  r.u32(0), r.u32(53), r.u32(2);  // extra: PackedVector4Array of 2
+  for (int i = 0; i < 8; ++i) r.f32(float(i));
+  r.u32(1), r.u32(42);                                // later: Callable (no payload)
+  r.u32(3), r.u32(2), r.u32(1);                       // uses_spherical_harmonics: bool true
+  r.u32(2), r.u32(30), r.u32(4);                      // user_data: Array of 4
+  r.u32(22), r.u16(2), r.u16(0), r.u32(4), r.u32(5);  // NodePath "../Box"
+  r.u32(11), r.f32(0.25f), r.f32(0.5f), r.f32(0.5f), r.f32(0.25f);
+  r.u32(3), r.u32(1);
+  r.u32(3), r.u32(uint32_t(-1));
+  return r.b;
+}
+
+}  // namespace
+
+// Gap 1: format 6 (every Godot >= 4.3 bake) and 4 are read like 3 and 5; the new tag is parsed.
+TEST(GodotReader, LmbakeFormatsThreeToSixAreRead) {
+  for (uint32_t format : {3u, 4u, 5u, 6u}) {
+    const std::vector<uint8_t> b = lmbake_bytes(format);
+    const GodotLightmapData d = parse_godot_lmbake(b.data(), b.size(), "w.lmbake");
+    EXPECT_EQ(d.format, int(format));
+    EXPECT_TRUE(d.uses_spherical_harmonics) << format;
+    ASSERT_EQ(d.users.size(), 1u) << format;
+    EXPECT_EQ(d.users[0].path, "../Box");
+    EXPECT_EQ(d.users[0].rect[0], 0.25);
+    EXPECT_EQ(d.users[0].rect[3], 0.25);
+    EXPECT_EQ(d.users[0].slice, 1);
+  }
+  // The uid field is in the header whether or not the flags say the uid is used.
+  const std::vector<uint8_t> no_uid = lmbake_bytes(6, false);
+  EXPECT_EQ(parse_godot_lmbake(no_uid.data(), no_uid.size(), "w").users.size(), 1u);
+  // A format Godot has not written yet, and a compressed resource: one line naming the file.
+  std::vector<uint8_t> seven = lmbake_bytes(7);
+  try {
+    parse_godot_lmbake(seven.data(), seven.size(), "w.lmbake");
+    ADD_FAILURE() << "format 7 accepted";
+  } catch (const Error& e) {
+    EXPECT_TRUE(contains(e.what(), "w.lmbake: Godot resource format 7")) << e.what();
+    EXPECT_TRUE(contains(e.what(), "3..6")) << e.what();
+  }
+  std::vector<uint8_t> rscc = seven;
+  std::memcpy(rscc.data(), "RSCC", 4);
+  try {
+    parse_godot_lmbake(rscc.data(), rscc.size(), "c.lmbake");
+    ADD_FAILURE() << "RSCC accepted";
+  } catch (const Error& e) {
+    EXPECT_TRUE(contains(e.what(), "c.lmbake: a compressed Godot resource (RSCC)")) << e.what();
+  }
+  // Truncations never read past the end.
+  const std::vector<uint8_t> six = lmbake_bytes(6);
+  for (size_t n = 0; n < six.size(); n += 7) EXPECT_THROW(parse_godot_lmbake(six.data(), n, "t"), Error) << n;
+}
+
+// Gap 2: Godot 3 (format=2) and the 4.0 pre-releases: spaces in ExtResource( … ) and
+// Transform3D( … ), bare integer ids, `Transform(` — all read as the 4.x spelling.
+TEST(GodotReader, OlderTextSpellingsAreRead) {
+  const GodotTscn g3 = parse_godot_tscn(
+      "[gd_scene load_steps=3 format=2]\n\n"
+      "[ext_resource path=\"res://chair.glb\" type=\"PackedScene\" id=1]\n"
+      "[ext_resource path=\"res://world.lmbake\" type=\"LightmapGIData\" id=2]\n\n"
+      "[node name=\"World\" type=\"Spatial\"]\n\n"
+      "[node name=\"Chair\" parent=\".\" instance=ExtResource( 1 )]\n"
+      "transform = Transform( 1, 0, 0, 0, 1, 0, 0, 0, 1, 4, 5, 6 )\n\n"
+      "[node name=\"LightmapGI\" type=\"LightmapGI\" parent=\".\"]\nlight_data = ExtResource( 2 )\n",
+      "old.tscn");
+  EXPECT_EQ(g3.format, 2);
+  ASSERT_EQ(g3.nodes.size(), 3u);
+  EXPECT_EQ(g3.nodes[1].instance, "1");
+  ASSERT_NE(g3.find_ext("1"), nullptr);
+  EXPECT_EQ(g3.find_ext("1")->path, "res://chair.glb");
+  EXPECT_TRUE(g3.nodes[1].has_transform);
+  EXPECT_EQ(g3.nodes[1].transform[9], 4);
+  EXPECT_EQ(g3.nodes[1].transform[11], 6);
+  EXPECT_EQ(g3.nodes[2].light_data, "2");
+
+  const GodotTscn pre = parse_godot_tscn(
+      "[gd_scene load_steps=2 format=3]\n"
+      "[ext_resource type=\"PackedScene\" path=\"res://chair.glb\" id=\"1_ab\"]\n"
+      "[node name=\"World\" type=\"Node3D\"]\n"
+      "[node name=\"Chair\" parent=\".\" instance=ExtResource( \"1_ab\" )]\n"
+      "transform = Transform3D( 0, 0, 1, 0, 1, 0, -1, 0, 0, 7.5, 0, -2 )\n",
+      "pre.tscn");
+  EXPECT_EQ(pre.nodes[1].instance, "1_ab");
+  EXPECT_EQ(pre.nodes[1].transform[6], -1);
+  EXPECT_EQ(pre.nodes[1].transform[9], 7.5);
+  EXPECT_EQ(godot_resource_ref("SubResource(  \"Box_1\"  )", "SubResource"), "Box_1");
+  EXPECT_EQ(godot_resource_ref("ExtResource(\"a\") extra", "ExtResource"), "");
+  EXPECT_EQ(godot_resource_ref("SubResource(\"a\")", "ExtResource"), "");
+  try {
+    parse_godot_tscn("[node name=\"A\"]\n[node name=\"B\" parent=\".\" instance=Chair]\n", "bad.tscn");
+    ADD_FAILURE() << "accepted";
+  } catch (const Error& e) {
+    EXPECT_TRUE(contains(e.what(), "bad.tscn: line 2: instance is not ExtResource(\"id\") but 'Chair'")) << e.what();
+  }
+}
+
+// Gap 5: sub_resource sections are kept (type, id, raw property text, multi-line values whole) and
+// `mesh = SubResource(…)` / `mesh = ExtResource(…)` is recorded on the node.
+TEST(GodotReader, SubResourcesAndNodeMeshesAreKept) {
+  const std::string surfaces =
+      "[{\n\"aabb\": AABB(-1, -1, -1, 2, 2, 2),\n\"format\": 34359742487,\n\"name\": \"a [b\",\n"
+      "\"vertex_data\": PackedByteArray(0, 1, 2)\n}]";
+  const GodotTscn t = parse_godot_tscn(
+      "[gd_scene load_steps=4 format=3]\n"
+      "[ext_resource type=\"ArrayMesh\" path=\"res://rock.tres\" id=\"2_r\"]\n"
+      "[sub_resource type=\"ArrayMesh\" id=\"ArrayMesh_x1\"]\n_surfaces = " +
+          surfaces +
+          "\nblend_shape_mode = 0\n\n"
+          "[sub_resource type=\"BoxMesh\" id=\"BoxMesh_q1\"]\nadd_uv2 = true\nsize = Vector3(1, 2, 3)\n\n"
+          "[node name=\"World\" type=\"Node3D\"]\n"
+          "[node name=\"Rock\" type=\"MeshInstance3D\" parent=\".\"]\nmesh = ExtResource(\"2_r\")\n"
+          "[node name=\"Inline\" type=\"MeshInstance3D\" parent=\".\"]\nmesh = SubResource(\"ArrayMesh_x1\")\n"
+          "[node name=\"Box\" type=\"MeshInstance3D\" parent=\".\"]\nmesh = SubResource( \"BoxMesh_q1\" )\n",
+      "s.tscn");
+  ASSERT_EQ(t.sub.size(), 2u);
+  const GodotTscnSub* am = t.find_sub("ArrayMesh_x1");
+  ASSERT_NE(am, nullptr);
+  EXPECT_EQ(am->type, "ArrayMesh");
+  EXPECT_EQ(am->props.at("_surfaces"), surfaces);  // whole, line breaks kept
+  EXPECT_EQ(am->props.at("blend_shape_mode"), "0");
+  EXPECT_EQ(am->line, 3);
+  const GodotTscnSub* box = t.find_sub("BoxMesh_q1");
+  ASSERT_NE(box, nullptr);
+  EXPECT_EQ(box->props.at("size"), "Vector3(1, 2, 3)");
+  ASSERT_EQ(t.nodes.size(), 4u);
+  EXPECT_EQ(t.nodes[1].mesh_ext, "2_r");
+  EXPECT_EQ(t.nodes[2].mesh_sub, "ArrayMesh_x1");
+  EXPECT_EQ(t.nodes[3].mesh_sub, "BoxMesh_q1");
+  EXPECT_THROW(parse_godot_tscn("[node name=\"A\"]\n[sub_resource type=\"X\" id=\"1\"]\nv = [{\n", "open.tscn"), Error);
+}
