@@ -40,7 +40,8 @@ void add_input_options(CLI::App* c, InputArgs* a) {
   c->add_option("--godot-scene", a->godot_scene,
                 "A Godot project's scene (.tscn) holding the LightmapGI that baked the input: every lightmap user's "
                 "mesh (.glb + its .unwrap_cache UV2, or TEXCOORD_1), transform and atlas rectangle (.lmbake); "
-                "found by itself when the .tscn lies beside the EXR. Or the scene exported from Godot's editor as "
+                "found by itself in the EXR's project (the .tscn whose LightmapGI's light_data is NAME.lmbake). Or the "
+                "scene exported from Godot's editor as "
                 "glTF (.glb/.gltf with UV2 as TEXCOORD_1), placed by the NAME.lmbake beside the EXR");
   std::string names;
   for (const std::string& n : input_space_names()) names += (names.empty() ? "" : ", ") + n;

@@ -7,11 +7,19 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 
+#include "bakers/godot/godot_unwrap_key.h"
+#include "cli_runner.h"
 #include "core/error.h"
 #include "io/godot_lmbake.h"
+#include "io/godot_scene.h"
 #include "io/godot_tscn.h"
+#include "io/godot_unwrap_cache.h"
+#include "test_data.h"
 
+namespace fs = std::filesystem;
 using namespace ahd;
 
 namespace {
@@ -41,7 +49,8 @@ struct Rsrc {
 // A LightmapGIData with one user ("../Box", rectangle 0.25, 0.5, 0.5, 0.25, slice 1), a
 // PackedVector4Array and a Callable property before user_data, written as format `format`.
 // `uid_flag` false: flags without FORMAT_FLAG_UIDS (the uid field is written all the same).
-std::vector<uint8_t> lmbake_bytes(uint32_t format, bool uid_flag = true) {
+std::vector<uint8_t> lmbake_bytes(uint32_t format, bool uid_flag = true,
+                                  const std::vector<std::string>& path = {"..", "Box"}) {
   Rsrc r;
   r.b = {'R', 'S', 'R', 'C'};
   r.u32(0), r.u32(0), r.u32(4), r.u32(format >= 6 ? 3 : 2), r.u32(format);
@@ -50,7 +59,8 @@ std::vector<uint8_t> lmbake_bytes(uint32_t format, bool uid_flag = true) {
   r.u32(uid_flag ? 3 : 1);       // named scene ids (+ uids)
   r.u64(0x1234567890abcdefull);  // uid
   for (int i = 0; i < 11; ++i) r.u32(0);
-  const std::vector<std::string> strings = {"extra", "later", "user_data", "uses_spherical_harmonics", "..", "Box"};
+  std::vector<std::string> strings = {"extra", "later", "user_data", "uses_spherical_harmonics"};
+  strings.insert(strings.end(), path.begin(), path.end());
   r.u32(uint32_t(strings.size()));
   for (const std::string& s : strings) r.str(s);
   r.u32(0);  // external resources
@@ -67,11 +77,32 @@ std::vector<uint8_t> lmbake_bytes(uint32_t format, bool uid_flag = true) {
   r.u32(1), r.u32(42);                                // later: Callable (no payload)
   r.u32(3), r.u32(2), r.u32(1);                       // uses_spherical_harmonics: bool true
   r.u32(2), r.u32(30), r.u32(4);                      // user_data: Array of 4
-  r.u32(22), r.u16(2), r.u16(0), r.u32(4), r.u32(5);  // NodePath "../Box"
+  r.u32(22), r.u16(uint16_t(path.size())), r.u16(0);  // NodePath "../Box"
+  for (size_t i = 0; i < path.size(); ++i) r.u32(uint32_t(4 + i));
   r.u32(11), r.f32(0.25f), r.f32(0.5f), r.f32(0.5f), r.f32(0.25f);
   r.u32(3), r.u32(1);
   r.u32(3), r.u32(uint32_t(-1));
   return r.b;
+}
+
+void write(const fs::path& p, const std::string& text) {
+  fs::create_directories(p.parent_path());
+  std::ofstream(p, std::ios::binary) << text;
+}
+void write(const fs::path& p, const std::vector<uint8_t>& bytes) {
+  fs::create_directories(p.parent_path());
+  std::ofstream(p, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+}
+
+std::string lightmap_scene(const std::string& lmbake_res, const std::string& extra_nodes) {
+  return "[gd_scene load_steps=3 format=3 uid=\"uid://abc\"]\n\n"
+         "[ext_resource type=\"LightmapGIData\" uid=\"uid://def\" path=\"" +
+         lmbake_res +
+         "\" id=\"1_lm\"]\n\n"
+         "[sub_resource type=\"BoxMesh\" id=\"BoxMesh_q1\"]\nadd_uv2 = true\nsize = Vector3(1, 2, 3)\n\n"
+         "[node name=\"World\" type=\"Node3D\"]\n\n"
+         "[node name=\"LightmapGI\" type=\"LightmapGI\" parent=\".\"]\nlight_data = ExtResource(\"1_lm\")\n\n" +
+         extra_nodes;
 }
 
 }  // namespace
@@ -190,4 +221,138 @@ TEST(GodotReader, SubResourcesAndNodeMeshesAreKept) {
   EXPECT_EQ(t.nodes[2].mesh_sub, "ArrayMesh_x1");
   EXPECT_EQ(t.nodes[3].mesh_sub, "BoxMesh_q1");
   EXPECT_THROW(parse_godot_tscn("[node name=\"A\"]\n[sub_resource type=\"X\" id=\"1\"]\nv = [{\n", "open.tscn"), Error);
+}
+
+// Gap 5 + 6: an instance whose mesh is a sub_resource goes to the mesh-resource reader; while that
+// reader does not read the kind, the instance is named with the cause, and the paths stay as given.
+TEST(GodotReader, SceneMeshesAreRoutedAndNamedWhenNotRead) {
+  const fs::path dir = ahd_test::temp_dir("godot_reader_route");
+  write(dir / "project.godot", "config_version=5\n");
+  write(dir / "scenes/world.lmbake", lmbake_bytes(6));
+  write(
+      dir / "scenes/world.tscn",
+      lightmap_scene("res://scenes/world.lmbake",
+                     "[node name=\"Box\" type=\"MeshInstance3D\" parent=\".\"]\nmesh = SubResource(\"BoxMesh_q1\")\n"));
+  const fs::path rel = fs::relative(dir / "scenes/world.tscn");
+  ASSERT_TRUE(rel.is_relative());
+  try {
+    load_godot_scene(rel.string());
+    ADD_FAILURE() << "accepted";
+  } catch (const Error& e) {
+    const std::string m = e.what();
+    EXPECT_EQ(m.rfind((rel.parent_path() / "world.lmbake").string() + ": none of its 1 users", 0), 0u) << m;
+    EXPECT_TRUE(contains(m, "lightmap user ../Box left out: BoxMesh sub_resource \"BoxMesh_q1\": ")) << m;
+    EXPECT_TRUE(contains(m, "BoxMesh meshes are not read yet")) << m;
+    EXPECT_FALSE(contains(m, " " + dir.string()) || m.rfind(dir.string(), 0) == 0) << m;  // relative stays relative
+  }
+  fs::remove_all(dir);
+}
+
+// Gap 3: the scene is found anywhere in the project (the nearest project.godot above the EXR),
+// not in .godot/ or other hidden folders; several: the one beside the EXR, else a list and the remedy.
+TEST(GodotReader, SceneIsFoundInTheWholeProject) {
+  const fs::path dir = ahd_test::temp_dir("godot_reader_find");
+  write(dir / "project.godot", "config_version=5\n");
+  write(dir / "bakes/world.exr", "not read here");
+  write(dir / "bakes/world.lmbake", lmbake_bytes(5));
+  const std::string scene = lightmap_scene("res://bakes/world.lmbake", "");
+  write(dir / "levels/one/world_level.tscn", scene);
+  write(dir / ".godot/imported/copy.tscn", scene);                                       // hidden: skipped
+  write(dir / "levels/other.tscn", lightmap_scene("res://elsewhere/world.lmbake", ""));  // another bake
+  const fs::path rel = fs::relative(dir / "bakes/world.exr");
+  EXPECT_EQ(find_godot_scene(rel.string()), (rel.parent_path().parent_path() / "levels/one/world_level.tscn").string());
+  EXPECT_EQ(find_godot_scene((dir / "bakes/world.exr").string()), (dir / "levels/one/world_level.tscn").string());
+  // A second scene baking the same file: refused with both names and --godot-scene.
+  write(dir / "levels/two/again.tscn", scene);
+  try {
+    find_godot_scene((dir / "bakes/world.exr").string());
+    ADD_FAILURE() << "accepted";
+  } catch (const Error& e) {
+    const std::string m = e.what();
+    EXPECT_TRUE(contains(m, "2 scenes bake it")) << m;
+    EXPECT_TRUE(contains(m, "world_level.tscn")) << m;
+    EXPECT_TRUE(contains(m, "again.tscn")) << m;
+    EXPECT_TRUE(contains(m, "--godot-scene")) << m;
+  }
+  // …unless one lies beside the EXR.
+  write(dir / "bakes/world.tscn", scene);
+  EXPECT_EQ(find_godot_scene((dir / "bakes/world.exr").string()), (dir / "bakes/world.tscn").string());
+  // No .lmbake beside the EXR: nothing to look for.
+  EXPECT_EQ(find_godot_scene((dir / "levels/none.exr").string()), "");
+  fs::remove_all(dir);
+}
+
+TEST(GodotReader, Md5MatchesRfc1321) {
+  const auto hex = [](const std::string& s) { return godot_unwrap_key_hex(md5_digest(s.data(), s.size())); };
+  EXPECT_EQ(hex(""), "d41d8cd98f00b204e9800998ecf8427e");
+  EXPECT_EQ(hex("abc"), "900150983cd24fb0d6963f7d28e17f72");
+  EXPECT_EQ(hex("message digest"), "f96b697d7cb7938d525a2f31aaf161d0");
+  EXPECT_EQ(hex("12345678901234567890123456789012345678901234567890123456789012345678901234567890"),
+            "57edf4a22be3c955ac49da2e2107b67a");
+}
+
+// Gap 4: each mesh takes the entry whose hash is its Godot key. On the real project every cached
+// mesh finds its entry by key (none by its triangles); a cache entry moved to another file is
+// not taken by a mesh of that file, and the instance is named with the reason.
+TEST(GodotReader, UnwrapCacheEntriesAreMatchedByGodotsKey) {
+  const fs::path bake = ahd_test::test_data("bakes/godot42-vermilion/project");
+  if (!fs::exists(bake / "scenes/world.tscn")) GTEST_SKIP() << "no " << bake / "scenes/world.tscn";
+  const GodotSceneMeshes g = load_godot_scene((bake / "scenes/world.tscn").string());
+  EXPECT_EQ(g.scene.instances.size(), 55u);
+  for (const std::string& n : g.notes) EXPECT_FALSE(contains(n, "by its triangles")) << n;
+
+  const fs::path dir = ahd_test::temp_dir("godot_reader_key");
+  fs::copy(bake, dir / "project", fs::copy_options::recursive);
+  const fs::path models = dir / "project/assets/models";
+  // The window's cache now holds the doorframe's entry: no entry of the window's key is there.
+  fs::copy_file(models / "apartments/doorframe/doorframe.glb.unwrap_cache",
+                models / "apartments/window/window.glb.unwrap_cache", fs::copy_options::overwrite_existing);
+  const GodotSceneMeshes w = load_godot_scene((dir / "project/scenes/world.tscn").string());
+  EXPECT_LT(w.scene.instances.size(), 55u);
+  bool named = false;
+  for (const std::string& n : w.notes)
+    named = named || (contains(n, "lightmap user ../ApartmentA1Props/Windows/Window/Window left out: ") &&
+                      contains(n, "window.glb.unwrap_cache has no entry for mesh 'Plane.012' (145 vertices)"));
+  EXPECT_TRUE(named) << testing::PrintToString(w.notes);
+  // The chair's entry with its hash damaged: found by its triangles (said so), nothing else changes.
+  const fs::path chair = models / "chair/chair.glb.unwrap_cache";
+  std::vector<uint8_t> c;
+  {
+    std::ifstream f(chair, std::ios::binary);
+    c.assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+  }
+  ASSERT_GT(c.size(), 20u);
+  c[4] ^= 0xff;
+  write(chair, c);
+  const GodotSceneMeshes h = load_godot_scene((dir / "project/scenes/world.tscn").string());
+  bool by_triangles = false;
+  for (const std::string& n : h.notes)
+    by_triangles = by_triangles || contains(n, "chair.glb.unwrap_cache: mesh 'Cylinder.006'");
+  EXPECT_TRUE(by_triangles) << testing::PrintToString(h.notes);
+  EXPECT_EQ(h.scene.instances.size(), w.scene.instances.size());
+  fs::remove_all(dir);
+}
+
+// The bed frame of the real project sits under a rotated (90 degrees about y) and scaled glTF node:
+// its key needs the node's scale exactly as Godot's float basis gives it. Its entry is found by key.
+TEST(GodotReader, RotatedScaledNodeFindsItsEntryByKey) {
+  const fs::path models = ahd_test::test_data("bakes/godot42-vermilion/project/assets/models/bed");
+  if (!fs::exists(models / "bedframe.glb")) GTEST_SKIP() << "no " << models / "bedframe.glb";
+  const fs::path dir = ahd_test::temp_dir("godot_reader_bed");
+  write(dir / "project.godot", "config_version=5\n");
+  fs::create_directories(dir / "bed");
+  for (const char* f : {"bedframe.glb", "bedframe.glb.import", "bedframe.glb.unwrap_cache"})
+    fs::copy_file(models / f, dir / "bed" / f);
+  write(dir / "world.lmbake", lmbake_bytes(5, true, {"..", "Bed", "Cube_002"}));
+  write(dir / "world.tscn",
+        "[gd_scene load_steps=3 format=3]\n"
+        "[ext_resource type=\"LightmapGIData\" path=\"res://world.lmbake\" id=\"1_lm\"]\n"
+        "[ext_resource type=\"PackedScene\" path=\"res://bed/bedframe.glb\" id=\"2_bed\"]\n"
+        "[node name=\"World\" type=\"Node3D\"]\n"
+        "[node name=\"LightmapGI\" type=\"LightmapGI\" parent=\".\"]\nlight_data = ExtResource(\"1_lm\")\n"
+        "[node name=\"Bed\" parent=\".\" instance=ExtResource(\"2_bed\")]\n");
+  const GodotSceneMeshes g = load_godot_scene((dir / "world.tscn").string());
+  ASSERT_EQ(g.scene.instances.size(), 1u) << testing::PrintToString(g.notes);
+  for (const std::string& n : g.notes) EXPECT_FALSE(contains(n, "by its triangles")) << n;
+  fs::remove_all(dir);
 }
