@@ -6,6 +6,7 @@
 // scene/resources/resource_format_text.cpp); the real project is tests/data/bakes/godot42-vermilion.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -46,11 +47,12 @@ struct Rsrc {
   }
 };
 
-// A LightmapGIData with one user ("../Box", rectangle 0.25, 0.5, 0.5, 0.25, slice 1), a
-// PackedVector4Array and a Callable property before user_data, written as format `format`.
-// `uid_flag` false: flags without FORMAT_FLAG_UIDS (the uid field is written all the same).
+// A LightmapGIData whose users are `users` (node paths by name; default one, "../Box"), each
+// with the rectangle 0.25, 0.5, 0.5, 0.25 and slice 1, after a PackedVector4Array and a Callable
+// property, written as format `format`. `uid_flag` false: flags without FORMAT_FLAG_UIDS (the uid
+// field is written all the same).
 std::vector<uint8_t> lmbake_bytes(uint32_t format, bool uid_flag = true,
-                                  const std::vector<std::string>& path = {"..", "Box"}) {
+                                  const std::vector<std::vector<std::string>>& users = {{"..", "Box"}}) {
   Rsrc r;
   r.b = {'R', 'S', 'R', 'C'};
   r.u32(0), r.u32(0), r.u32(4), r.u32(format >= 6 ? 3 : 2), r.u32(format);
@@ -60,7 +62,15 @@ std::vector<uint8_t> lmbake_bytes(uint32_t format, bool uid_flag = true,
   r.u64(0x1234567890abcdefull);  // uid
   for (int i = 0; i < 11; ++i) r.u32(0);
   std::vector<std::string> strings = {"extra", "later", "user_data", "uses_spherical_harmonics"};
-  strings.insert(strings.end(), path.begin(), path.end());
+  std::vector<std::vector<uint32_t>> ids;  // each user's names in the string table
+  for (const std::vector<std::string>& path : users) {
+    ids.emplace_back();
+    for (const std::string& name : path) {
+      const auto at = std::find(strings.begin(), strings.end(), name);
+      ids.back().push_back(uint32_t(at - strings.begin()));
+      if (at == strings.end()) strings.push_back(name);
+    }
+  }
   r.u32(uint32_t(strings.size()));
   for (const std::string& s : strings) r.str(s);
   r.u32(0);  // external resources
@@ -74,14 +84,16 @@ std::vector<uint8_t> lmbake_bytes(uint32_t format, bool uid_flag = true,
   r.u32(4);                       // properties
   r.u32(0), r.u32(53), r.u32(2);  // extra: PackedVector4Array of 2
   for (int i = 0; i < 8; ++i) r.f32(float(i));
-  r.u32(1), r.u32(42);                                // later: Callable (no payload)
-  r.u32(3), r.u32(2), r.u32(1);                       // uses_spherical_harmonics: bool true
-  r.u32(2), r.u32(30), r.u32(4);                      // user_data: Array of 4
-  r.u32(22), r.u16(uint16_t(path.size())), r.u16(0);  // NodePath "../Box"
-  for (size_t i = 0; i < path.size(); ++i) r.u32(uint32_t(4 + i));
-  r.u32(11), r.f32(0.25f), r.f32(0.5f), r.f32(0.5f), r.f32(0.25f);
-  r.u32(3), r.u32(1);
-  r.u32(3), r.u32(uint32_t(-1));
+  r.u32(1), r.u32(42);                                     // later: Callable (no payload)
+  r.u32(3), r.u32(2), r.u32(1);                            // uses_spherical_harmonics: bool true
+  r.u32(2), r.u32(30), r.u32(uint32_t(4 * users.size()));  // user_data: Array of 4 per user
+  for (const std::vector<uint32_t>& path : ids) {
+    r.u32(22), r.u16(uint16_t(path.size())), r.u16(0);  // NodePath
+    for (uint32_t i : path) r.u32(i);
+    r.u32(11), r.f32(0.25f), r.f32(0.5f), r.f32(0.5f), r.f32(0.25f);
+    r.u32(3), r.u32(1);
+    r.u32(3), r.u32(uint32_t(-1));
+  }
   return r.b;
 }
 
@@ -343,7 +355,7 @@ TEST(GodotReader, RotatedScaledNodeFindsItsEntryByKey) {
   fs::create_directories(dir / "bed");
   for (const char* f : {"bedframe.glb", "bedframe.glb.import", "bedframe.glb.unwrap_cache"})
     fs::copy_file(models / f, dir / "bed" / f);
-  write(dir / "world.lmbake", lmbake_bytes(5, true, {"..", "Bed", "Cube_002"}));
+  write(dir / "world.lmbake", lmbake_bytes(5, true, {{"..", "Bed", "Cube_002"}}));
   write(dir / "world.tscn",
         "[gd_scene load_steps=3 format=3]\n"
         "[ext_resource type=\"LightmapGIData\" path=\"res://world.lmbake\" id=\"1_lm\"]\n"
@@ -354,5 +366,79 @@ TEST(GodotReader, RotatedScaledNodeFindsItsEntryByKey) {
   const GodotSceneMeshes g = load_godot_scene((dir / "world.tscn").string());
   ASSERT_EQ(g.scene.instances.size(), 1u) << testing::PrintToString(g.notes);
   for (const std::string& n : g.notes) EXPECT_FALSE(contains(n, "by its triangles")) << n;
+  fs::remove_all(dir);
+}
+
+// The regression: two meshes of one file with the same vertex count (two quads, the second twice
+// as wide) and the cache holding the second's entry first. Matched by vertex count the first quad
+// took the second's UV2; by Godot's key each takes its own.
+TEST(GodotReader, MeshesOfEqualVertexCountTakeTheirOwnEntries) {
+  const fs::path dir = ahd_test::temp_dir("godot_reader_twins");
+  write(dir / "project.godot", "config_version=5\n");
+  const float pos[2][12] = {{0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0}, {0, 0, 0, 2, 0, 0, 2, 1, 0, 0, 1, 0}};
+  const float nrm[12] = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
+  const uint32_t idx[6] = {0, 1, 2, 0, 2, 3};
+  std::vector<uint8_t> bin;
+  const auto put = [&](const void* p, size_t n) {
+    bin.insert(bin.end(), static_cast<const uint8_t*>(p), static_cast<const uint8_t*>(p) + n);
+  };
+  put(pos[0], 48), put(pos[1], 48), put(nrm, 48), put(idx, 24);
+  write(dir / "m/twins.bin", bin);
+  std::string views, accessors;
+  const size_t off[4] = {0, 48, 96, 144}, len[4] = {48, 48, 48, 24};
+  for (int v = 0; v < 4; ++v)
+    views += std::string(v ? "," : "") + "{\"buffer\":0,\"byteOffset\":" + std::to_string(off[v]) +
+             ",\"byteLength\":" + std::to_string(len[v]) + "}";
+  accessors =
+      "{\"bufferView\":0,\"componentType\":5126,\"count\":4,\"type\":\"VEC3\",\"min\":[0,0,0],\"max\":[1,1,0]},"
+      "{\"bufferView\":1,\"componentType\":5126,\"count\":4,\"type\":\"VEC3\",\"min\":[0,0,0],\"max\":[2,1,0]},"
+      "{\"bufferView\":2,\"componentType\":5126,\"count\":4,\"type\":\"VEC3\"},"
+      "{\"bufferView\":3,\"componentType\":5125,\"count\":6,\"type\":\"SCALAR\"}";
+  write(
+      dir / "m/twins.gltf",
+      "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],"
+      "\"nodes\":[{\"name\":\"Top\",\"children\":[1,2]},{\"name\":\"A\",\"mesh\":0},{\"name\":\"B\",\"mesh\":1}],"
+      "\"meshes\":[{\"name\":\"QuadA\",\"primitives\":[{\"attributes\":{\"POSITION\":0,\"NORMAL\":2},\"indices\":3}]},"
+      "{\"name\":\"QuadB\",\"primitives\":[{\"attributes\":{\"POSITION\":1,\"NORMAL\":2},\"indices\":3}]}],"
+      "\"buffers\":[{\"uri\":\"twins.bin\",\"byteLength\":168}],\"bufferViews\":[" +
+          views + "],\"accessors\":[" + accessors + "]}");
+  write(dir / "m/twins.gltf.import", "[params]\n\nmeshes/light_baking=2\nmeshes/lightmap_texel_size=0.2\n");
+  // The cache: B's entry (UV2 in the right half), then A's (left half); Godot's winding a, c, b.
+  const std::vector<uint32_t> winding = {0, 2, 1, 0, 3, 2};
+  const float one[3] = {1, 1, 1};
+  Rsrc c;
+  c.u32(2);
+  for (int m : {1, 0}) {
+    const std::vector<float> p(pos[m], pos[m] + 12), n(nrm, nrm + 12);
+    const GodotUnwrapKey key = godot_unwrap_key(p, n, winding, one, 0.2f);
+    c.b.insert(c.b.end(), key.begin(), key.end());
+    c.u32(8), c.u32(8), c.u32(4);
+    for (uint32_t v = 0; v < 4; ++v) c.u32(v);
+    for (uint32_t v = 0; v < 4; ++v)
+      c.f32(0.5f * float(m) + 0.5f * pos[m][v * 3] / float(m + 1)), c.f32(pos[m][v * 3 + 1]);
+    c.u32(6);
+    for (uint32_t i : winding) c.u32(i);
+  }
+  write(dir / "m/twins.gltf.unwrap_cache", c.b);
+  write(dir / "world.lmbake", lmbake_bytes(5, true, {{"..", "Twins", "Top", "A"}, {"..", "Twins", "Top", "B"}}));
+  write(dir / "world.tscn",
+        "[gd_scene load_steps=3 format=3]\n"
+        "[ext_resource type=\"LightmapGIData\" path=\"res://world.lmbake\" id=\"1_lm\"]\n"
+        "[ext_resource type=\"PackedScene\" path=\"res://m/twins.gltf\" id=\"2_tw\"]\n"
+        "[node name=\"World\" type=\"Node3D\"]\n"
+        "[node name=\"LightmapGI\" type=\"LightmapGI\" parent=\".\"]\nlight_data = ExtResource(\"1_lm\")\n"
+        "[node name=\"Twins\" parent=\".\" instance=ExtResource(\"2_tw\")]\n");
+  const GodotSceneMeshes g = load_godot_scene((dir / "world.tscn").string());
+  ASSERT_EQ(g.scene.instances.size(), 2u) << testing::PrintToString(g.notes);
+  for (const std::string& n : g.notes) EXPECT_FALSE(contains(n, "by its triangles")) << n;
+  // Instance 0 is A: its UV2 (v up: u as written) lies in the left half; B's in the right half.
+  for (size_t k = 0; k < 2; ++k) {
+    const MeshInstance& inst = g.scene.instances[k];
+    EXPECT_TRUE(contains(inst.node, k == 0 ? "/A" : "/B")) << inst.node;
+    for (size_t v = inst.first_vertex; v < inst.first_vertex + inst.vertices; ++v) {
+      const float u = g.scene.mesh.uv[v * 2];
+      EXPECT_TRUE(k == 0 ? u <= 0.5f : u >= 0.5f) << inst.node << " u " << u;
+    }
+  }
   fs::remove_all(dir);
 }
