@@ -42,7 +42,8 @@ const std::vector<BakeInputOption>& bake_input_options() {
         {"--godot-scene", &BakeInput::scene,
          "A Godot project's scene (.tscn) holding the LightmapGI that baked the input: every lightmap user's "
          "mesh (.glb + its .unwrap_cache UV2, or TEXCOORD_1), transform and atlas rectangle (.lmbake); "
-         "found by itself when the .tscn lies beside the EXR. Or the scene exported from Godot's editor as "
+         "found by itself in the EXR's project (the .tscn whose LightmapGI's light_data is NAME.lmbake). "
+         "Or the scene exported from Godot's editor as "
          "glTF (.glb/.gltf with UV2 as TEXCOORD_1), placed by the NAME.lmbake beside the EXR"},
         {"--input-space", &BakeInput::input_space,
          "The input's colour space, replacing what its files declare (or a missing declaration): " + names +

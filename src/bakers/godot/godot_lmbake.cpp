@@ -18,7 +18,7 @@ enum Tag : uint32_t {
   kPackedByte = 31, kPackedInt32 = 32, kPackedFloat32 = 33, kPackedString = 34, kPackedVector3 = 35,
   kPackedColor = 36, kPackedVector2 = 37, kInt64 = 40, kDouble = 41, kStringName = 44, kVector2i = 45,
   kRect2i = 46, kVector3i = 47, kPackedInt64 = 48, kPackedFloat64 = 49, kVector4 = 50, kVector4i = 51,
-  kProjection = 52, kPackedVector4 = 53,
+  kProjection = 52, kPackedVector4 = 53, kCallable = 42, kSignal = 43,
 };
 
 // What the readers need of a value (GodotBinaryValue, godot_lmbake.h); everything else is skipped
@@ -113,7 +113,7 @@ struct Parser {
     v.tag = r.u32();
     const size_t rs = real64 ? 8 : 4;
     switch (v.tag) {
-      case kNil: break;
+      case kNil: case kCallable: case kSignal: break;  // no payload (Callable and Signal are not saved)
       case kBool: case kInt: v.i64 = int32_t(r.u32()), v.num[0] = double(v.i64); break;
       case kInt64: v.i64 = int64_t(r.u64()), v.num[0] = double(v.i64); break;
       case kFloat: v.num[0] = r.f32(); break;
@@ -191,6 +191,8 @@ bool is_int(const Value& v) { return v.tag == kInt || v.tag == kInt64; }
 
 GodotLightmapData parse_godot_lmbake(const uint8_t* data, size_t size, const std::string& source) {
   Reader r(data, size, source);
+  if (size >= 4 && std::memcmp(data, "RSCC", 4) == 0)
+    throw file_error(source, "a compressed Godot resource (RSCC) is not read: save it uncompressed from Godot's editor");
   if (size < 4 || std::memcmp(data, "RSRC", 4) != 0)
     throw file_error(source, "not a Godot binary resource (no RSRC header; a text .tres is not read)");
   r.take(4);
@@ -200,14 +202,18 @@ GodotLightmapData parse_godot_lmbake(const uint8_t* data, size_t size, const std
   out.engine_major = int(r.u32());
   out.engine_minor = int(r.u32());
   out.format = int(r.u32());
-  if (out.format < 3 || out.format > 5)
-    throw file_error(source, "Godot resource format " + std::to_string(out.format) +
-                                 " is not read (3..5: Godot 3.x to 4.2)");
+  // Format 3: Godot 3.x NodePath encoding; 4: string ids of sub-resources (4.0, 4.1); 5: a script
+  // class in the header (4.2); 6: the PackedVector4Array tag (4.3 and later). The header and the
+  // values read here are laid out alike in all four (resource_format_binary.cpp, FORMAT_VERSION).
+  if (out.format < 3 || out.format > 6)
+    throw file_error(source, "Godot resource format " + std::to_string(out.format) + " (written by Godot " +
+                                 std::to_string(out.engine_major) + "." + std::to_string(out.engine_minor) +
+                                 ") is not read: formats 3..6 are (Godot 3.x to 4.x)");
   out.type = r.str();
   r.u64();  // import metadata offset
   const uint32_t flags = r.u32();
   Parser p{r, {}, real64_header || (flags & 4u)};
-  if (flags & 2u) r.u64();           // uid
+  r.u64();                           // uid: always stored, meaningful when flags has FORMAT_FLAG_UIDS (2)
   if (flags & 8u) r.str();           // script class
   r.take(11 * 4);                    // reserved fields
   const uint32_t nstrings = r.count(r.u32(), 4);

@@ -60,7 +60,7 @@ GodotBinaryResource parse_godot_binary_resource(const uint8_t* data, size_t size
 // Parses the bytes of a .lmbake. Pure, safe on untrusted input: every count is bounded by the bytes
 // left before anything is allocated, nesting is limited, offsets are checked. Throws
 // ahd::Error("<source>: <cause>") for a file that is not a Godot binary resource, a format it does
-// not read (big-endian, format version other than 3..5), a truncated or inconsistent file, or a
+// not read (big-endian, format version other than 3..6), a truncated or inconsistent file, or a
 // user_data array that is not (NodePath, Rect2, int, int) tuples.
 GodotLightmapData parse_godot_lmbake(const uint8_t* data, size_t size, const std::string& source);
 

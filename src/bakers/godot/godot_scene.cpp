@@ -7,12 +7,15 @@
 #include <assimp/scene.h>
 #include <cctype>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <set>
 #include <sstream>
 
+#include "bakers/godot/godot_mesh_resource.h"
+#include "bakers/godot/godot_unwrap_key.h"
 #include "core/error.h"
 #include "bakers/godot/godot_lmbake.h"
 #include "files/input_record.h"
@@ -49,6 +52,7 @@ struct Node {
   int parent = -1;
   std::vector<int> children;
   int geometry = -1;
+  std::string why;           // why it has no geometry (for the users left out), "" when not known
   bool placeholder = false;  // an instanced file that is missing or not a scene/mesh
 };
 
@@ -87,8 +91,18 @@ struct Loader {
   std::vector<std::string> stack;  // scenes being instanced (cycles)
 
   std::string resolve(const std::string& res, const fs::path& from_dir) const {
-    if (res.rfind("res://", 0) == 0) return (project / res.substr(6)).lexically_normal().string();
-    return (from_dir / res).lexically_normal().string();
+    return shortest((res.rfind("res://", 0) == 0 ? project / res.substr(6) : from_dir / res).lexically_normal());
+  }
+
+  // A relative path that climbs out of the working folder ("../scenes/a.tscn" seen from scenes/)
+  // spelt from the working folder ("a.tscn"); any other path as it is.
+  static std::string shortest(const fs::path& p) {
+    if (p.is_relative() && !p.empty() && *p.begin() == "..") {
+      std::error_code ec;
+      const fs::path r = fs::relative(p, ec);
+      if (!ec && !r.empty()) return r.string();
+    }
+    return p.string();
   }
 
   int add(const std::string& name, int parent) {
@@ -133,7 +147,11 @@ struct Loader {
     }
     if (ext == ".tscn") return scene(path, parent, depth + 1);
     if (ext == ".glb" || ext == ".gltf") return mesh_file(path, parent);
-    notes.push_back(path + ": " + ext + " instances are not read (.tscn, .glb, .gltf)");
+    notes.push_back(
+        path + ": " + ext + " instances are not read (.tscn, .glb, .gltf are): " +
+        (ext == ".scn"
+             ? "save the scene as text (.tscn) in Godot"
+             : "export it as glTF (.glb) with its lightmap UVs, or give the scene's glTF export with --godot-scene"));
     const int id = add(fs::path(path).stem().string(), parent);
     nodes[size_t(id)].placeholder = true;
     return id;
@@ -172,9 +190,96 @@ struct Loader {
         }
       }
       if (tn.has_transform) std::copy(tn.transform, tn.transform + 12, nodes[size_t(id)].local.begin());
+      if (!tn.mesh_sub.empty() || !tn.mesh_ext.empty()) resource_mesh(t, tn, path, dir, id);
     }
     stack.pop_back();
     return root;
+  }
+
+  // `mesh = SubResource(…)` / `mesh = ExtResource(…)` on a node: the mesh defined in the scene or
+  // named as a resource file (bakers/godot/godot_mesh_resource.h), replacing an instanced node's.
+  // A mesh that cannot be read leaves the node without geometry and says why.
+  std::map<std::string, std::pair<int, std::string>> resource_meshes;  // scene|sub id or file -> geometry, why
+  void resource_mesh(const GodotTscn& t, const GodotTscnNode& tn, const std::string& path, const fs::path& dir,
+                     int id) {
+    std::string key, file = path;
+    const GodotTscnSub* sub = nullptr;
+    if (!tn.mesh_sub.empty()) {
+      sub = t.find_sub(tn.mesh_sub);
+      key = path + "|" + tn.mesh_sub;
+    } else if (const GodotTscnExt* e = t.find_ext(tn.mesh_ext)) {
+      file = resolve(e->path, dir);
+      key = file;
+    }
+    auto it = resource_meshes.find(key);
+    if (key.empty() || it == resource_meshes.end()) {
+      std::pair<int, std::string> r{-1, ""};
+      try {
+        MeshTriangles m;
+        if (key.empty())
+          throw file_error(path, "node '" + tn.name + "' has mesh = ExtResource(\"" + tn.mesh_ext +
+                                     "\"), which the scene does not declare");
+        if (!tn.mesh_sub.empty() && !sub)
+          throw file_error(path, "node '" + tn.name + "' has mesh = SubResource(\"" + tn.mesh_sub +
+                                     "\"), which the scene does not declare");
+        if (sub) {
+          m = godot_sub_resource_mesh(*sub, path, primitive_texel_size());
+        } else {
+          if (!fs::exists(file)) throw file_error(file, "mesh resource not in the project");
+          files.push_back(file);
+          m = godot_mesh_resource_bytes(read_text(file), file, primitive_texel_size());
+        }
+        const size_t verts = m.positions.size() / 3;
+        if (verts == 0 || m.uv.size() != verts * 2) throw file_error(file, "the mesh has no lightmap UV2");
+        if (m.normals.size() != verts * 3) m.normals = vertex_normals(m);
+        geometry.push_back({std::move(m), file});
+        r.first = int(geometry.size() - 1);
+      } catch (const Error& e) {
+        r.second = std::string(sub ? sub->type + " sub_resource \"" + sub->id + "\": " : "") + e.what();
+      }
+      if (key.empty()) {
+        nodes[size_t(id)].geometry = -1, nodes[size_t(id)].why = r.second;
+        return;
+      }
+      it = resource_meshes.emplace(key, r).first;
+    }
+    nodes[size_t(id)].geometry = it->second.first;
+    nodes[size_t(id)].why = it->second.second;
+  }
+
+  // The project's primitive texel size (project.godot, read once, and a file the result depends on).
+  float texel_size = -1;
+  float primitive_texel_size() {
+    if (texel_size > 0) return texel_size;
+    texel_size = kGodotPrimitiveTexelSize;
+    const fs::path settings = project / "project.godot";
+    std::error_code ec;
+    if (fs::is_regular_file(settings, ec)) {
+      files.push_back(settings.string());
+      texel_size = godot_primitive_texel_size(read_text(settings.string()));
+    }
+    return texel_size;
+  }
+
+  // Area-weighted vertex normals of a mesh given without them.
+  static std::vector<float> vertex_normals(const MeshTriangles& m) {
+    std::vector<float> n(m.positions.size(), 0.0f);
+    for (size_t t = 0; t + 2 < m.indices.size(); t += 3) {
+      const uint32_t i[3] = {m.indices[t], m.indices[t + 1], m.indices[t + 2]};
+      if (size_t(std::max({i[0], i[1], i[2]})) * 3 + 2 >= m.positions.size()) continue;
+      const float* a = &m.positions[i[0] * 3];
+      const float* b = &m.positions[i[1] * 3];
+      const float* c = &m.positions[i[2] * 3];
+      const float u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+      const float f[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+      for (uint32_t k : i)
+        for (int d = 0; d < 3; ++d) n[k * 3 + uint32_t(d)] += f[d];
+    }
+    for (size_t v = 0; v + 2 < n.size(); v += 3) {
+      const float l = std::sqrt(n[v] * n[v] + n[v + 1] * n[v + 1] + n[v + 2] * n[v + 2]);
+      if (l > 0) n[v] /= l, n[v + 1] /= l, n[v + 2] /= l;
+    }
+    return n;
   }
 
   // A .glb/.gltf as Godot imports it: a node named after the file holding the glTF root nodes;
@@ -193,8 +298,6 @@ struct Loader {
       cache = read_godot_unwrap_cache(cache_file);
       files.push_back(cache_file);
     }
-    std::vector<bool> used(cache.size(), false);
-    std::map<std::vector<unsigned>, int> by_meshes;  // nodes sharing meshes share the geometry
     const int root = add(fs::path(path).stem().string(), parent);
     // Assimp's root is the glTF scene's only root node, or a synthetic "ROOT" above several.
     const aiNode* top = sc->mRootNode;
@@ -204,81 +307,248 @@ struct Loader {
       for (unsigned c = 0; c < top->mNumChildren; ++c) todo.push_back({top->mChildren[c], root});
     else
       todo.push_back({top, root});
+    std::vector<std::pair<const aiNode*, int>> with_mesh;
     while (!todo.empty()) {
       const auto [an, p] = todo.back();
       todo.pop_back();
       const int id = add(godot_node_name(an->mName.C_Str()), p);
       const aiMatrix4x4& m = an->mTransformation;
       nodes[size_t(id)].local = {m.a1, m.a2, m.a3, m.b1, m.b2, m.b3, m.c1, m.c2, m.c3, m.a4, m.b4, m.c4};
-      if (an->mNumMeshes) {
-        std::vector<unsigned> key(an->mMeshes, an->mMeshes + an->mNumMeshes);
-        auto it = by_meshes.find(key);
-        if (it == by_meshes.end()) it = by_meshes.emplace(key, node_geometry(path, sc, key, gen_uv2, cache, &used)).first;
-        nodes[size_t(id)].geometry = it->second;
-      }
+      if (an->mNumMeshes) with_mesh.push_back({an, id});
       for (unsigned c = an->mNumChildren; c-- > 0;) todo.push_back({an->mChildren[c], id});
+    }
+    // Nodes sharing meshes and scale share the geometry (the scale is part of Godot's cache key).
+    UnwrapFile uf;
+    uf.path = path, uf.cache_file = cache_file, uf.gen_uv2 = gen_uv2, uf.cache = std::move(cache);
+    uf.texel = import_float(import_file, "meshes/lightmap_texel_size", 0.2f);
+    uf.texel = std::max(0.001f, uf.texel);  // as resource_importer_scene.cpp clamps it
+    const float root_scale = import_float(import_file, "nodes/root_scale", 1.0f);
+    std::map<std::pair<std::vector<unsigned>, std::array<float, 3>>, size_t> group_of;
+    std::vector<MeshGroup> groups;
+    for (const auto& [an, id] : with_mesh) {
+      MeshGroup g;
+      g.meshes.assign(an->mMeshes, an->mMeshes + an->mNumMeshes);
+      node_scales(an, sc->mRootNode, synthetic, root_scale, &g);
+      const auto key = std::make_pair(g.meshes, g.scales[0]);
+      auto it = group_of.find(key);
+      if (it == group_of.end()) {
+        it = group_of.emplace(key, groups.size()).first;
+        g.arrays = mesh_arrays(sc, g.meshes);
+        groups.push_back(std::move(g));
+      }
+      groups[it->second].nodes.push_back(id);
+    }
+    // First every mesh whose key is in the cache claims its entry; then the others are matched by
+    // their triangles among the entries left.
+    std::vector<bool> claimed(uf.cache.size(), false);
+    if (gen_uv2)
+      for (MeshGroup& g : groups) exact_entry(uf, &g, &claimed);
+    for (MeshGroup& g : groups) {
+      const int geo = group_geometry(uf, &g, claimed);
+      for (int id : g.nodes) {
+        nodes[size_t(id)].geometry = geo;
+        nodes[size_t(id)].why = g.why;
+      }
     }
     return root;
   }
 
-  // The lightmap geometry of a node's meshes (−1 when it has no lightmap UVs).
-  int node_geometry(const std::string& path, const aiScene* sc, const std::vector<unsigned>& meshes, bool gen_uv2,
-                    const std::vector<GodotUnwrapEntry>& cache, std::vector<bool>* used) {
+  // What a glTF file's meshes need for their lightmap UVs.
+  struct UnwrapFile {
+    std::string path, cache_file;
+    bool gen_uv2 = false;
+    std::vector<GodotUnwrapEntry> cache;
+    float texel = 0.2f;
+  };
+  // The arrays of a node's meshes, concatenated as Godot's importer concatenates a mesh's surfaces.
+  struct MeshArrays {
     std::vector<float> pos, nrm, uv1;
-    std::vector<uint32_t> idx;
-    bool all_uv1 = true;
+    std::vector<uint32_t> idx;  // as the file stores them (glTF winding)
+    bool all_uv1 = true, all_normals = true;
+    std::string name;
+  };
+  struct MeshGroup {
+    std::vector<unsigned> meshes;
+    std::vector<std::array<float, 3>> scales;  // the node's scale as Godot may have computed it (first: ours)
+    std::vector<int> nodes;
+    MeshArrays arrays;
+    int entry = -1;   // the cache entry matched by Godot's key
+    std::string why;  // why there is no geometry
+  };
+
+  static float import_float(const std::string& import_file, const std::string& key, float fallback) {
+    const std::string v = import_param(import_file, key);
+    char* end = nullptr;
+    const float f = std::strtof(v.c_str(), &end);
+    return v.empty() || !end || *end != '\0' || !std::isfinite(f) ? fallback : f;
+  }
+
+  // The scale of `an`'s transform in the scene Godot imports (importer_mesh.cpp keeps only the
+  // columns' lengths of the product of the node transforms up to the scene root, whose own
+  // transform is the root scale). Two ways to rebuild Godot's float basis from Assimp's matrices:
+  // from each node's decomposed rotation and scale (as Godot's glTF importer builds it), and from
+  // the matrices as Assimp holds them. The key decides which (if either) Godot computed.
+  static void node_scales(const aiNode* an, const aiNode* top, bool synthetic, float root_scale, MeshGroup* g) {
+    float trs[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, mat[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    for (const aiNode* at = an; at && !(synthetic && at == top); at = at->mParent) {
+      const aiMatrix4x4& m = at->mTransformation;
+      aiVector3D s, t;
+      aiQuaternion q;
+      m.Decompose(s, q, t);
+      const float quat[4] = {q.x, q.y, q.z, q.w}, sc[3] = {s.x, s.y, s.z};
+      float b[9];
+      godot_basis_from_trs(quat, sc, b);
+      godot_basis_mul(b, trs, trs);
+      const float r[9] = {m.a1, m.a2, m.a3, m.b1, m.b2, m.b3, m.c1, m.c2, m.c3};
+      godot_basis_mul(r, mat, mat);
+    }
+    const float rs[9] = {root_scale, 0, 0, 0, root_scale, 0, 0, 0, root_scale};
+    godot_basis_mul(rs, trs, trs);
+    godot_basis_mul(rs, mat, mat);
+    std::array<float, 3> a, b;
+    godot_node_scale(trs, a.data());
+    godot_node_scale(mat, b.data());
+    g->scales = {a};
+    if (b != a) g->scales.push_back(b);
+  }
+
+  static MeshArrays mesh_arrays(const aiScene* sc, const std::vector<unsigned>& meshes) {
+    MeshArrays a;
+    a.name = sc->mMeshes[meshes[0]]->mName.C_Str();
     for (unsigned mi : meshes) {
       const aiMesh* m = sc->mMeshes[mi];
       if (!(m->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
-      const uint32_t base = uint32_t(pos.size() / 3);
-      all_uv1 = all_uv1 && m->GetNumUVChannels() >= 2;
+      const uint32_t base = uint32_t(a.pos.size() / 3);
+      a.all_uv1 = a.all_uv1 && m->GetNumUVChannels() >= 2;
+      a.all_normals = a.all_normals && m->HasNormals();
       for (unsigned v = 0; v < m->mNumVertices; ++v) {
-        pos.insert(pos.end(), {m->mVertices[v].x, m->mVertices[v].y, m->mVertices[v].z});
+        a.pos.insert(a.pos.end(), {m->mVertices[v].x, m->mVertices[v].y, m->mVertices[v].z});
         const aiVector3D n = m->HasNormals() ? m->mNormals[v] : aiVector3D(0, 0, 0);
-        nrm.insert(nrm.end(), {n.x, n.y, n.z});
+        a.nrm.insert(a.nrm.end(), {n.x, n.y, n.z});
         const aiVector3D t = m->GetNumUVChannels() >= 2 ? m->mTextureCoords[1][v] : aiVector3D(0, 0, 0);
-        uv1.insert(uv1.end(), {t.x, t.y});
+        a.uv1.insert(a.uv1.end(), {t.x, t.y});
       }
       for (unsigned f = 0; f < m->mNumFaces; ++f)
         if (m->mFaces[f].mNumIndices == 3)
-          for (unsigned k = 0; k < 3; ++k) idx.push_back(base + m->mFaces[f].mIndices[k]);
+          for (unsigned k = 0; k < 3; ++k) a.idx.push_back(base + m->mFaces[f].mIndices[k]);
     }
-    const uint32_t verts = uint32_t(pos.size() / 3);
-    if (verts == 0) return -1;
-    Geometry g;
-    g.file = path;
-    const std::string mesh_name = sc->mMeshes[meshes[0]]->mName.C_Str();
-    if (gen_uv2 && !cache.empty()) {
-      size_t pick = cache.size();
-      for (size_t e = 0; e < cache.size() && pick == cache.size(); ++e)
-        if (!(*used)[e] && cache[e].source_vertices == verts) pick = e;
-      for (size_t e = 0; e < cache.size() && pick == cache.size(); ++e)  // shared by several nodes
-        if (cache[e].source_vertices == verts) pick = e;
-      if (pick == cache.size()) {
-        notes.push_back(path + ".unwrap_cache: no entry for mesh '" + mesh_name + "' (" + std::to_string(verts) +
-                        " vertices): the cache is from another version of the file; reimport it in Godot");
-        return -1;
-      }
-      (*used)[pick] = true;
-      const GodotUnwrapEntry& e = cache[pick];
-      for (size_t v = 0; v < e.source_vertex.size(); ++v) {
-        const size_t s = e.source_vertex[v];
-        g.mesh.positions.insert(g.mesh.positions.end(), pos.begin() + std::ptrdiff_t(s * 3), pos.begin() + std::ptrdiff_t(s * 3 + 3));
-        g.mesh.normals.insert(g.mesh.normals.end(), nrm.begin() + std::ptrdiff_t(s * 3), nrm.begin() + std::ptrdiff_t(s * 3 + 3));
-        g.mesh.uv.insert(g.mesh.uv.end(), {e.uv2[v * 2], 1.0f - e.uv2[v * 2 + 1]});  // v down → v up
-      }
-      g.mesh.indices = e.indices;
-    } else if (all_uv1) {
-      g.mesh.positions = pos;
-      g.mesh.normals = nrm;
-      g.mesh.uv = uv1;  // Assimp hands glTF UVs over v up already
-      g.mesh.indices = idx;
-    } else {
-      notes.push_back(path + ": mesh '" + mesh_name + "' has no lightmap UVs (no TEXCOORD_1" +
-                      std::string(gen_uv2 ? ", no .unwrap_cache" : ", not imported with light_baking=2") + ")");
+    return a;
+  }
+
+  static GodotUnwrapKey key_of(const GodotUnwrapEntry& e) {
+    GodotUnwrapKey k;
+    std::copy(e.hash, e.hash + 16, k.begin());
+    return k;
+  }
+
+  // Godot's triangles: glTF's a, b, c is Godot's a, c, b (its front faces are clockwise).
+  static std::vector<uint32_t> godot_winding(const std::vector<uint32_t>& idx) {
+    std::vector<uint32_t> w = idx;
+    for (size_t t = 0; t + 2 < w.size(); t += 3) std::swap(w[t + 1], w[t + 2]);
+    return w;
+  }
+
+  // The entry whose hash is the mesh's key (Godot's own lookup, modules/xatlas_unwrap).
+  static void exact_entry(const UnwrapFile& uf, MeshGroup* g, std::vector<bool>* claimed) {
+    if (uf.cache.empty() || g->arrays.pos.empty() || !g->arrays.all_normals) return;
+    const std::vector<uint32_t> w = godot_winding(g->arrays.idx);
+    for (const std::array<float, 3>& s : g->scales) {
+      const GodotUnwrapKey key = godot_unwrap_key(g->arrays.pos, g->arrays.nrm, w, s.data(), uf.texel);
+      for (size_t e = 0; e < uf.cache.size(); ++e)
+        if (std::equal(key.begin(), key.end(), uf.cache[e].hash)) {
+          g->entry = int(e);
+          (*claimed)[e] = true;
+          return;
+        }
+    }
+  }
+
+  // Whether entry `e`'s triangles, through its source vertices, are the mesh's (in Godot's winding
+  // and order; the unwrapper may have dropped degenerate ones).
+  static bool same_triangles(const GodotUnwrapEntry& e, const std::vector<uint32_t>& w, size_t verts) {
+    if (e.source_vertices > verts || e.indices.empty() || e.indices.size() > w.size()) return false;
+    size_t at = 0, skipped = 0;
+    for (size_t t = 0; t + 2 < e.indices.size(); t += 3) {
+      const uint32_t a = e.source_vertex[e.indices[t]], b = e.source_vertex[e.indices[t + 1]],
+                     c = e.source_vertex[e.indices[t + 2]];
+      while (at + 2 < w.size() && !(w[at] == a && w[at + 1] == b && w[at + 2] == c)) at += 3, ++skipped;
+      if (at + 2 >= w.size()) return false;
+      at += 3;
+    }
+    return skipped * 10 <= w.size() / 3;
+  }
+
+  // The lightmap geometry of a group's meshes (−1 when it has none: g->why says why).
+  int group_geometry(const UnwrapFile& uf, MeshGroup* g, const std::vector<bool>& claimed) {
+    const MeshArrays& a = g->arrays;
+    const uint32_t verts = uint32_t(a.pos.size() / 3);
+    if (verts == 0) {
+      g->why = uf.path + ": mesh '" + a.name + "' has no triangles";
       return -1;
     }
-    geometry.push_back(std::move(g));
+    Geometry geo;
+    geo.file = uf.path;
+    if (uf.gen_uv2 && !uf.cache.empty()) {
+      int pick = g->entry;
+      if (pick < 0) {
+        const std::vector<uint32_t> w = godot_winding(a.idx);  // Godot's winding
+        std::vector<size_t> fit;
+        for (size_t e = 0; e < uf.cache.size(); ++e)
+          if (!claimed[e] && same_triangles(uf.cache[e], w, verts)) fit.push_back(e);
+        const std::string mesh = "mesh '" + a.name + "' (" + std::to_string(verts) + " vertices)";
+        if (fit.size() == 1) {
+          pick = int(fit[0]);
+          notes.push_back(
+              uf.cache_file + ": " + mesh + " takes entry " + std::to_string(pick + 1) + " of " +
+              std::to_string(uf.cache.size()) + " by its triangles, not by Godot's key (its positions or " +
+              "normals differ from those the cache was made from, or its node's scale is not reproduced here)");
+        } else if (fit.size() > 1) {
+          g->why = uf.cache_file + ": " + std::to_string(fit.size()) + " entries fit " + mesh +
+                   " by their triangles and none by Godot's key, so which UV2 is its own is unknown; reimport " +
+                   uf.path + " in Godot (it rewrites the cache)";
+          return -1;
+        } else {
+          // Godot keeps its entries sorted by key and inserts a new one before the first greater
+          // key, so one greater than every key (the first entry's) is never written.
+          GodotUnwrapKey last{};
+          for (const GodotUnwrapEntry& e : uf.cache) last = std::max(last, key_of(e));
+          const GodotUnwrapKey key = godot_unwrap_key(a.pos, a.nrm, w, g->scales[0].data(), uf.texel);
+          if (a.all_normals && key > last)
+            g->why = uf.cache_file + " has no entry for " + mesh +
+                     ": Godot's importer left it out (an entry whose key sorts " +
+                     "after the first one written is dropped, godotengine/godot#122494), so reimporting writes the "
+                     "same cache; " +
+                     "export the baked scene from the editor as glTF (Scene > Export As > glTF 2.0) and give it with "
+                     "--godot-scene";
+          else
+            g->why = uf.cache_file + " has no entry for " + mesh + ": the cache was written for another version of " +
+                     uf.path + "; reimport it in Godot (it rewrites the cache)";
+          return -1;
+        }
+      }
+      const GodotUnwrapEntry& e = uf.cache[size_t(pick)];
+      for (size_t v = 0; v < e.source_vertex.size(); ++v) {
+        const size_t s = e.source_vertex[v];
+        geo.mesh.positions.insert(geo.mesh.positions.end(), a.pos.begin() + std::ptrdiff_t(s * 3),
+                                  a.pos.begin() + std::ptrdiff_t(s * 3 + 3));
+        geo.mesh.normals.insert(geo.mesh.normals.end(), a.nrm.begin() + std::ptrdiff_t(s * 3),
+                                a.nrm.begin() + std::ptrdiff_t(s * 3 + 3));
+        geo.mesh.uv.insert(geo.mesh.uv.end(), {e.uv2[v * 2], 1.0f - e.uv2[v * 2 + 1]});  // v down → v up
+      }
+      geo.mesh.indices = e.indices;
+    } else if (a.all_uv1) {
+      geo.mesh.positions = a.pos;
+      geo.mesh.normals = a.nrm;
+      geo.mesh.uv = a.uv1;  // Assimp hands glTF UVs over v up already
+      geo.mesh.indices = a.idx;
+    } else {
+      g->why = uf.path + ": mesh '" + a.name + "' has no lightmap UVs (no TEXCOORD_1" +
+               std::string(uf.gen_uv2 ? ", no " + uf.cache_file
+                                      : ", not imported with meshes/light_baking = Static Lightmaps") +
+               ")";
+      return -1;
+    }
+    geometry.push_back(std::move(geo));
     return int(geometry.size() - 1);
   }
 
@@ -289,14 +559,21 @@ struct Loader {
   }
 };
 
-fs::path project_root(const fs::path& tscn) {
-  fs::path dir = fs::absolute(tscn).parent_path();
+// The folder res:// names: the nearest folder at or above `file`'s holding project.godot, spelt
+// as `file` is (a relative path stays relative, climbing with ".." past its first folder).
+fs::path project_root(const fs::path& file) {
+  fs::path dir = file.parent_path();
+  if (dir.empty()) dir = ".";
+  std::error_code ec;
   for (int up = 0; up < 64; ++up) {
-    if (fs::exists(dir / "project.godot")) return dir;
-    if (dir == dir.parent_path()) break;
-    dir = dir.parent_path();
+    if (fs::exists(dir / "project.godot", ec)) return dir;
+    const fs::path abs = fs::absolute(dir, ec).lexically_normal();
+    if (ec || abs == abs.root_path() || abs.parent_path() == abs) break;
+    const fs::path parent = dir.parent_path();
+    dir = dir == "." || dir.filename() == ".." || parent.empty() ? (dir / "..").lexically_normal() : parent;
   }
-  return fs::absolute(tscn).parent_path();  // no project file: res:// is the scene's folder
+  return file.parent_path().empty() ? fs::path(".")
+                                    : file.parent_path();  // no project file: res:// is the file's folder
 }
 
 // The geometry moved to world space (normals by the inverse transpose, renormalised).
@@ -335,6 +612,7 @@ GodotSceneMeshes place_users(Loader& L, const std::string& lmbake, const GodotLi
   L.files.push_back(lmbake);
   out.users = int(data.users.size());
   int no_node = 0, no_mesh = 0, grid = 0;
+  std::vector<std::string> left_out;  // instance by instance: which user and why
   for (const GodotLightmapUser& u : data.users) {
     if (u.sub_instance >= 0) {
       ++grid;
@@ -348,6 +626,10 @@ GodotSceneMeshes place_users(Loader& L, const std::string& lmbake, const GodotLi
     const Node& n = L.nodes[size_t(id)];
     if (n.geometry < 0) {
       ++no_mesh;
+      left_out.push_back("lightmap user " + u.path + " left out: " +
+                         (n.why.empty() ? std::string(n.placeholder ? "its scene or mesh file is not read"
+                                                                    : "no mesh with lightmap UVs found on the node")
+                                        : n.why));
       continue;
     }
     MeshInstance inst;
@@ -369,6 +651,10 @@ GodotSceneMeshes place_users(Loader& L, const std::string& lmbake, const GodotLi
   out.notes = L.notes;
   for (const std::string& m : L.missing) out.notes.push_back(m + ": instanced but not in the project (left out)");
   if (no_node) out.notes.push_back(std::to_string(no_node) + " lightmap user(s) not found in the scene (their scenes are missing)");
+  const size_t kMaxListed = 50;
+  for (size_t k = 0; k < left_out.size() && k < kMaxListed; ++k) out.notes.push_back(left_out[k]);
+  if (left_out.size() > kMaxListed)
+    out.notes.push_back("… and " + std::to_string(left_out.size() - kMaxListed) + " more user(s) left out");
   if (no_mesh) out.notes.push_back(std::to_string(no_mesh) + " lightmap user(s) without a mesh with lightmap UVs here");
   if (grid) out.notes.push_back(std::to_string(grid) + " GridMap cell user(s) not read");
   out.files = L.files;
@@ -434,24 +720,95 @@ GodotSceneMeshes load_godot_export(const std::string& gltf, const std::string& l
   return place_users(L, lmbake, data, gltf, [&](const std::string& path) { return resolve_at(best, path); });
 }
 
+namespace {
+
+// The ext_resource ids of `text`'s header whose path, resolved in `project`, is the file `lmbake`
+// (canonical paths compared: symlinks and "a/../b" spellings name the same file).
+std::vector<std::string> lmbake_ext_ids(const std::string& text, const fs::path& project, const fs::path& dir,
+                                        const fs::path& lmbake_canonical) {
+  std::vector<std::string> ids;
+  std::istringstream in(text);
+  std::string line;
+  for (int n = 0; std::getline(in, line) && n < 100000; ++n) {
+    if (line.rfind("[node", 0) == 0 || line.rfind("[sub_resource", 0) == 0) break;  // ext_resources come first
+    if (line.rfind("[ext_resource", 0) != 0 || line.find(".lmbake") == std::string::npos) continue;
+    GodotTscn t;
+    try {
+      t = parse_godot_tscn(line + "\n[node name=\"n\"]\n", "");
+    } catch (const Error&) {
+      continue;
+    }
+    if (t.ext.empty()) continue;
+    const std::string& res = t.ext[0].path;
+    const fs::path file = res.rfind("res://", 0) == 0 ? project / res.substr(6) : dir / res;
+    std::error_code ec;
+    const fs::path c = fs::weakly_canonical(file, ec);
+    if (!ec && c == lmbake_canonical) ids.push_back(t.ext[0].id);
+  }
+  return ids;
+}
+
+}  // namespace
+
 std::string find_godot_scene(const std::string& exr) {
   const fs::path p(exr);
-  const std::string want = p.stem().string() + ".lmbake";
+  const fs::path folder = p.parent_path().empty() ? fs::path(".") : p.parent_path();
+  const fs::path lmbake = folder / (p.stem().string() + ".lmbake");
   std::error_code ec;
+  if (!fs::is_regular_file(lmbake, ec)) return "";
+  const fs::path want = fs::weakly_canonical(lmbake, ec);
+  if (ec) return "";
+  // The project: the nearest project.godot at or above the EXR (else the EXR's folder alone).
+  const fs::path project = project_root(exr);
+  const bool has_project = fs::exists(project / "project.godot", ec);
+  // A bounded walk: no hidden folders (.godot/ holds the editor's imports), no symlinked folders
+  // (no loops), no nested projects, at most 12 levels and 20 000 entries.
   std::vector<std::string> found;
-  for (const auto& e : fs::directory_iterator(p.parent_path().empty() ? fs::path(".") : p.parent_path(), ec)) {
-    if (!e.is_regular_file() || e.path().extension() != ".tscn") continue;
-    std::ifstream f(e.path());
-    std::string line;
-    while (std::getline(f, line))
-      if (line.rfind("[ext_resource", 0) == 0 && line.find("LightmapGIData") != std::string::npos &&
-          line.find("/" + want + "\"") != std::string::npos) {
-        found.push_back(e.path().string());
-        break;
-      }
+  size_t entries = 0;
+  const size_t kMaxEntries = 20000;
+  const int kMaxDepth = 12;
+  auto it = fs::recursive_directory_iterator(has_project ? project : folder,
+                                             fs::directory_options::skip_permission_denied, ec);
+  for (; !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
+    if (++entries > kMaxEntries) break;
+    const fs::directory_entry& e = *it;
+    const std::string name = e.path().filename().string();
+    std::error_code ec2;
+    if (e.is_directory(ec2)) {
+      if (!has_project || name.empty() || name[0] == '.' || e.is_symlink(ec2) || it.depth() + 1 > kMaxDepth ||
+          fs::exists(e.path() / "project.godot", ec2))
+        it.disable_recursion_pending();
+      continue;
+    }
+    if (e.path().extension() != ".tscn" || !e.is_regular_file(ec2) || name[0] == '.') continue;
+    std::ifstream f(e.path(), std::ios::binary);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    const std::string text = ss.str();
+    const std::vector<std::string> ids = lmbake_ext_ids(text, project, e.path().parent_path(), want);
+    if (ids.empty()) continue;
+    try {  // the LightmapGI's light_data is one of them
+      const GodotTscn t = parse_godot_tscn(text, e.path().string());
+      for (const GodotTscnNode& n : t.nodes)
+        if (n.type == "LightmapGI" && std::find(ids.begin(), ids.end(), n.light_data) != ids.end()) {
+          found.push_back(Loader::shortest(e.path().lexically_normal()));
+          break;
+        }
+    } catch (const Error&) {}
   }
   std::sort(found.begin(), found.end());
-  return found.empty() ? "" : found.front();
+  if (found.size() <= 1) return found.empty() ? "" : found.front();
+  std::vector<std::string> beside;
+  const fs::path here = fs::weakly_canonical(folder, ec);
+  for (const std::string& f : found) {
+    const fs::path dir = fs::path(f).parent_path();
+    if (fs::weakly_canonical(dir.empty() ? fs::path(".") : dir, ec) == here) beside.push_back(f);
+  }
+  if (beside.size() == 1) return beside.front();
+  std::string list;
+  for (const std::string& f : found) list += (list.empty() ? "" : ", ") + f;
+  throw file_error(lmbake.string(), std::to_string(found.size()) + " scenes bake it (" + list +
+                                        "): name the one to read with --godot-scene");
 }
 
 }  // namespace ahd

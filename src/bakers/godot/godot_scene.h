@@ -2,8 +2,10 @@
 // repository holds: the scene (.tscn, nested scenes instanced by ext_resource), the LightmapGI's
 // .lmbake (bakers/godot/godot_lmbake.h: each user's node path, page and rectangle), the meshes (.glb/.gltf
 // through Assimp) and their lightmap UVs — the importer's cache NAME.glb.unwrap_cache
-// (bakers/godot/godot_unwrap_cache.h) for meshes imported with meshes/light_baking=2, or the file's second
-// UV set (TEXCOORD_1, e.g. the editor's glTF export).
+// (bakers/godot/godot_unwrap_cache.h; each mesh's entry found by Godot's own key,
+// bakers/godot/godot_unwrap_key.h) for meshes imported with meshes/light_baking=2, or the file's
+// second UV set (TEXCOORD_1, e.g. the editor's glTF export) — and the meshes a scene defines or
+// names as resources (`mesh = SubResource/ExtResource(…)`, bakers/godot/godot_mesh_resource.h).
 //
 // Godot's conventions used (from its scene importer and glTF module): an imported .glb is a
 // Node3D named after the file holding the glTF scene's root nodes; node names have '.', ':', '@',
@@ -23,7 +25,7 @@ struct GodotSceneMeshes {
   std::vector<Placement> placements; // per instance: page = slice, atlas_uv = uv2 · size + position (v up)
   std::string lmbake;                // the .lmbake read
   std::vector<std::string> files;    // every file read, in order (for dependency files)
-  std::vector<std::string> notes;    // what was read and what was left out (users without a mesh …)
+  std::vector<std::string> notes;    // what was read and what was left out: each user without a mesh, and why
   int users = 0;                     // users in the .lmbake
 };
 
@@ -40,8 +42,13 @@ GodotSceneMeshes load_godot_scene(const std::string& tscn, const std::string& lm
 // and when no user is found in the file.
 GodotSceneMeshes load_godot_export(const std::string& gltf, const std::string& lmbake);
 
-// The scene that baked `exr` (Godot's NAME.exr): a .tscn in the same folder whose text references
-// NAME.lmbake; "" when there is none.
+// The scene that baked `exr` (Godot's NAME.exr): the .tscn of its project (the nearest
+// project.godot at or above the EXR; without one, the EXR's folder alone) whose LightmapGI's
+// light_data is the NAME.lmbake beside the EXR. The walk is bounded (12 levels, 20 000 entries; no
+// hidden folders such as .godot/, no symlinked folders, no nested projects). Paths are spelt as
+// `exr` is (relative stays relative). "" when there is none; when several bake it, the one beside
+// the EXR, else ahd::Error("<lmbake>: N scenes bake it (a, b): name the one to read with --godot-scene").
+// Binary scenes (.scn) are not read.
 std::string find_godot_scene(const std::string& exr);
 
 }  // namespace ahd
