@@ -48,8 +48,8 @@ struct ConversionOptions {
   // false for files that pass strict validation.
   bool plane_metadata = true;
   Measure measure = Measure::Off;  // error diagnostics in the report (they cost time)
-  // Called on the calling thread between steps with a stage name ("fit", "encode", "measure",
-  // "write") and the fraction of that stage done, in [0, 1].
+  // Called on the calling thread between steps with a stage name ("fit", "encode", "write"; the
+  // error measures report no progress of their own) and the fraction of that stage done, in [0, 1].
   std::function<void(const char* stage, double fraction)> progress;
   // When not null and raised (from any thread), the conversion stops with ahd::Cancelled.
   const std::atomic<bool>* cancel = nullptr;

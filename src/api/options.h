@@ -22,7 +22,7 @@ ResolvedOptions resolve_options(const ConversionOptions& o, const std::string& n
 // The same with a profile the caller already loaded (the CLI finds profiles on disk by name).
 ResolvedOptions resolve_options(const ConversionOptions& o, const std::string& name, const Profile& profile);
 
-// Throws ahd::Error unless `sh` is a consistent image: positive size, 4 or 9 coefficients, and
+// Throws ahd::Error unless `sh` is a consistent image: positive size, 1, 4 or 9 coefficients, and
 // data/coverage/normals of exactly the sizes the size implies.
 void check_sh_image(const ShImage& sh);
 

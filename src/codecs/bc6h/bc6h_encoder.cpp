@@ -9,7 +9,9 @@
 // by (PEERS.md), large values relative, values below 1 closer to absolute.
 //
 // Quality levels choose how many candidates are tried:
-//   fast    UF16: the real-time path of bc6h_fast.cpp (one region, no search). SF16: one region +
+//   fast    UF16: the real-time path of bc6h_fast.cpp (one region, endpoints from the principal
+//           axis in the most precise mode whose delta fits; a two-region candidate only for
+//           blocks whose one-region error is high). SF16: one region +
 //           the best two-region partition, the 2 most precise modes whose deltas fit, no refinement
 //   default UF16: the real-time fit as the incumbent (eight blocks per AVX2 batch in images, as
 //           fast); where that fit is poor, its indices re-picked

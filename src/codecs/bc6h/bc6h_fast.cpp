@@ -1,4 +1,4 @@
-// BC6H `fast`: a real-time UF16 encoder, no search.
+// BC6H `fast`: a real-time UF16 encoder (endpoints fitted, not searched).
 //
 // Where real-time encoders get their speed (read in Basis Universal's transcoder encoder, facts
 // only): one region and one mode for nearly every block, endpoints taken from the principal axis
