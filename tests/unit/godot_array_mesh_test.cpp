@@ -489,7 +489,8 @@ TEST(GodotArrayMesh, RefusesBadSurfacesWithOneLine) {
             "\"aabb\": AABB(0, 0, 0, 1, 1, 1)}]",
             "vertex_count -1"},
        }) {
-    const std::string e = error_of([&] { godot_array_mesh_text(text, "bad.tscn"); });
+    const std::string& surfaces = text;  // clang 14: a structured binding cannot be captured
+    const std::string e = error_of([&] { godot_array_mesh_text(surfaces, "bad.tscn"); });
     EXPECT_EQ(e.rfind("bad.tscn: ", 0), 0u) << why << ": " << e;
     EXPECT_NE(e.find(why), std::string::npos) << why << ": " << e;
   }

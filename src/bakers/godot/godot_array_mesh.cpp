@@ -115,7 +115,7 @@ Layout layout_of(uint64_t format, size_t vertex_count) {
       static const uint32_t kCustomSize[8] = {4, 4, 4, 8, 4, 8, 12, 16};  // ArrayCustomFormat
       const uint64_t type = (format >> (kCustomBase + kCustomBits * (i - kCustom0))) & 7;
       size = kCustomSize[type];
-    } else size = 2 * bone_words;  // bones, weights
+    } else if (i == kBones || i == kWeights) size = 2 * bone_words;
     l.offset[i] = *accum;
     if (i == kNormal || i == kTangent) l.offset[i] += size_t(l.vertex_stride) * vertex_count;
     *accum += size;
