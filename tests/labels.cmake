@@ -18,13 +18,16 @@
 # there, beside their add_test: ctest includes this file before it defines them.
 
 set(_judge "^(Bc6hJudge|PackedFloatMesa|RgtcMesa|Profiles/ShaderRender|KtxParse|PreviewChromium|ThreeRender|DecodeVsRuntime)\\.|^Container\\.OpenImageIOReadsOurDds$")
-set(_integration "^(Cli|Golden|Verify|Plot|Preview|Preview3d|BenchConvert|Consumer|OutputSet)\\.|^ColourSpace\\.(Numpy|Cli)|^Atlas\\.(RealGodot42|FourPageGodotAtlas|UnknownPageCount)|^BadInput\\.Cli|^Placement\\.ConvertWith|^MeshRaster\\.(BadMeshes|ConvertWithMesh|MeshAxes)|^DirectionPlanes\\.(PlainLightmapWritesOnlyIz|KeepAndDrop)|^Layout\\.GodotPackedMatchesSource|^(OutputFaults|Cook|GodotScene)\\.|^BadInputRound2\\.(CatalogueUnderThreeGib|BadMaxSizeEnvironment|InputReplacedWhileRead)")
+set(_integration "^(Cli|Golden|Verify|Plot|Preview|Preview3d|BenchConvert|Consumer|OutputSet)\\.|^ColourSpace\\.(Numpy|Cli)|^Atlas\\.(RealGodot42|FourPageGodotAtlas|UnknownPageCount)|^BadInput\\.Cli|^Placement\\.ConvertWith|^MeshRaster\\.(BadMeshes|ConvertWithMesh|MeshAxes)|^DirectionPlanes\\.(PlainLightmapWritesOnlyIz|KeepAndDrop)|^Layout\\.GodotPackedMatchesSource|^(OutputFaults|Cook|GodotScene|IzScale)\\.|^BadInputRound2\\.(CatalogueUnderThreeGib|BadMaxSizeEnvironment|InputReplacedWhileRead)")
 set(_accuracy "^Truth\\.|^FitWindow\\.NoisyScene|^Bc6h\\.(SharedImagesBeatTheFastestPublicEncoder|MaxOnCropsOfTheSharedImages|FastBeatsTheRealTimePeerOnTheSharedImages)$|^Fit\\.(ClosedFormTMatchesBruteForceSearch|MillionRandomTexels)|^FitRefine\\.(ErrorRatiosAgainstUnconstrainedLeastSquares|IssueMeasureSampledDirections|NeverWorseThanTheLinearDirectionPerTexel|MillionRandomTexels|FilteredErrorOnTheAnalyticScene|PairGuardBounds|CoherencePass)|^ErrorEstimate\\.(AgreesWithFullMeasurement|ConversionEstimateAgrees)|^Bc4\\.EncoderIsCloseToExhaustiveSearch$")
 set(_slow "^(Consumer|BenchConvert|Truth)\\.|^Atlas\\.FourPageGodotAtlas|^Cli\\.(BatchOfSmallFiles|EveryProfileAndContainer)|^Bc6h\\.MaxOnCrops|^OutputSet\\.KilledBeforeEachRename|^OutputFaults\\.(HundredPairs|SignalBetweenRenames|KilledAtEveryRename)|^Cook\\.KeyCoversEveryInput")
 set(_nosan "^(Consumer|PreviewChromium|ThreeRender|Truth)\\.|^OutputFaults\\.HundredPairsOfConcurrentConversions|^Bc6h\\.(MaxOnCropsOfTheSharedImages|SharedImagesBeatTheFastestPublicEncoder)$|^Fit\\.ClosedFormTMatchesBruteForceSearch$")
 
+# Every test of the Mesa judges' binary (tests/gl) is a judge by its folder, whatever its name.
+set(_gl_tests "${ahd_gl_tests_TESTS}")
 foreach(_t IN LISTS ahd_tests_TESTS ahd_gl_tests_TESTS)
-  if(_t MATCHES "${_judge}")
+  list(FIND _gl_tests "${_t}" _in_gl)
+  if(_t MATCHES "${_judge}" OR NOT _in_gl EQUAL -1)
     set(_labels judge)
   elseif(_t MATCHES "${_integration}")
     set(_labels integration)
