@@ -6,7 +6,7 @@
 // (emitted as <name>__<path with "/" spelt "__">), project.godot, NAME.exr and NAME.exr.import.
 //
 // The bake (facts from Godot's modules/lightmapper_rd/lm_compute.glsl and lightmapper_rd.cpp, read,
-// not copied; layout as docs/bakers.md "Atlas pages" and formats/bakers/godot4-packed.json):
+// not copied; layout as in docs/bakers.md, paragraph "Atlas pages", and formats/bakers/godot4-packed.json):
 // - coverage: each user's triangles rasterised at its rectangle of its page as Godot's raster pass
 //   does (below: filled + wire, half a texel up-left; atlas position = (uv_scale.position + uv2 ·
 //   uv_scale.size) · size, v down), from Godot's own world-space arrays in corpus.json — not from
@@ -233,6 +233,11 @@ function writeExr(width, height, rgbAt) {
 
 // ---- the projects --------------------------------------------------------------------------------
 const files = readdirSync(emitted);
+// Files for negative tests (negative__NAME): OUT_DIR/negative/NAME.
+for (const f of files.filter((f) => f.startsWith('negative__'))) {
+  mkdirSync(join(outRoot, 'negative'), { recursive: true });
+  writeFileSync(join(outRoot, 'negative', f.slice('negative__'.length)), readFileSync(join(emitted, f)));
+}
 for (const p of corpus) {
   const dir = join(outRoot, p.name);
   if (existsSync(dir)) rmSync(dir, { recursive: true });

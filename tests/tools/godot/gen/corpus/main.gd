@@ -28,7 +28,7 @@ static func _xf(euler_deg: Vector3, scale: Vector3, origin: Vector3) -> Transfor
 func _projects() -> Array:
 	return [
 		{
-			"name": "primitives", "size": 128, "pages": 2,
+			"name": "primitives", "size": 128, "pages": 2, "swapped": [1, 2],
 			"scene": "res://scenes/primitives.tscn", "lightmap": "res://lightmaps/primitives",
 			"nodes": [
 				["Floor", "prim", "PlaneMesh", {"size": Vector2(6.0, 6.0), "subdivide_width": 1}, _xf(Vector3.ZERO, Vector3.ONE, Vector3.ZERO), 0],
@@ -246,6 +246,22 @@ func _make_project(p: Dictionary) -> Variant:
 		return null
 	data.take_over_path(lmbake)
 	lgi.light_data = data
+	if p.has("swapped"):
+		# A wrong bake for the tests: the same users with two of their rectangles swapped.
+		var wrong := LightmapGIData.new()
+		wrong.lightmap_textures = [tex]
+		wrong.uses_spherical_harmonics = true
+		wrong._set_uses_packed_directional(true)
+		var a: int = p["swapped"][0]
+		var b: int = p["swapped"][1]
+		for i in users.size():
+			var j := b if i == a else (a if i == b else i)
+			var r: Rect2i = rects[j]
+			wrong.add_user(NodePath("../" + users[i][1]), Rect2(Vector2(r.position) / size, Vector2(r.size) / size), users[j][2], -1)
+		if ResourceSaver.save(wrong, "user://wrong.lmbake") != OK:
+			H.fail("%s: save the swapped .lmbake" % name)
+			return null
+		H.emit_path("user://wrong.lmbake", "negative__%s_swapped.lmbake" % name)
 
 	var scene := H.pack_scene(root)
 	if scene == null:
