@@ -9,11 +9,14 @@
 // table of docs/godot.md "The corpus".
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <regex>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -127,6 +130,61 @@ TEST(GodotCorpusWrongBake, SwappedRectanglesMakeTheFitRulesFire) {
     EXPECT_GT(c.rules_pct(), 10.0) << c.cli.output;
   }
   fs::remove_all(dir);
+}
+
+// The readers against Godot itself: every lightmap user of the two generated projects, as
+// load_godot_scene builds it from the files (primitive formulas, ArrayMesh decoding, .res/.tres,
+// the instanced scene, node transforms with rotations and non-uniform scales), holds Godot's own
+// arrays — the world-space positions and normals and the UV2 Godot 4.6 reported for that node
+// (godot_arrays.json, written by the generator) — in Godot's vertex and index order.
+TEST(GodotCorpusArrays, EveryUserHoldsGodotsOwnWorldSpaceArrays) {
+  const fs::path file = ahd_test::test_data("godot/corpus/godot_arrays.json");
+  if (!fs::exists(file)) GTEST_SKIP() << "no " << file;
+  std::ifstream f(file);
+  const nlohmann::json projects = nlohmann::json::parse(f);
+  ASSERT_EQ(projects.size(), 2u);
+  for (const auto& p : projects) {
+    const std::string name = p.at("name"), scene_res = p.at("scene");
+    const fs::path scene = ahd_test::test_data("godot/corpus/" + name) / scene_res.substr(std::string("res://").size());
+    const ahd::GodotSceneMeshes g = ahd::load_godot_scene(scene.string());
+    const ahd::MeshTriangles& m = g.scene.mesh;
+    ASSERT_EQ(g.scene.instances.size(), p.at("users").size()) << name;
+    double dp = 0, dn = 0, duv = 0;
+    for (const auto& u : p.at("users")) {
+      const std::string path = u.at("path");
+      size_t k = 0;
+      while (k < g.placements.size() && g.placements[k].node != path) ++k;
+      ASSERT_LT(k, g.placements.size()) << name << ": " << path;
+      const ahd::MeshInstance& in = g.scene.instances[k];
+      EXPECT_EQ(g.placements[k].page, int(u.at("page"))) << path;
+      size_t v0 = 0, i0 = 0;  // Godot's surfaces, concatenated
+      for (const auto& s : u.at("surfaces")) {
+        const std::vector<float> V = s.at("vertex"), N = s.at("normal"), T = s.at("uv2");
+        const std::vector<uint32_t> I = s.at("index");
+        ASSERT_LE(in.first_vertex + v0 + V.size() / 3, in.first_vertex + in.vertices) << path;
+        ASSERT_LE(i0 + I.size(), in.indices) << path;
+        for (size_t v = 0; v < V.size() / 3; ++v) {
+          const size_t a = in.first_vertex + v0 + v;
+          for (int c = 0; c < 3; ++c) {
+            dp = std::max(dp, double(std::abs(m.positions[3 * a + c] - V[3 * v + c])));
+            dn = std::max(dn, double(std::abs(m.normals[3 * a + c] - N[3 * v + c])));
+          }
+          duv = std::max(duv, double(std::abs(m.uv[2 * a] - T[2 * v])));
+          duv = std::max(duv, double(std::abs((1.0f - m.uv[2 * a + 1]) - T[2 * v + 1])));  // v up here, down in Godot
+        }
+        for (size_t t = 0; t < I.size(); ++t)
+          ASSERT_EQ(m.indices[in.first_index + i0 + t], in.first_vertex + v0 + I[t]) << path << " index " << t;
+        v0 += V.size() / 3, i0 += I.size();
+      }
+      EXPECT_EQ(v0, in.vertices) << path;
+      EXPECT_EQ(i0, in.indices) << path;
+    }
+    std::printf("arrays: %s: %zu users; max |position| diff %.3g, |normal| %.3g, |uv2| %.3g\n", name.c_str(),
+                g.scene.instances.size(), dp, dn, duv);
+    EXPECT_LE(dp, 1e-5) << name;
+    EXPECT_LE(dn, 1e-5) << name;
+    EXPECT_LE(duv, 1e-6) << name;
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Projects, GodotCorpus, testing::ValuesIn(kProjects),

@@ -33,7 +33,9 @@ import { deflateSync } from 'node:zlib';
 
 const [emitted, outRoot] = process.argv.slice(2);
 if (!emitted || !outRoot) { console.error('usage: node bake.mjs EMITTED_DIR OUT_DIR'); process.exit(64); }
-const corpus = JSON.parse(readFileSync(join(emitted, 'corpus.json'), 'utf8'));
+// Numbers as Godot's float32 (f32_json.mjs may have written them in their shortest form).
+const corpus = JSON.parse(readFileSync(join(emitted, 'corpus.json'), 'utf8'),
+                          (k, v) => (typeof v === 'number' ? Math.fround(v) : v));
 
 // ---- analytic lighting -------------------------------------------------------------------
 const SUN = norm([0.45, 0.8, 0.35]);

@@ -10,6 +10,9 @@ out="${1:-$repo/tests/data/godot/corpus}"
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
 node "$here/../../run_godot.mjs" --project "$here" --out "$tmp" --timeout 180
+node "$here/../../f32_json.mjs" "$tmp/corpus.json"
 mkdir -p "$out"
 node "$here/bake.mjs" "$tmp" "$out"
+# Godot's own world-space arrays of every lightmap user, for the readers' tests.
+cp "$tmp/corpus.json" "$out/godot_arrays.json"
 echo "corpus: $(du -sk "$out" | cut -f1) KiB -> $out"
