@@ -11,10 +11,11 @@
 //   does (below: filled + wire, half a texel up-left; atlas position = (uv_scale.position + uv2 ·
 //   uv_scale.size) · size, v down), from Godot's own world-space arrays in corpus.json — not from
 //   ahdpack's decoders;
-// - light: an analytic sky (zenith/horizon gradient, ground below, a soft sun lobe) integrated as
-//   Godot's bounce pass accumulates it, over cosine-weighted directions d about the texel's
-//   interpolated normal: L0 = 0.25 · mean(L(d)), L1 = mean(L(d) · (d.y, d.z, d.x)) (MODE_BOUNCE_LIGHT,
-//   USE_SH_LIGHTMAPS), on a fixed stratified grid instead of random rays; no occlusion;
+// - light: an analytic sky (zenith/horizon gradient, ground below, a soft glow around the sun)
+//   integrated as Godot's bounce pass accumulates it, over cosine-weighted directions d about the
+//   texel's interpolated normal: L0 = 0.25 · mean(L(d)), L1 = mean(L(d) · (d.y, d.z, d.x))
+//   (MODE_BOUNCE_LIGHT, USE_SH_LIGHTMAPS), on a fixed stratified grid instead of random rays; plus
+//   a DirectionalLight as the direct pass encodes it (shadeSH below); no occlusion;
 // - dilation (MODE_DILATE, Godot 4.4+): every texel takes the first lit texel met along the 8
 //   directions (-1,0), (0,1), (1,0), (0,-1), (-1,-1), (-1,1), (1,-1), (1,1) at radius 1, then 2, ...
 //   up to 4 · supersampling_factor = 4 (supersampling off); a lit texel keeps its own value only
@@ -39,7 +40,8 @@ const corpus = JSON.parse(readFileSync(join(emitted, 'corpus.json'), 'utf8'),
 
 // ---- analytic lighting -------------------------------------------------------------------
 const SUN = norm([0.45, 0.8, 0.35]);
-const SUN_RGB = [9.0, 7.5, 5.5], SUN_K = 24.0;
+const SUN_RGB = [1.5, 1.25, 0.9], SUN_K = 24.0;  // the sky's glow around the sun
+const DIRECT_RGB = [2.6, 2.3, 1.8];                 // a DirectionalLight along SUN (static bake)
 const ZENITH = [0.25, 0.36, 0.62], HORIZON = [0.62, 0.66, 0.72], GROUND = [0.22, 0.18, 0.13];
 function radiance(d, out) {
   const s = Math.exp(SUN_K * (d[0] * SUN[0] + d[1] * SUN[1] + d[2] * SUN[2] - 1));
@@ -60,7 +62,7 @@ for (let i = 0; i < N1; ++i)
     LOCAL.push([Math.sqrt(u1) * Math.cos(phi), Math.sqrt(u1) * Math.sin(phi), Math.sqrt(1 - u1)]);
   }
 const shCache = new Map();
-// [L0 rgb, L1y rgb, L1z rgb, L1x rgb] (12 numbers) for the normal n.
+// shadeSH: [L0 rgb, L1y rgb, L1z rgb, L1x rgb] (12 numbers) for the normal n.
 function shFor(n) {
   const key = n.map((x) => Math.round(x * 1e5)).join(',');
   const hit = shCache.get(key);
@@ -75,7 +77,16 @@ function shFor(n) {
     const c = [0.25, d[1], d[2], d[0]];
     for (let k = 0; k < 4; ++k) for (let ch = 0; ch < 3; ++ch) acc[k * 3 + ch] += L[ch] * c[k];
   }
-  const r = Array.from(acc, (x) => Math.fround(x / LOCAL.length));
+  const r = Array.from(acc, (x) => x / LOCAL.length);
+  // The direct light (MODE_DIRECT_LIGHT, USE_SH_LIGHTMAPS, Godot 4.5+: godotengine/godot#107168):
+  // light = colour · (n · l); a = n · l; c_l0 = 1 / (1 + 4a), c_l1 = 1 − c_l0;
+  // L0 += light · c_l0, L1 += light · c_l1 / a · (l.y, l.z, l.x); nothing when a <= 0.0001. No shadow.
+  const a = n[0] * SUN[0] + n[1] * SUN[1] + n[2] * SUN[2];
+  if (a > 0.0001) {
+    const c0 = 1 / (1 + 4 * a), c1 = 1 - c0, cs = [c0, c1 / a * SUN[1], c1 / a * SUN[2], c1 / a * SUN[0]];
+    for (let k = 0; k < 4; ++k) for (let ch = 0; ch < 3; ++ch) r[k * 3 + ch] += DIRECT_RGB[ch] * a * cs[k];
+  }
+  for (let i = 0; i < 12; ++i) r[i] = Math.fround(r[i]);
   shCache.set(key, r);
   return r;
 }
