@@ -182,7 +182,9 @@ ShImage read_layout_input(const BakeInput& a, const LayoutPreset& layout, ReadSt
     const LayoutNormals ln{src, w, h, std::move(rn.normals), std::move(rn.coverage)};
     sh = read_layout(layout, a.input, &ln, rs);
     // Never silently wrong: the mesh's coverage against what the baker wrote.
-    const CoverageComparison cc = compare_coverage(mesh_coverage, sh);
+    // Godot 4.4+ (packed L1) dilates farther than 4.2 (scene/coverage_check.h).
+    const CoverageComparison cc =
+        compare_coverage(mesh_coverage, sh, layout.name == "godot4-packed" ? kGodot44Dilation : kDilation);
     a.notes += "coverage: page " + std::to_string(page) + ": " + describe_coverage(cc) + "\n";
     // A lightmap lit in every texel (gutters filled) says nothing about its charts.
     const std::string bad = cc.lit == sh.texels() ? "" : coverage_mismatch(cc);

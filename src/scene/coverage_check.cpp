@@ -5,7 +5,7 @@
 
 namespace ahd {
 
-CoverageComparison compare_coverage(const std::vector<uint8_t>& covered, const ShImage& sh) {
+CoverageComparison compare_coverage(const std::vector<uint8_t>& covered, const ShImage& sh, int ring) {
   CoverageComparison c;
   const int w = sh.width, h = sh.height;
   const size_t n = sh.texels(), per = size_t(sh.coeffs) * 3;
@@ -24,8 +24,8 @@ CoverageComparison compare_coverage(const std::vector<uint8_t>& covered, const S
       const size_t i = size_t(y) * w + x;
       if (!lit[i] || covered[i]) continue;
       bool near = false;
-      for (int dy = -kDilation; dy <= kDilation && !near; ++dy)
-        for (int dx = -kDilation; dx <= kDilation && !near; ++dx) {
+      for (int dy = -ring; dy <= ring && !near; ++dy)
+        for (int dx = -ring; dx <= ring && !near; ++dx) {
           const int xx = x + dx, yy = y + dy;
           near = xx >= 0 && yy >= 0 && xx < w && yy < h && covered[size_t(yy) * w + xx];
         }

@@ -19,12 +19,19 @@ namespace ahd {
 // What is left is the mismatch: lit texels far from any covered texel (light where the mesh puts
 // nothing) and covered regions that are black throughout (the mesh where the baker put nothing).
 constexpr int kDilation = 3;
+// Godot 4.4+ (the packed-L1 bakes): its dilation fills up to 4 · supersampling_factor texels of the
+// bake along the 8 axis and diagonal directions (modules/lightmapper_rd/lm_compute.glsl, MODE_DILATE,
+// since godotengine/godot#100765: 4 texels of the saved lightmap), and its raster pass draws every
+// triangle filled and as lines, shifted half a texel up-left (lightmapper_rd.cpp, uv_offset,
+// godotengine/godot#81872), which covers texels up to one beyond a conservative raster: 5 in all
+// (measured on tests/data/godot/corpus, docs/godot.md "The corpus").
+constexpr int kGodot44Dilation = 5;
 
 struct CoverageComparison {
   size_t covered = 0;          // texels the mesh covers
   size_t lit = 0;              // texels the lightmap holds light in
   size_t both = 0;             // covered and lit
-  size_t ring = 0;             // lit, not covered, within kDilation texels of the coverage
+  size_t ring = 0;             // lit, not covered, within `ring` texels of the coverage
   size_t lit_outside = 0;      // lit, farther from the coverage
   size_t dark_in_chart = 0;    // covered, black, in a black region touching lit covered texels
   size_t covered_black = 0;    // covered, black, in a region with no lit texel
@@ -35,9 +42,9 @@ struct CoverageComparison {
   double iou = 1;
 };
 
-// `covered` holds sh.texels() entries (1 = covered), row-major width × height. Pure; cost linear
-// in the texels.
-CoverageComparison compare_coverage(const std::vector<uint8_t>& covered, const ShImage& sh);
+// `covered` holds sh.texels() entries (1 = covered), row-major width × height; `ring`: the
+// baker's dilation in texels (Chebyshev distance). Pure; cost linear in the texels (× ring²).
+CoverageComparison compare_coverage(const std::vector<uint8_t>& covered, const ShImage& sh, int ring = kDilation);
 
 // one line of the counts and the agreement.
 std::string describe_coverage(const CoverageComparison& c);

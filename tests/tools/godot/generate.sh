@@ -22,7 +22,7 @@ run arraymesh
 adds=()
 while IFS= read -r f; do
   adds+=(--add "$f=real/${f#"$repo/tests/data/"}")
-done < <(find "$repo/tests/data" -name '*.lmbake' -not -path '*/godot/generated/*' | sort)
+done < <(find "$repo/tests/data" -name '*.lmbake' -not -path '*/godot/generated/*' -not -path '*/godot/corpus/*' | sort)
 run lmbake "${adds[@]}"
 
 node "$here/f32_json.mjs" "$tmp"/out/*.json
