@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "bakers/godot/godot_fbx.h"
 #include "bakers/godot/godot_unwrap_key.h"
 #include "cli_runner.h"
 #include "file_bytes.h"
@@ -605,4 +606,37 @@ TEST(GodotFbx, DroppedEntryIsRefusedByDefaultAndCountedWhenAllowed) {
   const std::string report = ahd_test::read_text(dir / "o/w.report.json");
   EXPECT_TRUE(contains(report, tag + std::to_string(kept) + " lit texels kept")) << report.substr(0, 2000);
   fs::remove_all(dir);
+}
+
+// The arrays Godot 4.6's own FBX importer builds (its FBXDocument, run in the official web build by
+// tests/tools/godot/gen/fbx: node transforms, vertices and indices as surface_get_arrays gives
+// them), from tests/data/godot/handmade/room_zup.fbx (Z up, centimetres, a non-planar quad, the
+// node rotated 90 degrees about z and scaled by 2) and quads.fbx (quads whose shorter diagonal is
+// 0-2, 1-3, or neither): the geometry is scaled to metres but not rotated, the axis conversion is
+// the root node's transform, and a quad is split along its shorter diagonal (0-2 on a tie).
+TEST(GodotFbx, ArraysAreThoseGodot46Builds) {
+  AHD_REQUIRE_DATA(ahd_test::test_data("godot/handmade/quads.fbx"));
+  const GodotFbxScene z = read_godot_fbx(ahd_test::test_data("godot/handmade/room_zup.fbx").string());
+  ASSERT_EQ(z.nodes.size(), 1u);
+  ASSERT_EQ(z.meshes.size(), 1u);
+  EXPECT_EQ(z.nodes[0].name, "Floor");
+  // Godot: basis columns X (0, 0, -2), Y (-2, 0, 0), Z (0, 2, 0), origin (1, 0.5, 2).
+  const float local[16] = {0, -2, 0, 1, 0, 0, 2, 0.5f, -2, 0, 0, 2, 0, 0, 0, 1};
+  for (int k = 0; k < 16; ++k) EXPECT_NEAR(z.nodes[0].local[size_t(k)], local[k], 1e-6) << k;
+  EXPECT_EQ(z.meshes[0].positions, (std::vector<float>{0, 1, 0, 2, 1, 0.3f, 2, 0, 0, 0, 0, 0}));
+  EXPECT_EQ(z.meshes[0].indices, (std::vector<uint32_t>{0, 1, 2, 2, 3, 0}));
+  EXPECT_FALSE(z.meshes[0].polygons);
+
+  const GodotFbxScene q = read_godot_fbx(ahd_test::test_data("godot/handmade/quads.fbx").string());
+  ASSERT_EQ(q.meshes.size(), 4u);
+  const std::vector<std::vector<float>> vertex = {{2, 0, -1, 2, 0, 0, 0, 0, 0, 0, 0, -1},
+                                                  {0, 0, -1, 2.2f, 0, -1, 2, 0, 0, 0, 0, 0},
+                                                  {1.8f, 0, -1, 2, 0, 0, 0, 0, 0, 0, 0, -1}};
+  for (size_t m = 0; m < 3; ++m) {
+    EXPECT_EQ(q.meshes[m].positions, vertex[m]) << q.meshes[m].name;
+    EXPECT_EQ(q.meshes[m].indices, (std::vector<uint32_t>{0, 1, 2, 2, 3, 0})) << q.meshes[m].name;
+  }
+  // A pentagon: Godot gives (1,0,-2) (0,0,0) (-0.5,0,-1) (2,0,0) (2.5,0,-1), 0 1 2 0 3 1 0 4 3 (ufbx's
+  // split); the reader's fan differs and says so.
+  EXPECT_TRUE(q.meshes[3].polygons);
 }

@@ -5,6 +5,7 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <map>
@@ -51,6 +52,8 @@ std::string unique_name(std::set<std::string>* used, const std::string& name) {
   return u;
 }
 
+const double kNoAxes[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+
 struct Conversion {
   double s = 1;                               // metres per file unit
   double a[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};  // file axes → Godot's (rows)
@@ -86,8 +89,33 @@ Conversion conversion(const aiScene* sc, bool* mirrored) {
   return c;
 }
 
+// ufbx's triangles of a face (checked against Godot 4.6's FBXDocument): a triangle as it is; a
+// quad split along its shorter diagonal, 0-2 when they are equal: (0, 1, 2), (2, 3, 0) or (1, 2, 3),
+// (3, 0, 1); more corners: a fan here, which ufbx's own split need not match (*exact = false).
+void face_triangles(const aiMesh* am, const aiFace& face, double s, std::vector<unsigned>* out, bool* exact) {
+  const unsigned* c = face.mIndices;
+  const unsigned n = face.mNumIndices;
+  if (n == 3) {
+    out->insert(out->end(), {c[0], c[1], c[2]});
+  } else if (n == 4) {
+    const auto d2 = [&](unsigned a, unsigned b) {
+      const aiVector3D& p = am->mVertices[c[a]];
+      const aiVector3D& q = am->mVertices[c[b]];
+      const double x = s * double(p.x) - s * double(q.x), y = s * double(p.y) - s * double(q.y),
+                   z = s * double(p.z) - s * double(q.z);
+      return x * x + y * y + z * z;
+    };
+    if (d2(0, 2) <= d2(1, 3)) out->insert(out->end(), {c[0], c[1], c[2], c[2], c[3], c[0]});
+    else out->insert(out->end(), {c[1], c[2], c[3], c[3], c[0], c[1]});
+  } else if (n > 4) {
+    for (unsigned k = 1; k + 1 < n; ++k) out->insert(out->end(), {c[0], c[k], c[k + 1]});
+    *exact = false;
+  }
+}
+
 // One surface (an aiMesh: one material part) merged as SurfaceTool::index() merges corners,
-// appended to `m`.
+// appended to `m`. Positions in metres (s·p: MODIFY_GEOMETRY scales the geometry and leaves the
+// axis conversion to the root nodes' transforms); normals and tangents as the file stores them.
 void append_surface(const aiMesh* am, const Conversion& c, GodotFbxMesh* m) {
   std::map<std::string, uint32_t> seen;
   const bool has_n = am->HasNormals(), has_t = am->HasTangentsAndBitangents(), has_c = am->HasVertexColors(0);
@@ -96,34 +124,41 @@ void append_surface(const aiMesh* am, const Conversion& c, GodotFbxMesh* m) {
   for (unsigned k = 0; k < AI_MAX_NUMBER_OF_TEXTURECOORDS && k < 8; ++k)
     if (am->HasTextureCoords(k)) uv_sets.push_back(k);
   const bool has_uv2 = am->HasTextureCoords(1);
+  const auto put = [](const aiVector3D& v, double scale, float* out) {
+    out[0] = float(scale * v.x), out[1] = float(scale * v.y), out[2] = float(scale * v.z);
+  };
+  std::vector<unsigned> tri;
+  bool exact = true;
   for (unsigned f = 0; f < am->mNumFaces; ++f) {
-    const aiFace& face = am->mFaces[f];
-    if (face.mNumIndices != 3) continue;  // points and lines are other surfaces
-    // Godot's triangle c, b, a, decoded in that order (the order of first use).
-    for (int k = 2; k >= 0; --k) {
-      const unsigned v = face.mIndices[k];
-      float key[3 + 3 + 6 + 16 + 4];
-      size_t n = 0;
-      c.point(am->mVertices[v], c.s, key + n), n += 3;
-      if (has_n) c.point(am->mNormals[v], 1.0, key + n), n += 3;
-      if (has_t) c.point(am->mTangents[v], 1.0, key + n), c.point(am->mBitangents[v], 1.0, key + n + 3), n += 6;
-      for (unsigned set : uv_sets) key[n++] = am->mTextureCoords[set][v].x, key[n++] = am->mTextureCoords[set][v].y;
-      if (has_c) {
-        const aiColor4D& col = am->mColors[0][v];
-        key[n++] = col.r, key[n++] = col.g, key[n++] = col.b, key[n++] = col.a;
+    tri.clear();
+    face_triangles(am, am->mFaces[f], c.s, &tri, &exact);  // points and lines are other surfaces
+    for (size_t t = 0; t + 2 < tri.size(); t += 3)
+      // Godot's triangle c, b, a, decoded in that order (the order of first use).
+      for (int k = 2; k >= 0; --k) {
+        const unsigned v = tri[t + size_t(k)];
+        float key[3 + 3 + 6 + 16 + 4];
+        size_t n = 0;
+        put(am->mVertices[v], c.s, key), n += 3;
+        if (has_n) put(am->mNormals[v], 1.0, key + n), n += 3;
+        if (has_t) put(am->mTangents[v], 1.0, key + n), put(am->mBitangents[v], 1.0, key + n + 3), n += 6;
+        for (unsigned set : uv_sets) key[n++] = am->mTextureCoords[set][v].x, key[n++] = am->mTextureCoords[set][v].y;
+        if (has_c) {
+          const aiColor4D& col = am->mColors[0][v];
+          key[n++] = col.r, key[n++] = col.g, key[n++] = col.b, key[n++] = col.a;
+        }
+        const std::string bytes(reinterpret_cast<const char*>(key), n * sizeof(float));
+        auto [it, added] = seen.emplace(bytes, uint32_t(m->positions.size() / 3));
+        if (added) {
+          m->positions.insert(m->positions.end(), key, key + 3);
+          if (has_n) m->normals.insert(m->normals.end(), key + 3, key + 6);
+          else m->normals.insert(m->normals.end(), {0.0f, 0.0f, 0.0f});
+          const aiVector3D uv = has_uv2 ? am->mTextureCoords[1][v] : aiVector3D(0, 0, 0);
+          m->uv2.insert(m->uv2.end(), {uv.x, uv.y});
+        }
+        m->indices.push_back(it->second);
       }
-      const std::string bytes(reinterpret_cast<const char*>(key), n * sizeof(float));
-      auto [it, added] = seen.emplace(bytes, uint32_t(m->positions.size() / 3));
-      if (added) {
-        m->positions.insert(m->positions.end(), key, key + 3);
-        if (has_n) m->normals.insert(m->normals.end(), key + 3, key + 6);
-        else m->normals.insert(m->normals.end(), {0.0f, 0.0f, 0.0f});
-        const aiVector3D t = has_uv2 ? am->mTextureCoords[1][v] : aiVector3D(0, 0, 0);
-        m->uv2.insert(m->uv2.end(), {t.x, t.y});
-      }
-      m->indices.push_back(it->second);
-    }
   }
+  m->polygons = m->polygons || !exact;
 }
 
 }  // namespace
@@ -132,13 +167,8 @@ GodotFbxScene read_godot_fbx(const std::string& path) {
   Assimp::Importer importer;
   // Pivots folded into each node's transform (Godot: ufbx's ADJUST_TO_PIVOT), no helper nodes.
   importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_PRESERVE_PIVOTS, false);
+  // Faces kept as the file has them: they are triangulated as ufbx does (face_triangles).
   const aiScene* sc = importer.ReadFile(path, aiProcess_ValidateDataStructure);
-  if (!sc || !sc->mRootNode) throw file_error(path, "cannot read FBX (" + std::string(importer.GetErrorString()) + ")");
-  // Which meshes have faces of more than 3 corners (before Assimp triangulates them).
-  std::vector<bool> polygon_mesh(sc->mNumMeshes, false);
-  for (unsigned i = 0; i < sc->mNumMeshes; ++i)
-    polygon_mesh[i] = (sc->mMeshes[i]->mPrimitiveTypes & aiPrimitiveType_POLYGON) != 0;
-  sc = importer.ApplyPostProcessing(aiProcess_Triangulate);
   if (!sc || !sc->mRootNode) throw file_error(path, "cannot read FBX (" + std::string(importer.GetErrorString()) + ")");
   GodotFbxScene out;
   const Conversion c = conversion(sc, &out.mirrored);
@@ -160,18 +190,18 @@ GodotFbxScene read_godot_fbx(const std::string& path) {
     gn.parent = t.parent;
     const std::string raw = t.n->mName.C_Str();
     gn.name = unique_name(&used, raw.empty() ? (t.n->mNumMeshes ? "Mesh" : "Node") : raw);
-    // Godot's local transform: the conversion C = s·A conjugating the file's (basis A·B·Aᵀ, origin s·A·t).
+    // Godot's local transform (as Godot 4.6's FBXDocument gives it): translations in metres; the
+    // axis conversion A only on the file's root nodes (basis A·B, origin s·A·t), as their parent.
     const aiMatrix4x4& m = t.n->mTransformation;
     const double b[9] = {m.a1, m.a2, m.a3, m.b1, m.b2, m.b3, m.c1, m.c2, m.c3};
-    const double* a = c.a;
-    double ab[9], r[9];
+    Conversion by = c;
+    if (t.parent >= 0) std::copy(kNoAxes, kNoAxes + 9, by.a);
+    const double* a = by.a;
+    double r[9];
     for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) ab[i * 3 + j] = a[i * 3] * b[j] + a[i * 3 + 1] * b[3 + j] + a[i * 3 + 2] * b[6 + j];
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j)
-        r[i * 3 + j] = ab[i * 3] * a[j * 3] + ab[i * 3 + 1] * a[j * 3 + 1] + ab[i * 3 + 2] * a[j * 3 + 2];
+      for (int j = 0; j < 3; ++j) r[i * 3 + j] = a[i * 3] * b[j] + a[i * 3 + 1] * b[3 + j] + a[i * 3 + 2] * b[6 + j];
     float origin[3];
-    c.point(aiVector3D(m.a4, m.b4, m.c4), c.s, origin);
+    by.point(aiVector3D(m.a4, m.b4, m.c4), c.s, origin);
     gn.local = {float(r[0]), float(r[1]), float(r[2]), origin[0], float(r[3]), float(r[4]), float(r[5]), origin[1],
                 float(r[6]), float(r[7]), float(r[8]), origin[2], 0,           0,           0,           1};
     if (t.n->mNumMeshes) {
@@ -184,7 +214,6 @@ GodotFbxScene read_godot_fbx(const std::string& path) {
         for (unsigned p : parts) {
           if (p >= sc->mNumMeshes) continue;
           append_surface(sc->mMeshes[p], c, &gm);
-          gm.polygons = gm.polygons || polygon_mesh[p];
         }
         if (!gm.uv2.empty()) {
           bool any_uv2 = false;

@@ -4,23 +4,26 @@
 // by Godot's key (bakers/godot/godot_unwrap_key.h).
 //
 // Facts from Godot's modules/fbx/fbx_document.cpp (FBXDocument::_parse, _parse_nodes,
-// _parse_meshes, _assign_node_names, _gen_unique_name):
+// _parse_meshes, _assign_node_names, _gen_unique_name), checked against what Godot 4.6's own
+// FBXDocument builds from the files in tests/data/godot/handmade (tests/tools/godot/gen/fbx):
 // - ufbx loads with target axes right-handed Y up, target unit 1 m and space conversion
-//   MODIFY_GEOMETRY: geometry and transforms are brought into metres (the file's UnitScaleFactor is
-//   centimetres per unit) and Y up (the file's CoordAxis/UpAxis/FrontAxis become +X/+Y/+Z) with no
-//   root transform; geometric transforms are baked into the geometry.
+//   MODIFY_GEOMETRY: the geometry and every translation are scaled to metres (the file's
+//   UnitScaleFactor is centimetres per unit) but the geometry is not rotated; the axis conversion
+//   (the file's CoordAxis/UpAxis/FrontAxis with their signs become +X/+Y/+Z) is applied to the
+//   transforms of the file's root nodes only. Geometric transforms are baked into the geometry.
 // - the scene's roots are the FBX root node's children; node names are validated as node names
 //   ('.', ':', '@', '/', '"', '%' become '_') and made unique over the file by a suffix 2, 3, …
-//   ("Skeleton3D" reserved); a nameless node with a mesh is "Mesh", else "Node".
-// - a mesh is one surface per material part; each surface's triangles (ufbx's triangulation, then
-//   a, b, c → c, b, a: Godot's clockwise front faces) are decoded corner by corner and merged into
-//   indexed vertices by SurfaceTool::index() — corners equal in every attribute (position,
-//   normal, tangent, UV sets, colour) share a vertex, numbered in order of first use.
+//   ("Skeleton3D" and "RootNode" taken); a nameless node with a mesh is "Mesh", else "Node".
+// - a mesh is one surface per material part; each face is triangulated by ufbx (a quad along its
+//   shorter diagonal, 0-2 on a tie), each triangle a, b, c taken as c, b, a (Godot's clockwise
+//   front faces) and decoded corner by corner, the corners merged into indexed vertices by
+//   SurfaceTool::index(): corners equal in every attribute (position, normal, tangent, UV sets,
+//   colour) share a vertex, numbered in order of first use.
 //
 // Not reproduced (the key then differs; the reader falls back to matching triangles, or names the
-// instance): ufbx's own triangulation of faces with more than 3 corners (Assimp's is used), normals
-// ufbx generates for a mesh without them, the order of material parts when faces use material
-// slots out of order, skinned meshes and geometry helper nodes.
+// instance): ufbx's split of faces with more than 4 corners, normals ufbx generates for a mesh
+// without them, the order of material parts when faces use material slots out of order, skinned
+// meshes, geometry helper nodes; node names made unique in another order than depth first.
 #pragma once
 #include <array>
 #include <string>
@@ -34,7 +37,7 @@ struct GodotFbxMesh {
   std::vector<float> uv2;                 // the file's second UV set per vertex (v up), empty when absent
   std::vector<uint32_t> indices;          // Godot's triangles (clockwise front faces), surfaces concatenated
   bool has_normals = true;                // every corner had a normal in the file
-  bool polygons = false;                  // faces of more than 3 corners were triangulated (by Assimp)
+  bool polygons = false;                  // faces of more than 4 corners were split (a fan, not ufbx's split)
 };
 
 struct GodotFbxNode {

@@ -422,9 +422,7 @@ struct Loader {
         for (size_t t = 0; t + 2 < m.indices.size(); t += 3)
           a.idx[t] = m.indices[t], a.idx[t + 1] = m.indices[t + 2], a.idx[t + 2] = m.indices[t + 1];
         if (m.polygons)
-          a.inexact =
-              "its faces of more than 3 corners are triangulated by ufbx in Godot and by Assimp here, which "
-              "may split them otherwise";
+          a.inexact = "its faces of more than 4 corners are split by ufbx in Godot, which is not reproduced here";
         else if (!m.has_normals)
           a.inexact = "it has no normals in the file, and those ufbx generates for Godot are not reproduced here";
         else if (f.mirrored)
