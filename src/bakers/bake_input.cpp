@@ -14,7 +14,9 @@
 #include "scene/lightmap_raster.h"
 #include "sh/sh.h"
 
+#include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <filesystem>
 
 namespace ahd {
@@ -51,6 +53,11 @@ const std::vector<BakeInputOption>& bake_input_options() {
         {"--allow-mismatch", &BakeInput::allow_mismatch,
          "Convert even when the mesh's coverage disagrees with the lightmap (lit texels outside it, covered "
          "texels black, overlapping instances without placement)"},
+        {"--allow-unplaced", &BakeInput::allow_unplaced,
+         "Godot: convert even when some lightmap users cannot be placed from the project (a cache entry Godot "
+         "dropped, a TextMesh, a GridMap cell, a missing file): the others are converted from their meshes, the "
+         "unplaced users' lit texels with normals taken from the SH itself, counted in the summary and report "
+         "(docs/godot.md \"Users that cannot be placed\")"},
     };
   }();
   return options;
@@ -116,10 +123,43 @@ GodotSceneMeshes load_godot_meshes(const BakeInput& a) {
   return load_godot_export(a.scene, lmbake);
 }
 
+// One line: the users that cannot be placed (grouped by cause, the first three causes and three
+// users of each named), why, and what the user can do.
+std::string unplaced_refusal(const GodotSceneMeshes& g) {
+  const size_t n = g.unplaced.size(), kListed = 3;
+  std::vector<std::pair<std::string, std::vector<std::string>>> causes;  // in order of first appearance
+  for (const GodotUnplacedUser& u : g.unplaced) {
+    auto it = std::find_if(causes.begin(), causes.end(), [&](const auto& c) { return c.first == u.why; });
+    if (it == causes.end()) it = causes.insert(causes.end(), {u.why, {}});
+    it->second.push_back(u.node);
+  }
+  std::string m = std::to_string(n) + " of " + std::to_string(g.users) +
+                  " lightmap users cannot be placed from the project, so their lighting would be lost: ";
+  for (size_t k = 0; k < causes.size() && k < kListed; ++k) {
+    const std::vector<std::string>& users = causes[k].second;
+    m += k ? "; " : "";
+    for (size_t j = 0; j < users.size() && j < kListed; ++j) m += (j ? ", " : "") + users[j];
+    if (users.size() > kListed) m += " and " + std::to_string(users.size() - kListed) + " more";
+    m += " (" + causes[k].first + ")";
+  }
+  if (causes.size() > kListed) m += "; and " + std::to_string(causes.size() - kListed) + " more cause(s)";
+  return m + ". --allow-unplaced converts the other " + std::to_string(size_t(g.users) - n) +
+         " and keeps the unplaced users' texels with normals from the SH itself (docs/godot.md \"Users that "
+         "cannot be placed\")";
+}
+
 MeshTriangles godot_page_mesh(const BakeInput& a, int page, MeshReadInfo* mi, std::string* note) {
   if (!a.godot) {
-    a.godot = std::make_shared<const GodotSceneMeshes>(load_godot_meshes(a));
+    auto g = std::make_shared<const GodotSceneMeshes>(load_godot_meshes(a));
+    if (!g->unplaced.empty() && !a.allow_unplaced) throw file_error(g->lmbake, unplaced_refusal(*g));
+    a.godot = g;
     for (const std::string& n : a.godot->notes) a.notes += "godot scene: " + n + "\n";
+    for (const GodotUnplacedUser& u : a.godot->unplaced) {  // those the reader's notes do not name already
+      const std::string named = "lightmap user " + u.node + " left out: ";
+      if (std::none_of(a.godot->notes.begin(), a.godot->notes.end(),
+                       [&](const std::string& n) { return n.rfind(named, 0) == 0; }))
+        a.notes += "godot scene: unplaced (--allow-unplaced): " + u.node + ": " + u.why + "\n";
+    }
   }
   const GodotSceneMeshes& g = *a.godot;
   PlacedMesh pm = place_instances(g.scene, g.placements, page, g.lmbake);
@@ -127,6 +167,62 @@ MeshTriangles godot_page_mesh(const BakeInput& a, int page, MeshReadInfo* mi, st
   *note = ", " + std::to_string(pm.placed.size()) + " of " + std::to_string(g.users) + " lightmap users placed by " + g.lmbake;
   for (const std::string& o : pm.overlaps) a.notes += "placement: page " + std::to_string(page) + ": instances " + o + " overlap in the atlas\n";
   return std::move(pm.mesh);
+}
+
+// The texels of page `page` inside the atlas rectangles of the Godot users that were not placed
+// (a->godot->unplaced, only there with --allow-unplaced) and not covered by a placed mesh.
+std::vector<uint8_t> unplaced_texels(const BakeInput& a, int page, const std::vector<uint8_t>& covered, int w, int h) {
+  if (!a.godot || a.godot->unplaced.empty()) return {};
+  std::vector<uint8_t> m(size_t(w) * size_t(h), 0);
+  for (const GodotUnplacedUser& u : a.godot->unplaced) {
+    if (u.page != page) continue;
+    const auto span = [](double at, double size, int n, int* lo, int* hi) {
+      *lo = std::clamp(int(std::floor(at * n)), 0, n);
+      *hi = std::clamp(int(std::ceil((at + size) * n)), 0, n);
+    };
+    int x0, x1, y0, y1;
+    span(u.rect[0], u.rect[2], w, &x0, &x1);
+    span(u.rect[1], u.rect[3], h, &y0, &y1);  // v down: row 0 is v = 0
+    for (int y = y0; y < y1; ++y)
+      for (int x = x0; x < x1; ++x) {
+        const size_t i = size_t(y) * size_t(w) + size_t(x);
+        if (!covered[i]) m[i] = 1;
+      }
+  }
+  return m;
+}
+
+// The fallback for unplaced users' texels: each lit one keeps its SH, fitted about the direction its
+// own L1 band points to (the luminance-weighted irradiance gradient: the light's mean direction,
+// the best guess of the surface normal the SH alone gives); unlit ones are left uncovered. The kept
+// texels count as covered in the coverage comparison. Returns how many were kept.
+size_t keep_unplaced_texels(const std::vector<uint8_t>& fallback, ShImage* sh, std::vector<uint8_t>* mesh_coverage) {
+  size_t kept = 0;
+  const size_t per = size_t(sh->coeffs) * 3;
+  for (size_t i = 0; i < fallback.size() && i < sh->texels(); ++i) {
+    if (!fallback[i]) continue;
+    const float* t = sh->texel(i);
+    bool lit = false;
+    for (size_t k = 0; k < per && !lit; ++k) lit = t[k] != 0.0f;
+    if (!lit || !sh->coverage[i]) {
+      sh->coverage[i] = 0;
+      continue;
+    }
+    double d[3] = {0, 0, 1};
+    if (sh->coeffs >= 4) {
+      const double lum[3] = {0.2126, 0.7152, 0.0722};
+      double v[3] = {0, 0, 0};  // SH order Y00, y, z, x: world x from coefficient 3, y from 1, z from 2
+      for (int c = 0; c < 3; ++c)
+        v[0] += lum[c] * t[3 * 3 + c], v[1] += lum[c] * t[1 * 3 + c], v[2] += lum[c] * t[2 * 3 + c];
+      const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+      if (len > 0 && std::isfinite(len)) d[0] = v[0] / len, d[1] = v[1] / len, d[2] = v[2] / len;
+    }
+    if (sh->normals.size() == sh->texels() * 3)
+      for (int k = 0; k < 3; ++k) sh->normals[i * 3 + size_t(k)] = float(d[k]);
+    (*mesh_coverage)[i] = 1;
+    ++kept;
+  }
+  return kept;
 }
 
 MeshTriangles page_mesh(const BakeInput& a, int page, MeshReadInfo* mi, std::string* note) {
@@ -174,13 +270,18 @@ ShImage read_layout_input(const BakeInput& a, const LayoutPreset& layout, ReadSt
     mesh_normals_to_layout_axes(layout, &rn.normals);  // glTF's axes → the baker's world
     size_t covered = 0;
     for (uint8_t c : rn.coverage) covered += c;
-    const std::vector<uint8_t> mesh_coverage = rn.coverage;
+    std::vector<uint8_t> mesh_coverage = rn.coverage;
+    // --allow-unplaced: the texels of the users the scene could not place, left to the SH itself.
+    const std::vector<uint8_t> fallback = unplaced_texels(a, page, rn.coverage, w, h);
+    for (size_t i = 0; i < fallback.size(); ++i)
+      if (fallback[i]) rn.coverage[i] = 1, rn.normals[i * 3] = rn.normals[i * 3 + 1] = 0, rn.normals[i * 3 + 2] = 1;
     if (covered == 0)
       throw file_error(src, "no triangle covers any texel of the " + std::to_string(w) + "x" + std::to_string(h) +
                                    " lightmap in UV set " + std::to_string(mi.uv_set) + " (wrong --uv-set?)");
     // Tangent-space layouts take the coverage only (read_layout uses normals for world space).
     const LayoutNormals ln{src, w, h, std::move(rn.normals), std::move(rn.coverage)};
     sh = read_layout(layout, a.input, &ln, rs);
+    const size_t kept = keep_unplaced_texels(fallback, &sh, &mesh_coverage);
     // Never silently wrong: the mesh's coverage against what the baker wrote.
     // Godot 4.4+ (packed L1) dilates farther than 4.2 (scene/coverage_check.h).
     const CoverageComparison cc =
@@ -197,6 +298,14 @@ ShImage read_layout_input(const BakeInput& a, const LayoutPreset& layout, ReadSt
     from_mesh = ", " + std::string(layout.world_space ? "normals and coverage" : "coverage") + " from " + src + " (" +
                 std::to_string(mi.triangles) + " triangles, UV set " + std::to_string(mi.uv_set) + ", " +
                 std::to_string(covered) + " texels covered" + placed + ")";
+    if (a.godot && !a.godot->unplaced.empty()) {
+      size_t users = 0;
+      for (const GodotUnplacedUser& u : a.godot->unplaced) users += u.page == page;
+      from_mesh += ", " + std::to_string(users) + " unplaced user(s) on page " + std::to_string(page) + ": " +
+                   std::to_string(kept) + " lit texels kept with normals from the SH (--allow-unplaced)";
+      a.notes += "unplaced: page " + std::to_string(page) + ": " + std::to_string(users) + " user(s), " +
+                 std::to_string(kept) + " lit texels fitted about the SH's own direction, not the surface's\n";
+    }
   } else {
     sh = read_layout(layout, a.input, a.normals, rs);
   }

@@ -29,6 +29,7 @@ struct BakeInput {
   std::string placement;  // per-instance atlas placement of the mesh (JSON or Unity scene)
   std::string scene;      // or: the baker's scene (a Godot .tscn, or its editor's glTF export)
   bool allow_mismatch = false;  // convert even when the mesh's coverage disagrees with the lightmap
+  bool allow_unplaced = false;  // Godot: convert when some lightmap users cannot be placed (docs/godot.md)
   std::string input_space;      // the input's colour space, replacing its declaration ("" = as declared)
   mutable std::shared_ptr<const GodotSceneMeshes> godot;  // the scene, loaded once for every page
   int sample_size = 256;
@@ -49,7 +50,7 @@ struct BakeInputOption {
 };
 
 // --layout, --pages, --normals, --mesh, --uv-set, --placement, --godot-scene, --input-space,
-// --allow-mismatch (the input itself is the caller's positional argument; the sample's options
+// --allow-mismatch, --allow-unplaced (the input itself is the caller's positional argument; the sample's options
 // are convert's).
 const std::vector<BakeInputOption>& bake_input_options();
 

@@ -62,6 +62,7 @@ std::string conversion_options_text(const BakeInput& in, const ConversionOptions
   // when used so that other keys stay as they were.
   if (!in.scene.empty()) t += "godot_scene 1\n";
   if (in.allow_mismatch) t += "allow_mismatch 1\n";
+  if (in.allow_unplaced) t += "allow_unplaced 1\n";
   if (!in.input_space.empty())
     t += "input_space " + in.input_space + "\n";  // the files' declarations are in their bytes
   if (iz_scale != 1.0) t += "iz_scale " + num(iz_scale) + "\n";

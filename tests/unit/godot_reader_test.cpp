@@ -7,12 +7,15 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 
+#include "bakers/godot/godot_fbx.h"
 #include "bakers/godot/godot_unwrap_key.h"
 #include "cli_runner.h"
+#include "file_bytes.h"
 #include "core/error.h"
 #include "bakers/godot/godot_lmbake.h"
 #include "bakers/godot/godot_scene.h"
@@ -451,4 +454,189 @@ TEST(GodotReader, MeshesOfEqualVertexCountTakeTheirOwnEntries) {
     }
   }
   fs::remove_all(dir);
+}
+
+namespace {
+
+// A project instancing tests/data/godot/handmade/room.fbx as "Room" (imported with Static
+// Lightmaps), its one user the node Floor; the unwrap cache holds `entry` (a Godot-keyed entry).
+fs::path fbx_project(const std::string& name, const std::vector<uint8_t>& cache, const std::string& import_extra = "") {
+  const fs::path dir = ahd_test::temp_dir(name);
+  write(dir / "project.godot", "config_version=5\n");
+  fs::create_directories(dir / "m");
+  fs::copy_file(ahd_test::test_data("godot/handmade/room.fbx"), dir / "m/room.fbx");
+  write(dir / "m/room.fbx.import",
+        "[remap]\n\nimporter=\"scene\"\n\n[params]\n\nmeshes/light_baking=2\n"
+        "meshes/lightmap_texel_size=0.2\n" +
+            import_extra);
+  write(dir / "m/room.fbx.unwrap_cache", cache);
+  write(dir / "world.lmbake", lmbake_bytes(6, true, {{"..", "Room", "Floor"}}));
+  write(dir / "world.tscn",
+        "[gd_scene load_steps=3 format=3]\n"
+        "[ext_resource type=\"LightmapGIData\" path=\"res://world.lmbake\" id=\"1_lm\"]\n"
+        "[ext_resource type=\"PackedScene\" path=\"res://m/room.fbx\" id=\"2_room\"]\n"
+        "[node name=\"World\" type=\"Node3D\"]\n"
+        "[node name=\"LightmapGI\" type=\"LightmapGI\" parent=\".\"]\nlight_data = ExtResource(\"1_lm\")\n"
+        "[node name=\"Room\" parent=\".\" instance=ExtResource(\"2_room\")]\n");
+  return dir;
+}
+
+// The cache Godot writes for room.fbx's FloorMesh, derived from modules/fbx/fbx_document.cpp's rules:
+// the file's triangles (0,0,0) (2,0,0) (2,0,-1) and (0,0,0) (2,0,-1) (0,0,-1) are taken as c, b, a
+// and their corners merged in order of first use: vertices (2,0,-1) (2,0,0) (0,0,0) (0,0,-1),
+// triangles 0 1 2, 3 0 2; metres and Y up already (UnitScaleFactor 100); node scale 2.
+const float kFbxUv2[8] = {0.9f, 0.1f, 0.9f, 0.6f, 0.1f, 0.6f, 0.1f, 0.1f};  // per vertex, v down
+std::vector<uint8_t> room_cache(bool damage_key) {
+  const std::vector<float> pos = {2, 0, -1, 2, 0, 0, 0, 0, 0, 0, 0, -1};
+  const std::vector<float> nrm = {0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1, 0};
+  const std::vector<uint32_t> idx = {0, 1, 2, 3, 0, 2};
+  const float scale[3] = {2, 2, 2};
+  GodotUnwrapKey key = godot_unwrap_key(pos, nrm, idx, scale, 0.2f);
+  if (damage_key) key[0] ^= 0xff;
+  Rsrc c;
+  c.u32(1);
+  for (uint8_t k : key) c.b.push_back(k);
+  c.u32(16), c.u32(8), c.u32(4);
+  for (uint32_t v = 0; v < 4; ++v) c.u32(v);
+  for (float f : kFbxUv2) c.f32(f);
+  c.u32(6);
+  for (uint32_t i : idx) c.u32(i);
+  return c.b;
+}
+
+}  // namespace
+
+// An FBX instance (Godot >= 4.3 imports .fbx through ufbx) is read through Assimp and rebuilt as
+// Godot's importer builds it, so that its mesh finds its unwrap-cache entry by Godot's key: the
+// instance is placed, at its node's transform, with the entry's UV2.
+TEST(GodotFbx, InstanceTakesItsUv2FromTheUnwrapCacheByKey) {
+  AHD_REQUIRE_DATA(ahd_test::test_data("godot/handmade/room.fbx"));
+  const fs::path dir = fbx_project("godot_fbx_key", room_cache(false));
+  const GodotSceneMeshes g = load_godot_scene((dir / "world.tscn").string());
+  ASSERT_EQ(g.scene.instances.size(), 1u) << testing::PrintToString(g.notes);
+  EXPECT_TRUE(g.unplaced.empty());
+  for (const std::string& n : g.notes) EXPECT_FALSE(contains(n, "by its triangles")) << n;
+  EXPECT_EQ(g.scene.instances[0].node, "../Room/Floor");
+  ASSERT_EQ(g.scene.mesh.positions.size(), 12u);
+  ASSERT_EQ(g.scene.mesh.uv.size(), 8u);
+  // World positions: the Godot vertex order, scaled by 2 and moved by (1, 0, 2); UV2 v up.
+  const float world[12] = {5, 0, 0, 5, 0, 2, 1, 0, 2, 1, 0, 0};
+  for (int k = 0; k < 12; ++k) EXPECT_FLOAT_EQ(g.scene.mesh.positions[size_t(k)], world[k]) << k;
+  for (int v = 0; v < 4; ++v) {
+    EXPECT_FLOAT_EQ(g.scene.mesh.uv[size_t(v * 2)], kFbxUv2[v * 2]) << v;
+    EXPECT_FLOAT_EQ(g.scene.mesh.uv[size_t(v * 2 + 1)], 1.0f - kFbxUv2[v * 2 + 1]) << v;
+  }
+  for (int v = 0; v < 4; ++v) EXPECT_FLOAT_EQ(g.scene.mesh.normals[size_t(v * 3 + 1)], 1.0f) << v;
+  EXPECT_NE(std::find(g.files.begin(), g.files.end(), (dir / "m/room.fbx.unwrap_cache").string()), g.files.end());
+  fs::remove_all(dir);
+
+  // The same entry under another key: not Godot's key for this mesh, found by its triangles (said so).
+  const fs::path d2 = fbx_project("godot_fbx_damaged", room_cache(true));
+  const GodotSceneMeshes h = load_godot_scene((d2 / "world.tscn").string());
+  ASSERT_EQ(h.scene.instances.size(), 1u);
+  bool by_triangles = false;
+  for (const std::string& n : h.notes)
+    by_triangles = by_triangles || contains(n, "mesh 'FloorMesh' (4 vertices) takes entry 1");
+  EXPECT_TRUE(by_triangles) << testing::PrintToString(h.notes);
+  fs::remove_all(d2);
+
+  // Imported through FBX2glTF: not reproduced, the user is named with the reason.
+  const fs::path d3 = fbx_project("godot_fbx_fbx2gltf", room_cache(false), "fbx/importer=1\n");
+  try {
+    load_godot_scene((d3 / "world.tscn").string());
+    ADD_FAILURE() << "accepted";
+  } catch (const Error& e) {
+    EXPECT_TRUE(contains(e.what(), "FBX2glTF")) << e.what();
+  }
+  fs::remove_all(d3);
+}
+
+// A cache entry Godot's own importer dropped (godotengine/godot#122494: an entry whose key sorts
+// after the first one written is never stored), made here from the real project: the chair's cache
+// holds only an entry of least key (another mesh's, written first), so the chair's own entry, of
+// greater key, is the dropped one. Its users are named with the cause (no "reimport"), the
+// conversion is refused by default in one line naming them and the option, and converts with
+// --allow-unplaced, the kept texels counted in the summary and the report.
+TEST(GodotFbx, DroppedEntryIsRefusedByDefaultAndCountedWhenAllowed) {
+  const fs::path bake = ahd_test::test_data("bakes/godot42-vermilion/project");
+  if (!fs::exists(bake / "scenes/world.exr")) GTEST_SKIP() << "no " << bake / "scenes/world.exr";
+  const fs::path dir = ahd_test::temp_dir("godot_fbx_dropped");
+  fs::copy(bake, dir / "project", fs::copy_options::recursive);
+  const fs::path models = dir / "project/assets/models";
+  std::vector<uint8_t> first = ahd_test::slurp(models / "apartments/doorframe/doorframe.glb.unwrap_cache");
+  ASSERT_GT(first.size(), 20u);
+  std::fill(first.begin() + 4, first.begin() + 20, uint8_t(0));  // the least key
+  write(models / "chair/chair.glb.unwrap_cache", first);
+  const std::string dropped_from = "chair.glb.unwrap_cache";
+  const fs::path scenes = dir / "project/scenes";
+  const GodotSceneMeshes g = load_godot_scene((scenes / "world.tscn").string());
+  ASSERT_FALSE(g.unplaced.empty()) << testing::PrintToString(g.notes);
+  EXPECT_EQ(g.scene.instances.size() + g.unplaced.size(), 55u);
+  const GodotUnplacedUser& u = g.unplaced.front();
+  EXPECT_TRUE(contains(u.why, dropped_from + " has no entry for mesh")) << u.why;
+  EXPECT_TRUE(contains(u.why, "godotengine/godot#122494")) << u.why;
+  EXPECT_FALSE(contains(u.why, "reimport it")) << u.why;
+
+  // Refused by default: one error line naming the user, the cause and the option.
+  const auto r = ahd_test::run_cli(
+      {"convert", (scenes / "world.exr").string(), "-o", (dir / "o/w.ktx2").string(), "--levels", "1"});
+  EXPECT_NE(r.exit_code, 0) << r.output;
+  size_t error_lines = 0;
+  for (size_t at = r.output.find("ahdpack: error:"); at != std::string::npos;
+       at = r.output.find("ahdpack: error:", at + 1))
+    ++error_lines;
+  EXPECT_EQ(error_lines, 1u) << r.output;
+  EXPECT_TRUE(contains(r.output, "lightmap users cannot be placed from the project")) << r.output;
+  EXPECT_TRUE(contains(r.output, u.node)) << r.output;
+  EXPECT_TRUE(contains(r.output, "godotengine/godot#122494")) << r.output;
+  EXPECT_TRUE(contains(r.output, "--allow-unplaced converts the other " + std::to_string(55 - g.unplaced.size())))
+      << r.output;
+  EXPECT_FALSE(fs::exists(dir / "o/w.json"));
+
+  // With --allow-unplaced: converted, the unplaced users' lit texels kept and counted.
+  const auto ok = ahd_test::run_cli({"convert", (scenes / "world.exr").string(), "--allow-unplaced", "-o",
+                                     (dir / "o/w.ktx2").string(), "--levels", "1"});
+  ASSERT_EQ(ok.exit_code, 0) << ok.output;
+  const std::string tag = std::to_string(g.unplaced.size()) + " unplaced user(s) on page 0: ";
+  const size_t at = ok.output.find(tag);
+  ASSERT_NE(at, std::string::npos) << ok.output;
+  const long kept = std::strtol(ok.output.c_str() + at + tag.size(), nullptr, 10);
+  EXPECT_GT(kept, 0) << ok.output;
+  EXPECT_TRUE(contains(ok.output, "godot scene: lightmap user " + u.node + " left out: ")) << ok.output;
+  const std::string report = ahd_test::read_text(dir / "o/w.report.json");
+  EXPECT_TRUE(contains(report, tag + std::to_string(kept) + " lit texels kept")) << report.substr(0, 2000);
+  fs::remove_all(dir);
+}
+
+// The arrays Godot 4.6's own FBX importer builds (its FBXDocument, run in the official web build by
+// tests/tools/godot/gen/fbx: node transforms, vertices and indices as surface_get_arrays gives
+// them), from tests/data/godot/handmade/room_zup.fbx (Z up, centimetres, a non-planar quad, the
+// node rotated 90 degrees about z and scaled by 2) and quads.fbx (quads whose shorter diagonal is
+// 0-2, 1-3, or neither): the geometry is scaled to metres but not rotated, the axis conversion is
+// the root node's transform, and a quad is split along its shorter diagonal (0-2 on a tie).
+TEST(GodotFbx, ArraysAreThoseGodot46Builds) {
+  AHD_REQUIRE_DATA(ahd_test::test_data("godot/handmade/quads.fbx"));
+  const GodotFbxScene z = read_godot_fbx(ahd_test::test_data("godot/handmade/room_zup.fbx").string());
+  ASSERT_EQ(z.nodes.size(), 1u);
+  ASSERT_EQ(z.meshes.size(), 1u);
+  EXPECT_EQ(z.nodes[0].name, "Floor");
+  // Godot: basis columns X (0, 0, -2), Y (-2, 0, 0), Z (0, 2, 0), origin (1, 0.5, 2).
+  const float local[16] = {0, -2, 0, 1, 0, 0, 2, 0.5f, -2, 0, 0, 2, 0, 0, 0, 1};
+  for (int k = 0; k < 16; ++k) EXPECT_NEAR(z.nodes[0].local[size_t(k)], local[k], 1e-6) << k;
+  EXPECT_EQ(z.meshes[0].positions, (std::vector<float>{0, 1, 0, 2, 1, 0.3f, 2, 0, 0, 0, 0, 0}));
+  EXPECT_EQ(z.meshes[0].indices, (std::vector<uint32_t>{0, 1, 2, 2, 3, 0}));
+  EXPECT_FALSE(z.meshes[0].polygons);
+
+  const GodotFbxScene q = read_godot_fbx(ahd_test::test_data("godot/handmade/quads.fbx").string());
+  ASSERT_EQ(q.meshes.size(), 4u);
+  const std::vector<std::vector<float>> vertex = {{2, 0, -1, 2, 0, 0, 0, 0, 0, 0, 0, -1},
+                                                  {0, 0, -1, 2.2f, 0, -1, 2, 0, 0, 0, 0, 0},
+                                                  {1.8f, 0, -1, 2, 0, 0, 0, 0, 0, 0, 0, -1}};
+  for (size_t m = 0; m < 3; ++m) {
+    EXPECT_EQ(q.meshes[m].positions, vertex[m]) << q.meshes[m].name;
+    EXPECT_EQ(q.meshes[m].indices, (std::vector<uint32_t>{0, 1, 2, 2, 3, 0})) << q.meshes[m].name;
+  }
+  // A pentagon: Godot gives (1,0,-2) (0,0,0) (-0.5,0,-1) (2,0,0) (2.5,0,-1), 0 1 2 0 3 1 0 4 3 (ufbx's
+  // split); the reader's fan differs and says so.
+  EXPECT_TRUE(q.meshes[3].polygons);
 }

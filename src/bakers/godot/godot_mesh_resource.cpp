@@ -73,9 +73,14 @@ MeshTriangles godot_sub_resource_mesh(const GodotTscnSub& sub, const std::string
     if (s == sub.props.end()) throw file_error(source, "the ArrayMesh has no _surfaces property");
     return godot_array_mesh_text(s->second, source);
   }
+  // TextMesh (scene/resources/3d/primitive_meshes.cpp): its triangles are the glyph outlines Godot's
+  // TextServer draws from the font file, which cannot be reproduced outside Godot.
   throw file_error(source, (sub.type.empty() ? std::string("an untyped mesh") : sub.type) +
                                " is not a mesh with lightmap UV2 that ahdpack reads (primitive meshes with "
-                               "add_uv2, ArrayMesh)");
+                               "add_uv2, ArrayMesh)" +
+                               (sub.type == "TextMesh" ? ": its glyphs are drawn by Godot's text server from the font, "
+                                                         "which is not reproduced outside Godot"
+                                                       : ""));
 }
 
 MeshTriangles godot_mesh_resource_bytes(const std::string& bytes, const std::string& source, float texel_size) {

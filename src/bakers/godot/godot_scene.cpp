@@ -14,6 +14,7 @@
 #include <set>
 #include <sstream>
 
+#include "bakers/godot/godot_fbx.h"
 #include "bakers/godot/godot_mesh_resource.h"
 #include "bakers/godot/godot_unwrap_key.h"
 #include "core/error.h"
@@ -147,8 +148,9 @@ struct Loader {
     }
     if (ext == ".tscn") return scene(path, parent, depth + 1);
     if (ext == ".glb" || ext == ".gltf") return mesh_file(path, parent);
+    if (ext == ".fbx") return fbx_file(path, parent);
     notes.push_back(
-        path + ": " + ext + " instances are not read (.tscn, .glb, .gltf are): " +
+        path + ": " + ext + " instances are not read (.tscn, .glb, .gltf, .fbx are): " +
         (ext == ".scn"
              ? "save the scene as text (.tscn) in Godot"
              : "export it as glTF (.glb) with its lightmap UVs, or give the scene's glTF export with --godot-scene"));
@@ -226,6 +228,14 @@ struct Loader {
           m = godot_sub_resource_mesh(*sub, path, primitive_texel_size());
         } else {
           if (!fs::exists(file)) throw file_error(file, "mesh resource not in the project");
+          std::string mext = fs::path(file).extension().string();
+          for (char& c : mext) c = char(std::tolower(static_cast<unsigned char>(c)));
+          // Godot's OBJ importer (editor/import/3d/resource_importer_obj.cpp) rebuilds the mesh
+          // with its own parser and SurfaceTool, UV2 from NAME.obj.unwrap_cache: not reproduced yet.
+          if (mext == ".obj")
+            throw file_error(file,
+                             "an OBJ mesh (Godot's OBJ importer, UV2 in " + fs::path(file).filename().string() +
+                                 ".unwrap_cache) is not read yet: export it as glTF (.glb) with its lightmap UVs");
           files.push_back(file);
           m = godot_mesh_resource_bytes(read_text(file), file, primitive_texel_size());
         }
@@ -353,6 +363,87 @@ struct Loader {
     return root;
   }
 
+  // A .fbx as Godot's own FBX importer builds it (bakers/godot/godot_fbx.h): a node named after
+  // the file holding the file's root nodes; meshes get their lightmap UVs from the unwrap cache
+  // (light_baking=2) or the file's second UV set.
+  int fbx_file(const std::string& path, int parent) {
+    files.push_back(path);
+    const std::string import_file = path + ".import", cache_file = path + ".unwrap_cache";
+    if (fs::exists(import_file)) files.push_back(import_file);
+    const int root = add(fs::path(path).stem().string(), parent);
+    // fbx/importer = 1 (editor/import/3d/resource_importer_scene.cpp, modules/fbx): the file went
+    // through the external FBX2glTF converter, whose output is not reproduced here.
+    if (import_param(import_file, "fbx/importer") == "1") {
+      nodes[size_t(root)].placeholder = true;
+      nodes[size_t(root)].why = path +
+                                " is imported through FBX2glTF (fbx/importer = 1), whose conversion is not "
+                                "reproduced here: import it with ufbx (the default) in Godot and bake again";
+      return root;
+    }
+    const GodotFbxScene f = read_godot_fbx(path);
+    const bool gen_uv2 = import_param(import_file, "meshes/light_baking") == "2";
+    UnwrapFile uf;
+    uf.path = path, uf.cache_file = cache_file, uf.gen_uv2 = gen_uv2;
+    if (gen_uv2 && fs::exists(cache_file)) {
+      uf.cache = read_godot_unwrap_cache(cache_file);
+      files.push_back(cache_file);
+    }
+    uf.texel = std::max(0.001f, import_float(import_file, "meshes/lightmap_texel_size", 0.2f));
+    const float root_scale = import_float(import_file, "nodes/root_scale", 1.0f);
+    std::vector<int> ids(f.nodes.size(), -1);
+    const auto to_ai = [](const std::array<float, 16>& l) {
+      return aiMatrix4x4(l[0], l[1], l[2], l[3], l[4], l[5], l[6], l[7], l[8], l[9], l[10], l[11], l[12], l[13], l[14],
+                         l[15]);
+    };
+    std::map<std::pair<std::vector<unsigned>, std::array<float, 3>>, size_t> group_of;
+    std::vector<MeshGroup> groups;
+    for (size_t i = 0; i < f.nodes.size(); ++i) {
+      const GodotFbxNode& n = f.nodes[i];
+      const int id = add(n.name, n.parent < 0 ? root : ids[size_t(n.parent)]);
+      ids[i] = id;
+      const auto& l = n.local;
+      nodes[size_t(id)].local = {l[0], l[1], l[2], l[4], l[5], l[6], l[8], l[9], l[10], l[3], l[7], l[11]};
+      if (n.mesh < 0) continue;
+      MeshGroup g;
+      g.meshes = {unsigned(n.mesh)};
+      std::vector<aiMatrix4x4> chain;
+      for (int at = int(i); at >= 0; at = f.nodes[size_t(at)].parent) chain.push_back(to_ai(f.nodes[size_t(at)].local));
+      chain_scales(chain, root_scale, &g);
+      const auto key = std::make_pair(g.meshes, g.scales[0]);
+      auto it = group_of.find(key);
+      if (it == group_of.end()) {
+        it = group_of.emplace(key, groups.size()).first;
+        const GodotFbxMesh& m = f.meshes[size_t(n.mesh)];
+        MeshArrays& a = g.arrays;
+        a.name = m.name;
+        a.pos = m.positions, a.nrm = m.normals, a.uv1 = m.uv2;
+        a.all_uv1 = !m.uv2.empty(), a.all_normals = m.has_normals;
+        a.idx.resize(m.indices.size());  // stored so that godot_winding() gives Godot's triangles back
+        for (size_t t = 0; t + 2 < m.indices.size(); t += 3)
+          a.idx[t] = m.indices[t], a.idx[t + 1] = m.indices[t + 2], a.idx[t + 2] = m.indices[t + 1];
+        if (m.polygons)
+          a.inexact = "its faces of more than 4 corners are split by ufbx in Godot, which is not reproduced here";
+        else if (!m.has_normals)
+          a.inexact = "it has no normals in the file, and those ufbx generates for Godot are not reproduced here";
+        else if (f.mirrored)
+          a.inexact = "the file's axes are left-handed, and ufbx's conversion of them is not reproduced here";
+        groups.push_back(std::move(g));
+      }
+      groups[it->second].nodes.push_back(id);
+    }
+    std::vector<bool> claimed(uf.cache.size(), false);
+    if (gen_uv2)
+      for (MeshGroup& g : groups) exact_entry(uf, &g, &claimed);
+    for (MeshGroup& g : groups) {
+      const int geo = group_geometry(uf, &g, claimed);
+      for (int id : g.nodes) {
+        nodes[size_t(id)].geometry = geo;
+        nodes[size_t(id)].why = g.why;
+      }
+    }
+    return root;
+  }
+
   // What a glTF file's meshes need for their lightmap UVs.
   struct UnwrapFile {
     std::string path, cache_file;
@@ -366,6 +457,7 @@ struct Loader {
     std::vector<uint32_t> idx;  // as the file stores them (glTF winding)
     bool all_uv1 = true, all_normals = true;
     std::string name;
+    std::string inexact;  // why Godot's key may not be reproduced for this mesh ("" when it is)
   };
   struct MeshGroup {
     std::vector<unsigned> meshes;
@@ -389,9 +481,14 @@ struct Loader {
   // from each node's decomposed rotation and scale (as Godot's glTF importer builds it), and from
   // the matrices as Assimp holds them. The key decides which (if either) Godot computed.
   static void node_scales(const aiNode* an, const aiNode* top, bool synthetic, float root_scale, MeshGroup* g) {
+    std::vector<aiMatrix4x4> chain;
+    for (const aiNode* at = an; at && !(synthetic && at == top); at = at->mParent) chain.push_back(at->mTransformation);
+    chain_scales(chain, root_scale, g);
+  }
+  // The same from the node's transform and its parents' (`chain`, the node first).
+  static void chain_scales(const std::vector<aiMatrix4x4>& chain, float root_scale, MeshGroup* g) {
     float trs[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, mat[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-    for (const aiNode* at = an; at && !(synthetic && at == top); at = at->mParent) {
-      const aiMatrix4x4& m = at->mTransformation;
+    for (const aiMatrix4x4& m : chain) {
       aiVector3D s, t;
       aiQuaternion q;
       m.Decompose(s, q, t);
@@ -513,7 +610,9 @@ struct Loader {
           GodotUnwrapKey last{};
           for (const GodotUnwrapEntry& e : uf.cache) last = std::max(last, key_of(e));
           const GodotUnwrapKey key = godot_unwrap_key(a.pos, a.nrm, w, g->scales[0].data(), uf.texel);
-          if (a.all_normals && key > last)
+          if (!a.inexact.empty())
+            g->why = uf.cache_file + ": no entry fits " + mesh + " by Godot's key or by its triangles: " + a.inexact;
+          else if (a.all_normals && key > last)
             g->why = uf.cache_file + " has no entry for " + mesh +
                      ": Godot's importer left it out (an entry whose key sorts " +
                      "after the first one written is dropped, godotengine/godot#122494), so reimporting writes the "
@@ -613,23 +712,44 @@ GodotSceneMeshes place_users(Loader& L, const std::string& lmbake, const GodotLi
   out.users = int(data.users.size());
   int no_node = 0, no_mesh = 0, grid = 0;
   std::vector<std::string> left_out;  // instance by instance: which user and why
+  const auto unplaced = [&out](const GodotLightmapUser& u, const std::string& node, const std::string& why) {
+    GodotUnplacedUser x;
+    x.node = node, x.page = u.slice, x.why = why;
+    std::copy(u.rect, u.rect + 4, x.rect);
+    out.unplaced.push_back(std::move(x));
+  };
   for (const GodotLightmapUser& u : data.users) {
     if (u.sub_instance >= 0) {
       ++grid;
+      unplaced(u, u.path + " [cell " + std::to_string(u.sub_instance) + "]",
+               "a GridMap cell: its MeshLibrary item's mesh and the cell's transform are not read");
       continue;
     }
     const int id = u.path.empty() || u.path[0] == '/' ? -1 : resolve(u.path);
     if (id < 0) {
       ++no_node;
+      // The deepest node of the path that is there says why the rest is not (a missing or unread file).
+      std::string why = "its node is not in the scene";
+      for (size_t cut = u.path.rfind('/'); cut != std::string::npos && cut > 0; cut = u.path.rfind('/', cut - 1)) {
+        const int at = resolve(u.path.substr(0, cut));
+        if (at < 0) continue;
+        const Node& a = L.nodes[size_t(at)];
+        if (!a.why.empty()) why = a.why;
+        else if (a.placeholder)
+          why = "the scene or mesh file instanced at " + u.path.substr(0, cut) + " is missing or not read";
+        break;
+      }
+      unplaced(u, u.path, why);
       continue;
     }
     const Node& n = L.nodes[size_t(id)];
     if (n.geometry < 0) {
       ++no_mesh;
-      left_out.push_back("lightmap user " + u.path + " left out: " +
-                         (n.why.empty() ? std::string(n.placeholder ? "its scene or mesh file is not read"
-                                                                    : "no mesh with lightmap UVs found on the node")
-                                        : n.why));
+      const std::string why = n.why.empty() ? std::string(n.placeholder ? "its scene or mesh file is not read"
+                                                                        : "no mesh with lightmap UVs found on the node")
+                                            : n.why;
+      left_out.push_back("lightmap user " + u.path + " left out: " + why);
+      unplaced(u, u.path, why);
       continue;
     }
     MeshInstance inst;
@@ -660,8 +780,12 @@ GodotSceneMeshes place_users(Loader& L, const std::string& lmbake, const GodotLi
   out.files = L.files;
   for (const std::string& f : out.files) note_input_file(f);  // the depfile and the cache key (files/input_record.h)
   if (out.scene.instances.empty())
-    throw file_error(lmbake, "none of its " + std::to_string(data.users.size()) + " users is a mesh with lightmap UVs in " + from +
-                                 (out.notes.empty() ? "" : " (" + out.notes.front() + ")"));
+    throw file_error(lmbake, "none of its " + std::to_string(data.users.size()) +
+                                 " users is a mesh with lightmap UVs in " + from +
+                                 (!out.unplaced.empty() ? " (lightmap user " + out.unplaced.front().node +
+                                                              " left out: " + out.unplaced.front().why + ")"
+                                  : out.notes.empty() ? ""
+                                                      : " (" + out.notes.front() + ")"));
   return out;
 }
 

@@ -7,6 +7,9 @@
 // second UV set (TEXCOORD_1, e.g. the editor's glTF export) — and the meshes a scene defines or
 // names as resources (`mesh = SubResource/ExtResource(…)`, bakers/godot/godot_mesh_resource.h).
 //
+// FBX instances (Godot >= 4.3 imports .fbx itself, through ufbx) are read through Assimp and
+// rebuilt as Godot's FBX importer builds them (bakers/godot/godot_fbx.h).
+//
 // Godot's conventions used (from its scene importer and glTF module): an imported .glb is a
 // Node3D named after the file holding the glTF scene's root nodes; node names have '.', ':', '@',
 // '/', '"' and '%' replaced by '_'; the unwrap cache's source vertices index the mesh's surfaces
@@ -20,6 +23,15 @@
 
 namespace ahd {
 
+// A lightmap user of the .lmbake that the reader could not place (its mesh or its node is not
+// reproduced outside Godot): its atlas rectangle is known, its geometry is not.
+struct GodotUnplacedUser {
+  std::string node;               // the user's node path as the .lmbake stores it (GridMap: "path [cell N]")
+  int page = 0;                   // atlas slice
+  double rect[4] = {0, 0, 0, 0};  // x, y, width, height: atlas fraction, v down (Godot's uv_scale)
+  std::string why;                // the cause, with the remedy when there is one
+};
+
 struct GodotSceneMeshes {
   MeshInstances scene;               // one instance per placed user, world space, UV2 v up (OBJ convention)
   std::vector<Placement> placements; // per instance: page = slice, atlas_uv = uv2 · size + position (v up)
@@ -27,6 +39,7 @@ struct GodotSceneMeshes {
   std::vector<std::string> files;    // every file read, in order (for dependency files)
   std::vector<std::string> notes;    // what was read and what was left out: each user without a mesh, and why
   int users = 0;                     // users in the .lmbake
+  std::vector<GodotUnplacedUser> unplaced;  // every user not among the instances, in .lmbake order
 };
 
 // Loads `tscn` (its project: the nearest project.godot above it resolves res:// paths), the
