@@ -15,9 +15,9 @@ import re
 import sys
 import tempfile
 
-SCAN_DIRS = ["src", "include", "tests", "bench", "fuzz", "scripts", "formats", "cmake", ".ci"]
+SCAN_DIRS = ["src", "include", "tests", "bench", "fuzz", "scripts", "formats", "cmake", ".ci", "addons"]
 SCAN_SUFFIXES = {".cpp", ".h", ".c", ".inc", ".py", ".sh", ".cmake", ".txt", ".md", ".glsl",
-                 ".hlsl", ".mjs", ".json", ""}
+                 ".hlsl", ".mjs", ".json", ".gd", ".gdshader", ".gdshaderinc", ""}
 SKIP_DIRS = {"data", "node_modules", "build"}
 COMMENT_LEAD = re.compile(r"^\s*(?://+|/\*+|\*+/?|#+)?\s?")
 CITATION = re.compile(r'(docs/[A-Za-z0-9_./-]+\.md|README(?:\.md)?)(?:,)?\s*(?:"([^"\n]+)")?')

@@ -32,11 +32,30 @@ TEST(EngineGuide, ExamplesAreTheTestedFiles) {
     shown.insert(path);
   }
   for (const char* p : {"formats/engine/three/ahd_three.js", "docs/examples/three/render_check.html",
-                        "formats/shaders/ahd_decode.glsl"})
+                        "formats/shaders/ahd_decode.glsl", "addons/ahdpack/ahd_lightmap.gd",
+                        "addons/ahdpack/ahd_lightmap.gdshader", "docs/examples/godot/render_check/main.gd"})
     EXPECT_TRUE(shown.count(p)) << "the guide shows nothing of " << p;
   const std::string page = ahd_test::read_text(ahd_test::kSourceDir / "docs" / "examples" / "three" / "render_check.html");
   EXPECT_NE(page.find("from '../ahd/formats/engine/three/ahd_three.js'"), std::string::npos);
   EXPECT_NE(page.find("fetch('../ahd/formats/shaders/ahd_decode.glsl')"), std::string::npos);
   EXPECT_NE(ahd_test::read_text(ahd_test::kSourceDir / "tests" / "unit" / "three_render_test.cpp").find("/page/render_check.html"),
+            std::string::npos);
+  // The Godot test (GodotAddon.*) runs the project the guide shows, with the add-on it shows.
+  const std::string godot_test = ahd_test::read_text(ahd_test::kSourceDir / "tests" / "unit" / "godot_addon_test.cpp");
+  EXPECT_NE(godot_test.find("\"docs\" / \"examples\" / \"godot\" / \"render_check\""), std::string::npos);
+  EXPECT_NE(godot_test.find("\"addons\" / \"ahdpack\""), std::string::npos);
+}
+
+// The add-on's Godot include carries the GLSL decode's functions verbatim (the Godot test renders
+// the include; the GL and three.js tests the GLSL file).
+TEST(EngineGuide, GodotIncludeIsTheGlslDecode) {
+  const std::string glsl = ahd_test::read_text(ahd_test::kSourceDir / "formats" / "shaders" / "ahd_decode.glsl");
+  const std::string inc = ahd_test::read_text(ahd_test::kSourceDir / "addons" / "ahdpack" / "ahd_decode.gdshaderinc");
+  const size_t k = glsl.find("vec3 ahd_hemi_oct_decode");
+  ASSERT_NE(k, std::string::npos);
+  EXPECT_NE(inc.find(glsl.substr(k)), std::string::npos)
+      << "addons/ahdpack/ahd_decode.gdshaderinc differs from formats/shaders/ahd_decode.glsl";
+  EXPECT_NE(ahd_test::read_text(ahd_test::kSourceDir / "addons" / "ahdpack" / "ahd_lightmap.gdshader")
+                .find("#include \"res://addons/ahdpack/ahd_decode.gdshaderinc\""),
             std::string::npos);
 }
