@@ -252,4 +252,11 @@ std::vector<ShImage> read_bake_pages(const BakeInput& a, int threads, ReadStats*
   return pages;
 }
 
+std::vector<ShImage> read_bake_input(BakeInput* a, int threads, ReadStats* rs, std::string* source) {
+  resolve_auto_layout(a);
+  find_scene_for_input(a);
+  check_bake_input(*a);
+  return read_bake_pages(*a, threads, rs, source);
+}
+
 }  // namespace ahd

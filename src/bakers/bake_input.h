@@ -73,4 +73,10 @@ void check_bake_input(const BakeInput& a);
 // record (files/input_record.h).
 std::vector<ShImage> read_bake_pages(const BakeInput& a, int threads, ReadStats* rs, std::string* source);
 
+// The input read as `convert` reads it, in its order: resolve_auto_layout, find_scene_for_input,
+// check_bake_input, read_bake_pages. For commands that read a conversion's source again (verify,
+// preview): the same options give the same pages. *a is updated as those calls update it (layout,
+// base path, scene, notes). Throws ahd::Error("<file>: <cause>").
+std::vector<ShImage> read_bake_input(BakeInput* a, int threads, ReadStats* rs, std::string* source);
+
 }  // namespace ahd
