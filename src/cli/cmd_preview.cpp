@@ -1,6 +1,8 @@
-// ahdpack preview NAME.json [--source IN.exr] -o DIR/: a self-contained HTML page (no network) with
-// PNGs beside it: every plane and mip level, irradiance for the surface normal and tilted normals,
-// error heat maps against the source SH, the report's tables and the time per stage.
+// ahdpack preview NAME.json [--source IN] [--layout …] [--mesh …] -o DIR/: a self-contained HTML page
+// (no network) with PNGs beside it: every plane and mip level, irradiance for the surface normal and
+// tilted normals, error heat maps against the source SH, the report's tables and the time per stage.
+// IN and the input options as convert takes them (bakers/bake_input.h: the canonical EXR, a baker's
+// set, a Godot project); --mesh is also the 3D view's mesh.
 //
 // HDR images are PNGs in the fixed log encoding of preview_images.h; the exposure slider rewrites
 // the table of an SVG feComponentTransfer filter that every HDR <img> uses, so exposure works on
@@ -23,6 +25,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
+#include "cli/conversion_args.h"
 #include "cli/conversion_view.h"
 #include "cli/preview_3d.h"
 #include "cli/preview_html.h"
@@ -42,10 +45,20 @@ namespace {
 constexpr const char* kMarker = ".ahdpack-preview";
 
 struct PreviewArgs {
-  std::string manifest, source, out;
-  std::string mesh;  // the 3D view's mesh (preview_3d.h); "" = the sample's plane
-  int uv_set = -1;
+  std::string manifest, out;
+  // --source and the input options: what convert read. source.mesh and source.uv_set are also the
+  // 3D view's mesh (preview_3d.h; "" = the sample's plane).
+  BakeInput source;
 };
+
+// The source's pages as convert read them. A canonical EXR holds its own normals and coverage, so
+// --mesh (and --uv-set) beside it give the 3D view's mesh only, as before the input options.
+std::vector<ShImage> read_preview_source(const PreviewArgs& a, const Manifest& m, std::string* described) {
+  BakeInput in = a.source;
+  resolve_auto_layout(&in);
+  if (in.layout.empty()) in.mesh.clear(), in.uv_set = -1;
+  return read_source_for(in, m, described);
+}
 
 // Irradiance of level 0 for one tangent-space unit normal.
 std::vector<float> irradiance(const DecodedPlanes& p, const double n[3], double dz_min) {
@@ -106,8 +119,10 @@ void run_preview(const PreviewArgs& a) {
   fs::path report_path = fs::path(a.manifest).parent_path() / (page.name + ".report.json");
   std::error_code ec;
   if (fs::exists(report_path, ec)) page.report = read_report_file(report_path.string());
-  ShImage sh;
-  if (!a.source.empty()) sh = read_source_for(a.source, v);
+  const bool has_source = !a.source.input.empty();
+  std::string described;
+  std::vector<ShImage> pages;  // the source's pages; the page shows (and compares) array layer 0
+  if (has_source) pages = read_preview_source(a, m, &described);
 
   if (a.out.empty()) throw Error("-o needs a folder name");
   fs::path out = fs::absolute(a.out).lexically_normal();
@@ -151,15 +166,17 @@ void run_preview(const PreviewArgs& a) {
     png(n.file, log_encode(irradiance(l0, n.n, m.dz_min), l0.width, l0.height, white));
     page.irradiance.push_back({n.file, n.caption});
   }
-  if (!a.source.empty()) {
-    const TexelErrorMaps e = texel_error_maps(sh, l0, m.dz_min);
+  if (has_source) {
+    const TexelErrorMaps e = texel_error_maps(pages[0], l0, m.dz_min);
     png("error_normal.png", heat_map(e.normal, l0.width, l0.height, kHeatLoExp, kHeatHiExp));
     png("error_hemisphere.png", heat_map(e.hemisphere, l0.width, l0.height, kHeatLoExp, kHeatHiExp));
-    page.source = a.source;
+    page.source = described + (pages.size() > 1 ? "; page 0 (array layer 0) shown" : "");
     page.error_normal = summarise_map(e.normal);
     page.error_hemisphere = summarise_map(e.hemisphere);
   }
-  page.view3d_html = write_preview_3d(tmp.path, {a.manifest, a.mesh, a.uv_set, a.source.empty() ? nullptr : &sh});
+  // The 3D view's A/B takes a single-page source (its coverage and polynomials are of page 0).
+  const ShImage* sh3d = pages.size() == 1 ? &pages[0] : nullptr;
+  page.view3d_html = write_preview_3d(tmp.path, {a.manifest, a.source.mesh, a.source.uv_set, sh3d});
   const std::string html = preview_html(page), marker = "written by ahdpack preview\n";
   write("index.html", std::vector<uint8_t>(html.begin(), html.end()));
   write(kMarker, std::vector<uint8_t>(marker.begin(), marker.end()));
@@ -167,7 +184,7 @@ void run_preview(const PreviewArgs& a) {
   publish_folder(tmp.path, out);
   tmp.keep = true;
   std::printf("ahdpack preview: %s -> %s/index.html (%zu level(s)%s)\n", a.manifest.c_str(), out.string().c_str(),
-              v.levels.size(), a.source.empty() ? "" : ", error heat maps against the source");
+              v.levels.size(), has_source ? ", error heat maps against the source" : "");
 }
 
 }  // namespace
@@ -177,9 +194,11 @@ void add_preview_command(CLI::App& app) {
   CLI::App* c = app.add_subcommand("preview", "Write an HTML page (no network) showing a conversion: planes, mips, "
                                               "irradiance, error heat maps, report");
   c->add_option("manifest", a->manifest, "NAME.json written by convert")->required();
-  c->add_option("--source", a->source, "The source SH (canonical EXR) for the error heat maps");
-  c->add_option("--mesh", a->mesh, "The mesh (.glb/.gltf/.obj) the 3D view lights (default: the sample's plane)");
-  c->add_option("--uv-set", a->uv_set, "The mesh's lightmap UV set (default: the second when there are two)");
+  c->add_option("--source", a->source.input,
+                "The source SH for the error heat maps, as convert read it: the canonical EXR or any file of a "
+                "baker's set (with the same --layout, --normals, --mesh… as the conversion); --mesh is also the mesh "
+                "(.glb/.gltf/.obj) the 3D view lights (default: the sample's plane)");
+  add_input_options(c, &a->source);
   c->add_option("-o,--output", a->out, "Output folder (replaced if it holds an earlier preview)")->required();
   c->callback([a]() { run_preview(*a); });
 }

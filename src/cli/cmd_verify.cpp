@@ -1,5 +1,5 @@
 // ahdpack verify NAME.json --source IN [--layout …] [--normals …|--mesh …] [--max-rel-p99 X] [--max-log-rmse Y]
-//   [--max-iz-rel-p99 Z]: IN and the input options as convert takes them (bakers/bake_input.h)
+//   [--max-iz-rel-p99 Z] [--dark-floor K]: IN and the input options as convert takes them (bakers/bake_input.h)
 // ahdpack verify NAME.json --golden OTHER.json [--max-diff-p99 X] [--max-diff-max Y]
 // A check for users' CI: decodes a conversion (every plane's size and SHA-256 checked first) and
 // compares it with the source SH or with a stored golden conversion. One line per check,
@@ -7,8 +7,9 @@
 // any fails (bad input: one error line, exit 1, as everywhere).
 //
 // Default bounds (docs/tools.md "Verify in CI") pass every standard profile on the analytic
-// sample with a margin and catch a broken or swapped plane; a CI job should set its own from its
-// lightmaps' measured figures.
+// sample and on a real Godot bake with a margin and catch a broken or swapped plane; a CI job should
+// set its own from its lightmaps' measured figures. The relative errors against the source are
+// floored at --dark-floor × the image's p99 irradiance (cli/source_error.h says why).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -16,6 +17,7 @@
 #include "cli/commands.h"
 #include "cli/conversion_args.h"
 #include "cli/conversion_view.h"
+#include "cli/source_error.h"
 #include "core/error.h"
 #include "core/parallel.h"
 
@@ -27,6 +29,7 @@ struct VerifyArgs {
   std::string manifest, golden;
   BakeInput source;  // --source and the input options: what convert read
   double max_rel_p99 = 0.30, max_log_rmse = 0.15, max_iz_rel_p99 = 0.05;  // against the source
+  double dark_floor = kDefaultDarkFloor;  // relative errors' denominators floored at this × the p99 (source_error.h)
   double max_diff_p99 = 0.01, max_diff_max = 0.10;                        // against a golden conversion
 };
 
@@ -88,31 +91,23 @@ void run_verify(const VerifyArgs& a) {
   Checks c;
   const ConversionView v = read_conversion(a.manifest);
   if (!a.source.input.empty()) {
-    BakeInput in = a.source;
-    resolve_auto_layout(&in);
-    find_scene_for_input(&in);
-    check_bake_input(in);
-    ReadStats rs;
     std::string described;
-    const std::vector<ShImage> pages = read_bake_pages(in, 0, &rs, &described);
-    if (pages.size() != v.manifest.layers)
-      throw file_error(a.source.input, "holds " + std::to_string(pages.size()) + " atlas page(s), the conversion " +
-                                           std::to_string(v.manifest.layers));
+    const std::vector<ShImage> pages = read_source_for(a.source, v.manifest, &described);
     for (size_t p = 0; p < pages.size(); ++p) {
-      const ShImage& sh = pages[p];
-      if (uint32_t(sh.width) != v.manifest.width || uint32_t(sh.height) != v.manifest.height)
-        throw file_error(a.source.input, "is " + std::to_string(sh.width) + "x" + std::to_string(sh.height) +
-                                             ", the conversion is " + std::to_string(v.manifest.width) + "x" +
-                                             std::to_string(v.manifest.height));
       const ConversionView layer = p == 0 ? ConversionView{} : read_conversion(a.manifest, int(p));
       const ConversionView& lv = p == 0 ? v : layer;
-      const ErrorReport e = measure_conversion(sh, lv.levels[0], v.manifest.dz_min);
+      const SourceErrorFigures e = measure_against_source(pages[p], lv.levels[0], v.manifest.dz_min, a.dark_floor);
       const std::string page = pages.size() > 1 ? " page " + std::to_string(p) : "";
-      std::printf("ahdpack verify: %s%s against %s (level 0, %zu covered texels)\n", a.manifest.c_str(), page.c_str(),
-                  described.c_str(), e.texels);
-      c.check("rel-p99", e.relative.p99, a.max_rel_p99, "hemisphere relative RMSE, 99th percentile over texels");
-      c.check("log-rmse", e.log2.mean, a.max_log_rmse, "mean over texels of the log2(1+E) RMSE over the hemisphere");
-      c.check("iz-rel-p99", e.normal_rel.p99, a.max_iz_rel_p99, "relative error along the normal, 99th percentile");
+      std::printf(
+          "ahdpack verify: %s%s against %s (level 0, %zu covered texels; floor %.3g x p99 E = %.4g: %zu texels "
+          "below it)\n",
+          a.manifest.c_str(), page.c_str(), described.c_str(), e.texels, a.dark_floor, a.dark_floor * e.scale,
+          e.floored);
+      c.check("rel-p99", e.rel_p99, a.max_rel_p99,
+              "hemisphere RMSE / max(mean E, floor x p99), 99th percentile over texels");
+      c.check("log-rmse", e.log_rmse, a.max_log_rmse, "mean over texels of the log2(1+E) RMSE over the hemisphere");
+      c.check("iz-rel-p99", e.iz_rel_p99, a.max_iz_rel_p99,
+              "error along the normal / max(E(z), floor x p99), 99th percentile");
     }
   } else {
     const ConversionView g = read_conversion(a.golden);
@@ -153,6 +148,10 @@ void add_verify_command(CLI::App& app) {
                 "The source SH as convert read it: the canonical EXR or any file of a baker's set (with the same "
                 "--layout, --normals, --mesh… as the conversion)");
   add_input_options(c, &a->source);
+  c->add_option("--dark-floor", a->dark_floor,
+                "Source: the relative errors' denominator is at least this fraction of the source's p99 irradiance, "
+                "so near-black texels are judged by their absolute error (default 0.03; 0 = per-texel relative)")
+      ->check(CLI::Range(0.0, 1.0));
   c->add_option("--golden", a->golden, "A stored conversion (its manifest) to compare with");
   c->add_option("--max-rel-p99", a->max_rel_p99, "Bound of the hemisphere relative RMSE p99 (default 0.30)");
   c->add_option("--max-log-rmse", a->max_log_rmse, "Bound of the mean log2 RMSE (default 0.15)");

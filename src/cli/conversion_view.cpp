@@ -26,19 +26,28 @@ ConversionView read_conversion(const std::string& manifest_path, int layer) {
                                           std::to_string(mp.layers));
     planes.push_back({mp.name, texture_layer(t, uint32_t(layer))});
   }
-  for (uint32_t l = 0; l < m.levels; ++l) v.levels.push_back(decode_planes(planes, m.ratio_form == RatioForm::Rgb, int(l)));
+  for (uint32_t l = 0; l < m.levels; ++l) {
+    v.levels.push_back(decode_planes(planes, m.ratio_form == RatioForm::Rgb, int(l)));
+    // The SH was scaled by iz_scale before the fit, so I_z and both colours of the lobe are
+    // iz_scale × E; d and the ratio are unchanged. Back to E, what the source SH gives.
+    if (m.iz_scale != 1.0)
+      for (float& x : v.levels.back().iz) x = float(double(x) / m.iz_scale);
+  }
   return v;
 }
 
-ShImage read_source_for(const std::string& source, const ConversionView& v) {
-  ShImage sh = read_canonical_sh(source);
-  if (v.manifest.layers != 1)
-    throw file_error(source, "the conversion has " + std::to_string(v.manifest.layers) +
-                                 " atlas pages; checking against a source handles single-page conversions only");
-  if (uint32_t(sh.width) != v.manifest.width || uint32_t(sh.height) != v.manifest.height)
-    throw file_error(source, "is " + std::to_string(sh.width) + "x" + std::to_string(sh.height) + ", the conversion is " +
-                                 std::to_string(v.manifest.width) + "x" + std::to_string(v.manifest.height));
-  return sh;
+std::vector<ShImage> read_source_for(BakeInput source, const Manifest& m, std::string* described) {
+  const std::string given = source.input;
+  ReadStats rs;
+  std::vector<ShImage> pages = read_bake_input(&source, 0, &rs, described);
+  if (pages.size() != m.layers)
+    throw file_error(
+        given, "holds " + std::to_string(pages.size()) + " atlas page(s), the conversion " + std::to_string(m.layers));
+  for (const ShImage& sh : pages)
+    if (uint32_t(sh.width) != m.width || uint32_t(sh.height) != m.height)
+      throw file_error(given, "is " + std::to_string(sh.width) + "x" + std::to_string(sh.height) +
+                                  ", the conversion is " + std::to_string(m.width) + "x" + std::to_string(m.height));
+  return pages;
 }
 
 TexelErrorMaps texel_error_maps(const ShImage& sh, const DecodedPlanes& p, double dz_min) {

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "bakers/bake_input.h"
 #include "fit/hemisphere_error.h"
 #include "pipeline/convert.h"
 #include "pipeline/manifest.h"
@@ -13,16 +14,20 @@ namespace ahd::cli {
 
 struct ConversionView {
   Manifest manifest;
-  std::vector<DecodedPlanes> levels;  // levels[l]: the planes of mip level l, array layer 0
+  // levels[l]: the planes of mip level l, array layer `layer`, with iz in units of E: the stored
+  // I_z divided by the manifest's iz_scale (stored I_z = iz_scale × E, docs/godot.md "Irradiance scale").
+  std::vector<DecodedPlanes> levels;
 };
 
 // Reads the manifest and every plane (sizes and SHA-256 checked by read_manifest_plane), and
 // decodes each level of array layer `layer`. Throws ahd::Error("<file>: <cause>").
 ConversionView read_conversion(const std::string& manifest_path, int layer = 0);
 
-// Reads the canonical SH EXR `source` and checks that it is the conversion's source size and a
-// single page. Throws ahd::Error naming the file.
-ShImage read_source_for(const std::string& source, const ConversionView& v);
+// The conversion's source read as convert read it (bakers/bake_input.h read_bake_input: the
+// canonical EXR, any file of a baker's set, a Godot project with its scene…), one ShImage per
+// atlas page, checked against the manifest's pages and size. *described says what was read.
+// Throws ahd::Error naming the file as the user gave it.
+std::vector<ShImage> read_source_for(BakeInput source, const Manifest& m, std::string* described);
 
 // Per texel of level 0 (row-major; NaN where the source is not covered):
 //   hemisphere  RMS over 64 hemisphere normals and the channels of I − E / mean luminance of E
