@@ -98,14 +98,16 @@ void run_verify(const VerifyArgs& a) {
       const ConversionView& lv = p == 0 ? v : layer;
       const SourceErrorFigures e = measure_against_source(pages[p], lv.levels[0], v.manifest.dz_min, a.dark_floor);
       const std::string page = pages.size() > 1 ? " page " + std::to_string(p) : "";
-      std::printf("ahdpack verify: %s%s against %s (level 0, %zu covered texels; floor %.3g x p99 E = %.4g: %zu texels "
-                  "below it)\n",
-                  a.manifest.c_str(), page.c_str(), described.c_str(), e.texels, a.dark_floor, a.dark_floor * e.scale,
-                  e.floored);
+      std::printf(
+          "ahdpack verify: %s%s against %s (level 0, %zu covered texels; floor %.3g x p99 E = %.4g: %zu texels "
+          "below it)\n",
+          a.manifest.c_str(), page.c_str(), described.c_str(), e.texels, a.dark_floor, a.dark_floor * e.scale,
+          e.floored);
       c.check("rel-p99", e.rel_p99, a.max_rel_p99,
               "hemisphere RMSE / max(mean E, floor x p99), 99th percentile over texels");
       c.check("log-rmse", e.log_rmse, a.max_log_rmse, "mean over texels of the log2(1+E) RMSE over the hemisphere");
-      c.check("iz-rel-p99", e.iz_rel_p99, a.max_iz_rel_p99, "error along the normal / max(E(z), floor x p99), 99th percentile");
+      c.check("iz-rel-p99", e.iz_rel_p99, a.max_iz_rel_p99,
+              "error along the normal / max(E(z), floor x p99), 99th percentile");
     }
   } else {
     const ConversionView g = read_conversion(a.golden);

@@ -41,12 +41,12 @@ std::vector<ShImage> read_source_for(BakeInput source, const Manifest& m, std::s
   ReadStats rs;
   std::vector<ShImage> pages = read_bake_input(&source, 0, &rs, described);
   if (pages.size() != m.layers)
-    throw file_error(given, "holds " + std::to_string(pages.size()) + " atlas page(s), the conversion " +
-                                std::to_string(m.layers));
+    throw file_error(
+        given, "holds " + std::to_string(pages.size()) + " atlas page(s), the conversion " + std::to_string(m.layers));
   for (const ShImage& sh : pages)
     if (uint32_t(sh.width) != m.width || uint32_t(sh.height) != m.height)
-      throw file_error(given, "is " + std::to_string(sh.width) + "x" + std::to_string(sh.height) + ", the conversion is " +
-                                  std::to_string(m.width) + "x" + std::to_string(m.height));
+      throw file_error(given, "is " + std::to_string(sh.width) + "x" + std::to_string(sh.height) +
+                                  ", the conversion is " + std::to_string(m.width) + "x" + std::to_string(m.height));
   return pages;
 }
 

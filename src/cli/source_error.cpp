@@ -12,10 +12,10 @@ namespace ahd::cli {
 
 namespace {
 
-const double kLuma[3] = {0.2126, 0.7152, 0.0722};
+const double kSourceLuma[3] = {0.2126, 0.7152, 0.0722};
 
 // The value at sorted index ceil(0.99·n) − 1 (the reports' p99); reorders v.
-double p99_of(std::vector<double>& v) {
+double source_p99(std::vector<double>& v) {
   if (v.empty()) return 0;
   const size_t k = std::min(v.size() - 1, size_t(std::ceil(0.99 * double(v.size()))) - 1);
   std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(k), v.end());
@@ -25,7 +25,7 @@ double p99_of(std::vector<double>& v) {
 // One covered texel: RMS error over the hemisphere against max(0, E), the report's log2 figure
 // (texel_error), and the source's luminance over the hemisphere and along the normal (the
 // denominators before the floor).
-struct Texel {
+struct SourceTexel {
   double rmse = 0, lg = 0, lum = 0, ez_err = 0, ez_lum = 0;
 };
 
@@ -40,13 +40,13 @@ SourceErrorFigures measure_against_source(const ShImage& sh, const DecodedPlanes
   size_t covered = 0;
   for (size_t i = 0; i < n; ++i)
     if (sh.coverage[i]) slot[i] = covered++;
-  std::vector<Texel> t(covered);
+  std::vector<SourceTexel> t(covered);
   parallel_for(n, 0, 512, [&](size_t i) {
     if (!sh.coverage[i]) return;
     const TexelError e = texel_error(sh, i, lobes[i], dirs.data(), nd);
     IrradiancePoly p[3];
     local_polys(sh, i, p);
-    Texel& x = t[slot[i]];
+    SourceTexel& x = t[slot[i]];
     x.lg = e.lg;
     double lum = 0, se = 0;
     const AhdLobe& lb = lobes[i];
@@ -58,7 +58,7 @@ SourceErrorFigures measure_against_source(const ShImage& sh, const DecodedPlanes
         // any non-negative decode: the reference is E clamped at 0, as along the normal.
         const double ref = std::max(0.0, eval_irradiance(p[c], w));
         const double got = lb.ca[c] + cosine * lb.cd[c];
-        lum += kLuma[c] * ref;
+        lum += kSourceLuma[c] * ref;
         se += (got - ref) * (got - ref);
       }
     }
@@ -68,7 +68,7 @@ SourceErrorFigures measure_against_source(const ShImage& sh, const DecodedPlanes
     for (int c = 0; c < 3; ++c) {
       const double ref = std::max(0.0, eval_irradiance(p[c], z));
       const double got = lb.ca[c] + std::max(0.0, lb.d[2]) * lb.cd[c];
-      x.ez_lum += kLuma[c] * ref;
+      x.ez_lum += kSourceLuma[c] * ref;
       x.ez_err = std::max(x.ez_err, std::fabs(got - ref));
     }
   });
@@ -77,9 +77,9 @@ SourceErrorFigures measure_against_source(const ShImage& sh, const DecodedPlanes
   if (!covered) return f;
   std::vector<double> v(covered);
   for (size_t i = 0; i < covered; ++i) v[i] = t[i].lum;
-  f.scale = std::max(0.0, p99_of(v));
+  f.scale = std::max(0.0, source_p99(v));
   for (size_t i = 0; i < covered; ++i) v[i] = t[i].ez_lum;
-  f.iz_scale = std::max(0.0, p99_of(v));
+  f.iz_scale = std::max(0.0, source_p99(v));
   // A zero denominator (a black image, or a black texel with no floor): no error is 0, any is ∞.
   const auto ratio = [](double err, double den) { return den > 0 ? err / den : (err > 0 ? INFINITY : 0.0); };
   double lg = 0;
@@ -89,10 +89,10 @@ SourceErrorFigures measure_against_source(const ShImage& sh, const DecodedPlanes
     v[i] = ratio(t[i].rmse, den);
     lg += t[i].lg;
   }
-  f.rel_p99 = p99_of(v);
+  f.rel_p99 = source_p99(v);
   f.log_rmse = lg / double(covered);
   for (size_t i = 0; i < covered; ++i) v[i] = ratio(t[i].ez_err, std::max(t[i].ez_lum, floor * f.iz_scale));
-  f.iz_rel_p99 = p99_of(v);
+  f.iz_rel_p99 = source_p99(v);
   return f;
 }
 
