@@ -314,4 +314,34 @@ TEST(GodotAddon, KtxPlanesLitInGodotMatchTheReferenceDecoder) {
               ahd::read_manifest_file((dir / "conv" / "pc-bc" / "s.json").string()).dz_min, 1e-12);
   EXPECT_EQ(inst["albedo"], nlohmann::json({0.5, 0.25, 1.0}));
   EXPECT_EQ(inst["shader"], "res://addons/ahdpack/ahd_lightmap.gdshader");
+
+  // The shader as a game renders it (no readback hook; lit.bin): EMISSION = albedo E / π, flat
+  // normal (E = I_z), no ambient light, through Godot's 8-bit output: each byte must be what the
+  // calibration ramp gives for the expected value, within 2 (the value's own 8-bit rounding and the
+  // transfer's steps). The albedo Color(1, 0.5, 1) of the source_color uniform reaches the shader
+  // as given in the Compatibility renderer (measured: 0.5, not the sRGB-decoded 0.214, which is 26
+  // to 80 steps off).
+  const auto& lit = rep["lit"];
+  ASSERT_EQ(lit["image_format"].get<int>(), 5) << "RGBA8";
+  const auto lit_px = read_bytes(dir / "out" / "lit.bin");
+  ahd::Manifest lm;
+  const ahd::DecodedPlanes lref = reference_planes((dir / "conv" / "pc-bc" / "s.json").string(), 0, 0, &lm);
+  ASSERT_EQ(lit_px.size(), size_t(lref.width) * lref.height * 4);
+  const double albedo[3] = {1.0, 0.5, 1.0};
+  int worst_lit = 0;
+  size_t lit_checked = 0, lit_bad = 0;
+  for (size_t i = 0; i < size_t(lref.width) * lref.height; ++i)
+    for (int ch = 0; ch < 3; ++ch) {
+      const double want = albedo[ch] * lref.iz[i * 3 + ch] / 3.14159265358979;
+      if (want < 16 / 255.0 || want > 1) continue;  // the ramp's flat foot; clamped
+      const int expect = ramp[size_t(std::lround(want * 255)) * 4], got = lit_px[i * 4 + ch];
+      worst_lit = std::max(worst_lit, std::abs(got - expect));
+      ++lit_checked;
+      if (std::abs(got - expect) > 2 && lit_bad++ < 5)
+        ADD_FAILURE() << "lit texel " << i << " channel " << ch << ": Godot byte " << got << ", expected " << expect
+                      << " (albedo E / pi = " << want << ")";
+    }
+  std::printf("lit (no hook): %zu values checked, worst %d 8-bit steps\n", lit_checked, worst_lit);
+  EXPECT_GT(lit_checked, size_t(lref.width) * lref.height);
+  EXPECT_EQ(lit_bad, 0u);
 }
