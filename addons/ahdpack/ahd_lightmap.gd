@@ -9,9 +9,9 @@
 #   lm.apply($Floor, Rect2(0, 0, 0.5, 1), 0)   # material_override + LightmapGI off for $Floor
 #
 # Planes load with Godot's own loaders (Image.load_ktx_from_buffer / load_dds_from_buffer) with the
-# files' mips. Godot's KTX loader refuses array files and does not map some formats
-# (modules/ktx/texture_loader_ktx.cpp: "Unsupported array KTX texture file", no
-# VK_FORMAT_R8G8B8A8_UNORM, no zstd check): those are read here from the KTX2 level index
+# files' mips. Godot's KTX loader refuses array files and does not map VK_FORMAT_R8G8B8A8_UNORM
+# (modules/ktx/texture_loader_ktx.cpp: "Unsupported array KTX texture file"): those, and
+# zstd-supercompressed files (--zstd), are read here from the KTX2 level index
 # (read_ktx2_layers). B10G11R11 (profile packed-float) has no Godot Image format: refused.
 @tool
 class_name AhdLightmap

@@ -2,9 +2,9 @@
 // tests/tools/godot/run_godot.mjs runs the project docs/examples/godot/render_check (Godot's official
 // web build in headless Chromium, Compatibility renderer on SwiftShader) packed with the add-on,
 // check.json and conversions of the built-in sample (profiles `pc-bc` and `uncompressed`, KTX2 and
-// DDS) and of a two-page Godot atlas (array KTX2, `pc-bc` and zstd `uncompressed`). The add-on loads
+// DDS; `packed-rgb9e5`, KTX2) and of a two-page Godot atlas (array KTX2, `pc-bc` and zstd `uncompressed`). The add-on loads
 // the planes with Godot's own Image.load_ktx_from_buffer / load_dds_from_buffer (array and zstd
-// files with its own KTX2 reader) into Texture2DArray, and its ahd_lightmap.gdshader lights a quad:
+// files and RGBA8 with its own KTX2 reader) into Texture2DArray, and its ahd_lightmap.gdshader lights a quad:
 // flat and normal-mapped normals, a sub-rectangle of the atlas, mip level 1, the world-space frame,
 // each page. Every pixel's float32 E comes back exactly (the shader's AHD_READBACK hook, 7 bits per
 // render through Godot's 8-bit sRGB output, mapped back with a calibration ramp) and must equal the
@@ -103,7 +103,13 @@ TEST(GodotAddon, KtxPlanesLitInGodotMatchTheReferenceDecoder) {
   const fs::path dir = ahd_test::temp_dir("godot_addon");
   const fs::path src = dir / "s.exr";
   ASSERT_EQ(run_cli({"sample", "-o", src.string(), "--size", "32"}).exit_code, 0);
-  const std::vector<std::string> profiles = {"pc-bc", "uncompressed"};
+  // {profile, container}; packed-rgb9e5: E5B9G9R9 + the RGBA8 dirratio (which Godot's KTX loader
+  // does not map: the add-on reads it).
+  const std::vector<std::array<std::string, 2>> profiles = {{"pc-bc", "ktx2"},
+                                                            {"pc-bc", "dds"},
+                                                            {"uncompressed", "ktx2"},
+                                                            {"uncompressed", "dds"},
+                                                            {"packed-rgb9e5", "ktx2"}};
   // Two-page atlases (array planes, which Godot's KTX loader refuses: the add-on reads them), one
   // zstd-supercompressed: {id, profile, --zstd}.
   const std::vector<std::array<std::string, 3>> atlases = {{"atlas-pc-bc", "pc-bc", ""},
@@ -116,17 +122,16 @@ TEST(GodotAddon, KtxPlanesLitInGodotMatchTheReferenceDecoder) {
                     (dir / "out").string() + "' --timeout 240 --chromium '" + ahd_test::chromium_binary() + "'";
   nlohmann::json check = {{"runs", nlohmann::json::array()}};
   // Each profile as KTX2 (id = the profile) and as DDS (id PROFILE-dds).
-  for (const auto& p : profiles)
-    for (const std::string ext : {"ktx2", "dds"}) {
-      const std::string id = ext == "dds" ? p + "-dds" : p;
-      const fs::path out = dir / "conv" / id / ("s." + ext);
-      const auto r = run_cli({"convert", src.string(), "-o", out.string(), "--profile", p});
-      ASSERT_EQ(r.exit_code, 0) << r.output;
-      check["runs"].push_back({{"id", id}, {"manifest", "res://conv/" + id + "/s.json"}});
-      for (const auto& e : fs::directory_iterator(out.parent_path()))
-        if (e.path().extension() == "." + ext || e.path().filename() == "s.json")
-          cmd += " --add '" + e.path().string() + "=conv/" + id + "/" + e.path().filename().string() + "'";
-    }
+  for (const auto& [p, ext] : profiles) {
+    const std::string id = ext == "dds" ? p + "-dds" : p;
+    const fs::path out = dir / "conv" / id / ("s." + ext);
+    const auto r = run_cli({"convert", src.string(), "-o", out.string(), "--profile", p});
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    check["runs"].push_back({{"id", id}, {"manifest", "res://conv/" + id + "/s.json"}});
+    for (const auto& e : fs::directory_iterator(out.parent_path()))
+      if (e.path().extension() == "." + ext || e.path().filename() == "s.json")
+        cmd += " --add '" + e.path().string() + "=conv/" + id + "/" + e.path().filename().string() + "'";
+  }
   for (const auto& [id, profile, zstd] : atlases) {
     const fs::path out = dir / "conv" / id / "s.ktx2";
     std::vector<std::string> args = {"convert", atlas,        "--layout",   "godot4-packed", "--pages",
@@ -163,11 +168,11 @@ TEST(GodotAddon, KtxPlanesLitInGodotMatchTheReferenceDecoder) {
   }
 
   // First the dir and ratio planes as the shader samples them (cases planesP, page P, level 0):
-  // R8/RG8 exactly our decoder's k/255. A GPU decodes BC4/BC5 to 8 bits, and SwiftShader does not
+  // R8/RG8/RGBA8 exactly our decoder's k/255. A GPU decodes BC4/BC5 to 8 bits, and SwiftShader does not
   // simply round the palette value down or to nearest (measured: (6 c0 + c1)/7 = 108.857 comes back
   // 109, 127.714 comes back 127): each value must lie within one 8-bit step of our exact palette
   // value, and the lit cases below then decode with the values Godot sampled.
-  // Then E, relative to max(|reference|, 1) per channel: BC6H and RGBA16F reach the shader as the
+  // Then E, relative to max(|reference|, 1) per channel: BC6H, RGBA16F and E5B9G9R9 reach the shader as the
   // values our decoder gives (texel centres, no blend between texels), so what is left is float32
   // arithmetic (the shader) against double (the reference): 2e-6 flat, and the normal map's
   // normalisation and sqrt: 1e-5; the world-space case adds Godot's 16-bit octahedral vertex
@@ -193,6 +198,9 @@ TEST(GodotAddon, KtxPlanesLitInGodotMatchTheReferenceDecoder) {
       EXPECT_EQ(run["formats"]["iz"].get<int>(), 15) << "FORMAT_RGBAH";
       EXPECT_EQ(run["formats"]["dir"].get<int>(), 3) << "FORMAT_RG8";
       EXPECT_EQ(run["formats"]["ratio"].get<int>(), 2) << "FORMAT_R8";
+    } else if (id == "packed-rgb9e5") {
+      EXPECT_EQ(run["formats"]["iz"].get<int>(), 16) << "FORMAT_RGBE9995";
+      EXPECT_EQ(run["formats"]["dirratio"].get<int>(), 5) << "FORMAT_RGBA8 (the add-on's KTX2 reader)";
     } else {  // Godot's KTX and DDS loaders alike
       EXPECT_EQ(run["formats"]["iz"].get<int>(), 15) << "FORMAT_RGBAH";
       EXPECT_EQ(run["formats"]["dir"].get<int>(), 1) << "FORMAT_LA8: an RG8 plane";
@@ -301,7 +309,7 @@ TEST(GodotAddon, KtxPlanesLitInGodotMatchTheReferenceDecoder) {
       EXPECT_EQ(bad, 0u);
     }
   }
-  EXPECT_EQ(runs_seen, profiles.size() * 2 + atlases.size());
+  EXPECT_EQ(runs_seen, profiles.size() + atlases.size());
 
   // ahd_lightmap_instance.gd on a MeshInstance3D: the material at its rectangle and page, Godot's
   // own lightmap off for it.
@@ -314,4 +322,34 @@ TEST(GodotAddon, KtxPlanesLitInGodotMatchTheReferenceDecoder) {
               ahd::read_manifest_file((dir / "conv" / "pc-bc" / "s.json").string()).dz_min, 1e-12);
   EXPECT_EQ(inst["albedo"], nlohmann::json({0.5, 0.25, 1.0}));
   EXPECT_EQ(inst["shader"], "res://addons/ahdpack/ahd_lightmap.gdshader");
+
+  // The shader as a game renders it (no readback hook; lit.bin): EMISSION = albedo E / π, flat
+  // normal (E = I_z), no ambient light, through Godot's 8-bit output: each byte must be what the
+  // calibration ramp gives for the expected value, within 2 (the value's own 8-bit rounding and the
+  // transfer's steps). The albedo Color(1, 0.5, 1) of the source_color uniform reaches the shader
+  // as given in the Compatibility renderer (measured: 0.5, not the sRGB-decoded 0.214, which is 26
+  // to 80 steps off).
+  const auto& lit = rep["lit"];
+  ASSERT_EQ(lit["image_format"].get<int>(), 5) << "RGBA8";
+  const auto lit_px = read_bytes(dir / "out" / "lit.bin");
+  ahd::Manifest lm;
+  const ahd::DecodedPlanes lref = reference_planes((dir / "conv" / "pc-bc" / "s.json").string(), 0, 0, &lm);
+  ASSERT_EQ(lit_px.size(), size_t(lref.width) * lref.height * 4);
+  const double albedo[3] = {1.0, 0.5, 1.0};
+  int worst_lit = 0;
+  size_t lit_checked = 0, lit_bad = 0;
+  for (size_t i = 0; i < size_t(lref.width) * lref.height; ++i)
+    for (int ch = 0; ch < 3; ++ch) {
+      const double want = albedo[ch] * lref.iz[i * 3 + ch] / 3.14159265358979;
+      if (want < 16 / 255.0 || want > 1) continue;  // the ramp's flat foot; clamped
+      const int expect = ramp[size_t(std::lround(want * 255)) * 4], got = lit_px[i * 4 + ch];
+      worst_lit = std::max(worst_lit, std::abs(got - expect));
+      ++lit_checked;
+      if (std::abs(got - expect) > 2 && lit_bad++ < 5)
+        ADD_FAILURE() << "lit texel " << i << " channel " << ch << ": Godot byte " << got << ", expected " << expect
+                      << " (albedo E / pi = " << want << ")";
+    }
+  std::printf("lit (no hook): %zu values checked, worst %d 8-bit steps\n", lit_checked, worst_lit);
+  EXPECT_GT(lit_checked, size_t(lref.width) * lref.height);
+  EXPECT_EQ(lit_bad, 0u);
 }

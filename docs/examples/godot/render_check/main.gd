@@ -87,6 +87,7 @@ func _ready() -> void:
 	var t := WORLD_TURN
 	report["world_turn"] = [t.x.x, t.x.y, t.x.z, t.y.x, t.y.y, t.y.z, t.z.x, t.z.y, t.z.z]  # columns
 	report["instance"] = _instance_check(cfg["runs"][0]["manifest"])
+	report["lit"] = await _lit_check(cfg["runs"][0]["manifest"])
 	H.emit_json("report.json", report)
 	H.done(0)
 
@@ -110,6 +111,41 @@ func _instance_check(manifest: String) -> Dictionary:
 		"rect": [r.x, r.y, r.z, r.w], "page": mat.get_shader_parameter("ahd_page"),
 		"dz_min": mat.get_shader_parameter("ahd_dz_min"), "albedo": [a.r, a.g, a.b],
 		"shader": mat.shader.resource_path}
+
+
+# The add-on's shader as a game renders it (no readback hook): ahd_lightmap_instance.gd on the quad,
+# full atlas, albedo (1, 0.5, 1), in an environment without
+# ambient light, reflections or tone mapping, so the image is EMISSION = albedo E / π, 8 bits.
+func _lit_check(manifest: String) -> Dictionary:
+	var we := WorldEnvironment.new()
+	var env := Environment.new()
+	env.background_mode = Environment.BG_COLOR
+	env.background_color = Color(0, 0, 0)
+	env.ambient_light_source = Environment.AMBIENT_SOURCE_COLOR
+	env.ambient_light_color = Color(0, 0, 0)
+	env.ambient_light_energy = 0.0
+	env.reflected_light_source = Environment.REFLECTION_SOURCE_DISABLED
+	env.tonemap_mode = Environment.TONE_MAPPER_LINEAR
+	we.environment = env
+	vp.add_child(we)
+	var mi := MeshInstance3D.new()
+	mi.mesh = quad.mesh
+	mi.set_script(load("res://addons/ahdpack/ahd_lightmap_instance.gd"))
+	mi.set("manifest", manifest)
+	mi.set("albedo", Color(1.0, 0.5, 1.0))
+	quad.visible = false
+	vp.add_child(mi)
+	var m: Dictionary = mi.get("_loaded")[manifest].manifest
+	var size := Vector2i(int(m["width"]), int(m["height"]))
+	vp.size = size
+	await RenderingServer.frame_post_draw
+	await RenderingServer.frame_post_draw
+	var img := vp.get_texture().get_image()
+	H.emit_file("lit.bin", img.get_data())
+	vp.remove_child(mi)
+	vp.remove_child(we)
+	quad.visible = true
+	return {"width": size.x, "height": size.y, "image_format": img.get_format(), "albedo": [1.0, 0.5, 1.0]}
 
 
 func _make_viewport() -> void:
