@@ -14,6 +14,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <ostream>
 #include <regex>
 #include <sstream>
 #include <string>
@@ -74,6 +75,9 @@ Converted convert_recipe(const fs::path& exr, const fs::path& dir) {
   c.fit_covered = fr.at("covered"), c.tilted = fr.at("horizon_tilted"), c.negative_iz = fr.at("negative_iz");
   return c;
 }
+
+// The project's name in test listings (instead of the struct's bytes).
+void PrintTo(const CorpusProject& p, std::ostream* os) { *os << p.name; }
 
 class GodotCorpus : public testing::TestWithParam<CorpusProject> {};
 
