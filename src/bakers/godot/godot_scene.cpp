@@ -8,6 +8,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -22,6 +23,7 @@
 #include "files/input_record.h"
 #include "bakers/godot/godot_tscn.h"
 #include "bakers/godot/godot_unwrap_cache.h"
+#include <nlohmann/json.hpp>
 
 namespace ahd {
 namespace fs = std::filesystem;
@@ -69,6 +71,26 @@ std::string read_text(const std::string& path) {
   std::stringstream ss;
   ss << f.rdbuf();
   return ss.str();
+}
+
+// Whether a .glb/.gltf declares the extension GODOT_single_root (Godot's own glTF export): its
+// JSON's "extensionsUsed". False for a file that cannot be read as such (Assimp reports those).
+bool gltf_single_root(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  std::string json = bytes;
+  if (bytes.size() >= 20 && bytes.compare(0, 4, "glTF") == 0) {  // GLB: header, then the JSON chunk
+    uint32_t len = 0;
+    std::memcpy(&len, bytes.data() + 12, 4);
+    if (bytes.compare(16, 4, "JSON") != 0 || len > bytes.size() - 20) return false;
+    json = bytes.substr(20, len);
+  }
+  const nlohmann::json j = nlohmann::json::parse(json, nullptr, false);
+  if (j.is_discarded() || !j.is_object() || !j.contains("extensionsUsed") || !j["extensionsUsed"].is_array())
+    return false;
+  for (const auto& e : j["extensionsUsed"])
+    if (e.is_string() && e.get<std::string>() == "GODOT_single_root") return true;
+  return false;
 }
 
 // [params] key of a Godot .import file, "" when absent.
@@ -313,11 +335,20 @@ struct Loader {
     const aiNode* top = sc->mRootNode;
     const bool synthetic = std::string(top->mName.C_Str()) == "ROOT" && top->mNumMeshes == 0;
     std::vector<std::pair<const aiNode*, int>> todo;
-    if (synthetic)
-      for (unsigned c = 0; c < top->mNumChildren; ++c) todo.push_back({top->mChildren[c], root});
-    else
-      todo.push_back({top, root});
     std::vector<std::pair<const aiNode*, int>> with_mesh;
+    if (synthetic) {
+      for (unsigned c = 0; c < top->mNumChildren; ++c) todo.push_back({top->mChildren[c], root});
+    } else if (gltf_single_root(path)) {
+      // A file Godot exported (extension GODOT_single_root): its one root node is the scene's root
+      // itself, not a child of a node named after the file (modules/gltf/gltf_document.cpp,
+      // _generate_scene_node_tree; modules/gltf/structures/gltf_node.cpp leaves it out of paths).
+      const aiMatrix4x4& m = top->mTransformation;
+      nodes[size_t(root)].local = {m.a1, m.a2, m.a3, m.b1, m.b2, m.b3, m.c1, m.c2, m.c3, m.a4, m.b4, m.c4};
+      if (top->mNumMeshes) with_mesh.push_back({top, root});
+      for (unsigned c = top->mNumChildren; c-- > 0;) todo.push_back({top->mChildren[c], root});
+    } else {
+      todo.push_back({top, root});
+    }
     while (!todo.empty()) {
       const auto [an, p] = todo.back();
       todo.pop_back();

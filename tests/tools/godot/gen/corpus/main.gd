@@ -42,6 +42,15 @@ func _projects() -> Array:
 			],
 		},
 		{
+			"name": "gltf", "size": 128, "pages": 1,
+			"scene": "res://world.tscn", "lightmap": "res://world",
+			"nodes": [
+				["Yard", "prim", "PlaneMesh", {"size": Vector2(5.0, 5.0)}, _xf(Vector3.ZERO, Vector3.ONE, Vector3.ZERO), 0],
+				["Rock", "glb", "PrismMesh", {"left_to_right": 0.7, "size": Vector3(1.5, 1.0, 1.2)}, _xf(Vector3(0, 25, 0), Vector3(1.2, 1.0, 1.2), Vector3(-1.0, 0.5, 0.5)), 0],
+				["Post", "glb", "CylinderMesh", {"top_radius": 0.2, "bottom_radius": 0.2, "height": 1.6, "radial_segments": 12}, _xf(Vector3.ZERO, Vector3.ONE, Vector3(1.4, 0.8, -1.2)), 0],
+			],
+		},
+		{
 			"name": "arraymeshes", "size": 128, "pages": 4,
 			"scene": "res://levels/level.tscn", "lightmap": "res://levels/level",
 			"nodes": [
@@ -147,6 +156,7 @@ func _make_project(p: Dictionary) -> Variant:
 	lgi.name = "LightmapGI"
 	lgi.directional = true
 	var users := []  # [node, path, page, mesh]
+	var keep := []   # instanced PackedScenes: alive (in the resource cache) until the scene is packed
 	for n in p["nodes"]:
 		var node_name: String = n[0]
 		var kind: String = n[1]
@@ -168,6 +178,52 @@ func _make_project(p: Dictionary) -> Variant:
 			mesh.take_over_path(file)
 		var mi := MeshInstance3D.new()
 		mi.mesh = mesh
+		if kind == "glb":
+			# A glTF file written by Godot's own exporter (UV2 as TEXCOORD_1), read back by
+			# GLTFDocument as an import would, and instanced from its res:// path.
+			var file := "res://models/%s.glb" % node_name.to_lower()
+			var src := Node3D.new()
+			src.name = node_name.to_lower()
+			mi.mesh = _array_mesh(prim, false)
+			mi.name = node_name + "Mesh"
+			src.add_child(mi)
+			mi.owner = src
+			var doc := GLTFDocument.new()
+			var st := GLTFState.new()
+			if doc.append_from_scene(src, st) != OK or doc.write_to_filesystem(st, "user://model.glb") != OK:
+				H.fail("%s: glTF export of %s" % [name, file])
+				return null
+			src.free()
+			_emit(name, file, "user://model.glb")
+			var doc2 := GLTFDocument.new()
+			var st2 := GLTFState.new()
+			if doc2.append_from_file("user://model.glb", st2) != OK:
+				H.fail("%s: glTF read back of %s" % [name, file])
+				return null
+			var imported: Node = doc2.generate_scene(st2)
+			for c in imported.find_children("*", "", true, false):
+				c.owner = imported
+			var packed_glb := H.pack_scene(imported)
+			if packed_glb == null:
+				return null
+			imported.free()
+			# Packing a node instanced from a .glb path fails here (no loader for .glb at run time):
+			# the instance is packed from a .tscn path, renamed in the saved text below.
+			packed_glb.take_over_path(file.get_basename() + "_glb.tscn")
+			keep.append(packed_glb)
+			p["renames"] = p.get("renames", []) + [[file.get_basename() + "_glb.tscn", file]]
+			var g_inst: Node3D = packed_glb.instantiate()
+			g_inst.name = node_name
+			g_inst.transform = n[4]
+			root.add_child(g_inst)
+			g_inst.owner = root
+			var found := g_inst.find_children("*", "MeshInstance3D", true, false)
+			if found.size() != 1:
+				H.fail("%s: %s: %d meshes after import" % [name, file, found.size()])
+				return null
+			# The imported mesh has no size hint (the editor's importer would set one): the source's.
+			users.append([found[0], String(root.get_path_to(found[0])), n[5], prim])
+			continue
 		if kind == "prop":
 			# A scene of its own, instanced: its node "Lamp" is the lightmap user.
 			prim.resource_scene_unique_id = "Lamp"
@@ -186,6 +242,7 @@ func _make_project(p: Dictionary) -> Variant:
 			_emit(name, file, "user://prop.tscn")
 			prop.free()
 			packed.take_over_path(file)
+			keep.append(packed)
 			var inst: Node3D = packed.instantiate()
 			inst.name = node_name
 			inst.transform = n[4]
@@ -269,6 +326,13 @@ func _make_project(p: Dictionary) -> Variant:
 	if ResourceSaver.save(scene, "user://scene.tscn") != OK:
 		H.fail("%s: save %s" % [name, p["scene"]])
 		return null
+	if p.has("renames"):
+		var text := FileAccess.get_file_as_string("user://scene.tscn")
+		for r in p["renames"]:
+			text = text.replace('path="%s"' % r[0], 'path="%s"' % r[1])
+		var fw := FileAccess.open("user://scene.tscn", FileAccess.WRITE)
+		fw.store_string(text)
+		fw.close()
 	_emit(name, p["scene"], "user://scene.tscn")
 	root.free()
 	return {
