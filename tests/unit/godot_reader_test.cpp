@@ -640,3 +640,61 @@ TEST(GodotFbx, ArraysAreThoseGodot46Builds) {
   // split); the reader's fan differs and says so.
   EXPECT_TRUE(q.meshes[3].polygons);
 }
+
+// An .obj named as a mesh resource (Godot's "OBJ as Mesh" importer, generate_lightmap_uv2 on) is
+// rebuilt as that importer builds it (resource_importer_obj.cpp: positions times scale_mesh, the
+// face 1 2 3 4 as the triangles (2, 1, 3), (3, 1, 4), corners merged in order of first use) and takes
+// its UV2 from NAME.obj.unwrap_cache by Godot's key (identity transform: unit scale).
+TEST(GodotObj, MeshResourceTakesItsUv2FromTheUnwrapCacheByKey) {
+  const fs::path dir = ahd_test::temp_dir("godot_obj_key");
+  write(dir / "project.godot", "config_version=5\n");
+  write(dir / "m/tile.obj",
+        "# a quad\no Tile\nv 0 0 0\nv 2 0 0\nv 2 0 -1\nv 0 0 -1\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+        "vn 0 1 0\ns off\nf 1/1/1 2/2/1 3/3/1 4/4/1\n");
+  const std::string import =
+      "[remap]\n\nimporter=\"wavefront_obj\"\ntype=\"Mesh\"\n\n[params]\n\ngenerate_tangents=true\n"
+      "scale_mesh=Vector3(2, 2, 2)\noffset_mesh=Vector3(0, 0, 0)\n";
+  write(dir / "m/tile.obj.import", import + "generate_lightmap_uv2=true\ngenerate_lightmap_uv2_texel_size=0.2\n");
+  // Godot's arrays: corners 2 1 3, 3 1 4 → vertices (4,0,0) (0,0,0) (4,0,-2) (0,0,-2), triangles 0 1 2, 2 1 3.
+  const std::vector<float> pos = {4, 0, 0, 0, 0, 0, 4, 0, -2, 0, 0, -2};
+  const std::vector<float> nrm = {0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1, 0};
+  const std::vector<uint32_t> idx = {0, 1, 2, 2, 1, 3};
+  const float one[3] = {1, 1, 1};
+  const GodotUnwrapKey key = godot_unwrap_key(pos, nrm, idx, one, 0.2f);
+  const float uv2[8] = {0.8f, 0.2f, 0.2f, 0.2f, 0.8f, 0.7f, 0.2f, 0.7f};
+  Rsrc c;
+  c.u32(1);
+  for (uint8_t k : key) c.b.push_back(k);
+  c.u32(16), c.u32(8), c.u32(4);
+  for (uint32_t v = 0; v < 4; ++v) c.u32(v);
+  for (float f : uv2) c.f32(f);
+  c.u32(6);
+  for (uint32_t i : idx) c.u32(i);
+  write(dir / "m/tile.obj.unwrap_cache", c.b);
+  write(dir / "world.lmbake", lmbake_bytes(6, true, {{"..", "Tile"}}));
+  write(dir / "world.tscn",
+        "[gd_scene load_steps=3 format=3]\n"
+        "[ext_resource type=\"LightmapGIData\" path=\"res://world.lmbake\" id=\"1_lm\"]\n"
+        "[ext_resource type=\"Mesh\" path=\"res://m/tile.obj\" id=\"2_obj\"]\n"
+        "[node name=\"World\" type=\"Node3D\"]\n"
+        "[node name=\"LightmapGI\" type=\"LightmapGI\" parent=\".\"]\nlight_data = ExtResource(\"1_lm\")\n"
+        "[node name=\"Tile\" type=\"MeshInstance3D\" parent=\".\"]\nmesh = ExtResource(\"2_obj\")\n");
+  const GodotSceneMeshes g = load_godot_scene((dir / "world.tscn").string());
+  ASSERT_EQ(g.scene.instances.size(), 1u) << testing::PrintToString(g.notes);
+  for (const std::string& n : g.notes) EXPECT_FALSE(contains(n, "by its triangles")) << n;
+  ASSERT_EQ(g.scene.mesh.positions.size(), 12u);
+  for (int k = 0; k < 12; ++k) EXPECT_FLOAT_EQ(g.scene.mesh.positions[size_t(k)], pos[size_t(k)]) << k;
+  for (int v = 0; v < 4; ++v) {
+    EXPECT_FLOAT_EQ(g.scene.mesh.uv[size_t(v * 2)], uv2[v * 2]) << v;
+    EXPECT_FLOAT_EQ(g.scene.mesh.uv[size_t(v * 2 + 1)], 1.0f - uv2[v * 2 + 1]) << v;
+  }
+  // Imported without lightmap UV2: the user is named with the reason.
+  write(dir / "m/tile.obj.import", import);
+  try {
+    load_godot_scene((dir / "world.tscn").string());
+    ADD_FAILURE() << "accepted";
+  } catch (const Error& e) {
+    EXPECT_TRUE(contains(e.what(), "imported without Generate Lightmap UV2")) << e.what();
+  }
+  fs::remove_all(dir);
+}

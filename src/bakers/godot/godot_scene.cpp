@@ -17,6 +17,7 @@
 
 #include "bakers/godot/godot_fbx.h"
 #include "bakers/godot/godot_mesh_resource.h"
+#include "bakers/godot/godot_obj.h"
 #include "bakers/godot/godot_unwrap_key.h"
 #include "core/error.h"
 #include "bakers/godot/godot_lmbake.h"
@@ -252,20 +253,17 @@ struct Loader {
           if (!fs::exists(file)) throw file_error(file, "mesh resource not in the project");
           std::string mext = fs::path(file).extension().string();
           for (char& c : mext) c = char(std::tolower(static_cast<unsigned char>(c)));
-          // Godot's OBJ importer (editor/import/3d/resource_importer_obj.cpp) rebuilds the mesh
-          // with its own parser and SurfaceTool, UV2 from NAME.obj.unwrap_cache: not reproduced yet.
-          if (mext == ".obj")
-            throw file_error(file,
-                             "an OBJ mesh (Godot's OBJ importer, UV2 in " + fs::path(file).filename().string() +
-                                 ".unwrap_cache) is not read yet: export it as glTF (.glb) with its lightmap UVs");
           files.push_back(file);
-          m = godot_mesh_resource_bytes(read_text(file), file, primitive_texel_size());
+          if (mext == ".obj") r.first = obj_geometry(file);  // Godot's OBJ importer's mesh, UV2 from its cache
+          else m = godot_mesh_resource_bytes(read_text(file), file, primitive_texel_size());
         }
-        const size_t verts = m.positions.size() / 3;
-        if (verts == 0 || m.uv.size() != verts * 2) throw file_error(file, "the mesh has no lightmap UV2");
-        if (m.normals.size() != verts * 3) m.normals = vertex_normals(m);
-        geometry.push_back({std::move(m), file});
-        r.first = int(geometry.size() - 1);
+        if (r.first < 0) {
+          const size_t verts = m.positions.size() / 3;
+          if (verts == 0 || m.uv.size() != verts * 2) throw file_error(file, "the mesh has no lightmap UV2");
+          if (m.normals.size() != verts * 3) m.normals = vertex_normals(m);
+          geometry.push_back({std::move(m), file});
+          r.first = int(geometry.size() - 1);
+        }
       } catch (const Error& e) {
         r.second = std::string(sub ? sub->type + " sub_resource \"" + sub->id + "\": " : "") + e.what();
       }
@@ -277,6 +275,56 @@ struct Loader {
     }
     nodes[size_t(id)].geometry = it->second.first;
     nodes[size_t(id)].why = it->second.second;
+  }
+
+  // An .obj named as a mesh resource: Godot's "OBJ as Mesh" importer (bakers/godot/godot_obj.h)
+  // with generate_lightmap_uv2, its UV2 from NAME.obj.unwrap_cache. Returns the geometry; throws
+  // ahd::Error with the reason when there is none.
+  int obj_geometry(const std::string& file) {
+    const std::string import_file = file + ".import";
+    if (fs::exists(import_file)) files.push_back(import_file);
+    if (import_param(import_file, "generate_lightmap_uv2") != "true")
+      throw file_error(file, "imported without Generate Lightmap UV2 (generate_lightmap_uv2 in " +
+                                 fs::path(import_file).filename().string() + "): the mesh has no lightmap UVs");
+    const auto vec3 = [&](const std::string& key, float fallback, float out[3]) {
+      out[0] = out[1] = out[2] = fallback;
+      const std::string v = import_param(import_file, key);  // Vector3(x, y, z)
+      if (v.rfind("Vector3(", 0) == 0) {
+        std::stringstream ss(v.substr(8));
+        char comma;
+        ss >> out[0] >> comma >> out[1] >> comma >> out[2];
+      }
+    };
+    float scale[3], offset[3];
+    vec3("scale_mesh", 1.0f, scale);
+    vec3("offset_mesh", 0.0f, offset);
+    const GodotObjMesh o = parse_godot_obj_mesh(read_text(file), file, scale, offset);
+    UnwrapFile uf;
+    uf.path = file, uf.cache_file = file + ".unwrap_cache", uf.gen_uv2 = true;
+    if (fs::exists(uf.cache_file)) {
+      uf.cache = read_godot_unwrap_cache(uf.cache_file);
+      files.push_back(uf.cache_file);
+    }
+    uf.texel = std::max(0.001f, import_float(import_file, "generate_lightmap_uv2_texel_size", 0.2f));
+    MeshGroup g;
+    g.scales = {{1.0f, 1.0f, 1.0f}};  // lightmap_unwrap_cached(Transform3D()): the identity
+    MeshArrays& a = g.arrays;
+    a.name = fs::path(file).stem().string();
+    a.pos = o.positions, a.nrm = o.normals, a.all_uv1 = false, a.all_normals = o.has_normals;
+    a.idx.resize(o.indices.size());  // stored so that godot_winding() gives Godot's triangles back
+    for (size_t t = 0; t + 2 < o.indices.size(); t += 3)
+      a.idx[t] = o.indices[t], a.idx[t + 1] = o.indices[t + 2], a.idx[t + 2] = o.indices[t + 1];
+    if (!o.has_normals)
+      a.inexact =
+          "the file has no normals: Godot generates them (SurfaceTool::generate_normals), which is not "
+          "reproduced here";
+    if (uf.cache.empty())
+      throw file_error(file, "no " + fs::path(uf.cache_file).filename().string() + " beside it: reimport it in Godot");
+    std::vector<bool> claimed(uf.cache.size(), false);
+    exact_entry(uf, &g, &claimed);
+    const int geo = group_geometry(uf, &g, claimed);
+    if (geo < 0) throw Error(g.why);
+    return geo;
   }
 
   // The project's primitive texel size (project.godot, read once, and a file the result depends on).

@@ -8,7 +8,8 @@
 // names as resources (`mesh = SubResource/ExtResource(…)`, bakers/godot/godot_mesh_resource.h).
 //
 // FBX instances (Godot >= 4.3 imports .fbx itself, through ufbx) are read through Assimp and
-// rebuilt as Godot's FBX importer builds them (bakers/godot/godot_fbx.h).
+// rebuilt as Godot's FBX importer builds them (bakers/godot/godot_fbx.h); .obj mesh resources as
+// its OBJ importer builds them (bakers/godot/godot_obj.h).
 //
 // Godot's conventions used (from its scene importer and glTF module): an imported .glb is a
 // Node3D named after the file holding the glTF scene's root nodes; node names have '.', ':', '@',
