@@ -7,8 +7,7 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 3) return 0;
-  constexpr int kFormats = int(ahd::PixelFormat::BC6H_SFLOAT) + 1;
-  const auto f = ahd::PixelFormat(data[0] % kFormats);
+  const auto f = ahd::PixelFormat(data[0] % ahd::kPixelFormatCount);
   ahd::TextureLevel lv;
   lv.width = 1u + (data[1] & 63);
   lv.height = 1u + (data[2] & 63);

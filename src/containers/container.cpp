@@ -7,6 +7,7 @@
 #include "containers/dds.h"
 #include "containers/ktx2.h"
 #include "core/error.h"
+#include "core/pixel_format_table.h"
 
 namespace ahd {
 
@@ -16,6 +17,10 @@ ContainerKind container_kind_from_path(const std::string& path) {
   if (ext == ".ktx2") return ContainerKind::KTX2;
   if (ext == ".dds") return ContainerKind::DDS;
   throw file_error(path, "unknown container extension (use .ktx2 or .dds)");
+}
+
+bool container_holds(ContainerKind kind, PixelFormat f) {
+  return pixel_format_row(f).containers & (kind == ContainerKind::DDS ? kInDds : kInKtx2);
 }
 
 std::vector<uint8_t> encode_container(ContainerKind kind, const Texture& tex, bool zstd) {

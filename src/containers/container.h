@@ -14,6 +14,9 @@ namespace ahd {
 // By extension (.ktx2 / .dds, any case). Throws ahd::Error("<path>: …") for anything else.
 ContainerKind container_kind_from_path(const std::string& path);
 
+// True when the container can hold the format (its row's ContainerBits, core/pixel_format_table.h).
+bool container_holds(ContainerKind kind, PixelFormat f);
+
 // Serialises `tex` (levels[0] = full size; each level must hold exactly level_size_bytes()).
 // `zstd` supercompresses KTX2 levels (ignored for DDS). Throws ahd::Error on an invalid texture.
 std::vector<uint8_t> encode_container(ContainerKind kind, const Texture& tex, bool zstd = false);

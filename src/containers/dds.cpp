@@ -5,6 +5,7 @@
 #include "containers/byte_io.h"
 #include "containers/limits.h"
 #include "core/error.h"
+#include "core/pixel_format_table.h"
 
 namespace ahd {
 namespace {
@@ -36,7 +37,9 @@ std::vector<uint8_t> write_dds(const Texture& tex) {
   using namespace bytes;
   check_texture_levels(tex, "DDS", kMaxDimension);
   const uint32_t w = tex.levels[0].width, h = tex.levels[0].height;
-  const FormatInfo& fi = format_info(tex.format);
+  const PixelFormatRow& row = pixel_format_row(tex.format);
+  const FormatInfo& fi = row.info;
+  if (!(row.containers & kInDds)) throw Error(std::string("DDS: cannot hold ") + fi.name);
   const uint32_t levels = uint32_t(tex.levels.size());
   std::vector<uint8_t> b;
   put32(b, kMagic);
@@ -52,26 +55,23 @@ std::vector<uint8_t> write_dds(const Texture& tex) {
   // Like DirectXTex, a legacy pixel format where one describes the format exactly (more readers
   // understand it, OpenImageIO among them), the DX10 extension for everything else.
   // Arrays need the DX10 header (its arraySize) whatever the format.
-  const bool legacy_bc = tex.layers == 1 && (tex.format == PixelFormat::BC4_UNORM || tex.format == PixelFormat::BC5_UNORM);
-  const bool legacy_rgba8 = tex.layers == 1 && tex.format == PixelFormat::RGBA8_UNORM;
+  const DdsFacts& dds = row.dds;
+  const bool legacy_fourcc = tex.layers == 1 && dds.fourcc != 0;
+  const bool legacy_rgb = tex.layers == 1 && dds.rgb_bits != 0;
   put32(b, kPixelFormatSize);
-  if (legacy_rgba8) {
-    put32(b, DDPF_RGB | DDPF_ALPHAPIXELS);
+  if (legacy_rgb) {
+    put32(b, DDPF_RGB | (dds.masks[3] ? DDPF_ALPHAPIXELS : 0));
     put32(b, 0);
-    put32(b, 32);
-    put32(b, 0x000000FF);
-    put32(b, 0x0000FF00);
-    put32(b, 0x00FF0000);
-    put32(b, 0xFF000000);
+    put32(b, dds.rgb_bits);
+    for (uint32_t m : dds.masks) put32(b, m);
   } else {
     put32(b, DDPF_FOURCC);
-    put32(b, legacy_bc ? (tex.format == PixelFormat::BC4_UNORM ? fourcc('B', 'C', '4', 'U') : fourcc('B', 'C', '5', 'U'))
-                       : fourcc('D', 'X', '1', '0'));
+    put32(b, legacy_fourcc ? dds.fourcc : fourcc('D', 'X', '1', '0'));
     for (int i = 0; i < 5; ++i) put32(b, 0);  // bit count and masks
   }
   put32(b, DDSCAPS_TEXTURE | (levels > 1 ? DDSCAPS_COMPLEX | DDSCAPS_MIPMAP : 0));
   for (int i = 0; i < 4; ++i) put32(b, 0);  // caps2..4, reserved2
-  if (!legacy_bc && !legacy_rgba8) {  // DDS_HEADER_DXT10
+  if (!legacy_fourcc && !legacy_rgb) {      // DDS_HEADER_DXT10
     put32(b, fi.dxgi_format);
     put32(b, kResourceTexture2D);
     put32(b, 0);  // miscFlag
@@ -102,26 +102,32 @@ Texture read_dds(const uint8_t* data, size_t size, const std::string& path) {
   if (levels > full_mip_count(w, h)) r.fail("invalid mip count " + std::to_string(levels));
   Texture tex;
   size_t data_at = 4 + kHeaderSize;
-  const bool rgba8_masks = (pf_flags & DDPF_RGB) && (pf_flags & DDPF_ALPHAPIXELS) && r.u32(88) == 32 &&
-                           r.u32(92) == 0xFF && r.u32(96) == 0xFF00 && r.u32(100) == 0xFF0000 && r.u32(104) == 0xFF000000u;
-  if (rgba8_masks) {
-    tex.format = PixelFormat::RGBA8_UNORM;
+  // A legacy encoding some row writes or reads (core/pixel_format_table.h DdsFacts).
+  auto legacy = [&](auto matches) {
+    for (const PixelFormatRow& row : pixel_format_rows())
+      if (matches(row.dds)) return tex.format = row.info.format, true;
+    return false;
+  };
+  auto rgb_matches = [&](const DdsFacts& d) {
+    return d.rgb_bits != 0 && r.u32(88) == d.rgb_bits && r.u32(92) == d.masks[0] && r.u32(96) == d.masks[1] &&
+           r.u32(100) == d.masks[2] && r.u32(104) == d.masks[3] && (d.masks[3] == 0 || (pf_flags & DDPF_ALPHAPIXELS));
+  };
+  const bool rgb_masks = (pf_flags & DDPF_RGB) && legacy(rgb_matches);
+  if (rgb_masks) {
+    // legacy() has set the format
   } else if (!(pf_flags & DDPF_FOURCC)) {
     r.fail("unsupported DDS pixel format (we read DX10, BC4U/ATI1, BC5U/ATI2 and 32-bit RGBA)");
   } else if (cc == fourcc('D', 'X', '1', '0')) {
     const uint32_t dxgi = r.u32(128), dim = r.u32(132), misc = r.u32(136), array = r.u32(140);
-    if (!format_from_dxgi(dxgi, &tex.format)) r.fail("unsupported DXGI format " + std::to_string(dxgi));
+    if (!format_from_dxgi(dxgi, &tex.format) || !(pixel_format_row(tex.format).containers & kInDds))
+      r.fail("unsupported DXGI format " + std::to_string(dxgi));
     if (dim != kResourceTexture2D) r.fail("only 2D textures are supported");
     if (misc & 0x4) r.fail("cube maps are not supported");
     if (array == 0 || array > kMaxLayers) r.fail("unsupported array size " + std::to_string(array));
     check_layered_size(path, w, h, array);
     tex.layers = array;
     data_at += 20;
-  } else if (cc == fourcc('A', 'T', 'I', '1') || cc == fourcc('B', 'C', '4', 'U')) {
-    tex.format = PixelFormat::BC4_UNORM;
-  } else if (cc == fourcc('A', 'T', 'I', '2') || cc == fourcc('B', 'C', '5', 'U')) {
-    tex.format = PixelFormat::BC5_UNORM;
-  } else {
+  } else if (!legacy([&](const DdsFacts& d) { return d.fourcc != 0 && (cc == d.fourcc || cc == d.fourcc_alt); })) {
     r.fail("unsupported FourCC");
   }
   uint64_t total = 0;

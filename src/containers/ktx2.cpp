@@ -8,6 +8,7 @@
 #include "containers/byte_io.h"
 #include "containers/limits.h"
 #include "core/error.h"
+#include "core/pixel_format_table.h"
 
 namespace ahd {
 namespace {
@@ -18,21 +19,14 @@ constexpr size_t kHeaderBytes = 80, kLevelIndexEntry = 24;
 constexpr uint32_t kMaxDimension = 1u << 16;
 constexpr uint32_t kMaxLayers = 2048;  // D3D11's array limit, and plenty for lightmap atlas pages
 
-uint32_t type_size(PixelFormat f) {
-  switch (f) {
-    case PixelFormat::RGBA16_SFLOAT: return 2;
-    case PixelFormat::RGBA32_SFLOAT:
-    case PixelFormat::B10G11R11_UFLOAT:
-    case PixelFormat::E5B9G9R9_UFLOAT: return 4;
-    default: return 1;
-  }
-}
+uint32_t type_size(PixelFormat f) { return pixel_format_row(f).ktx2.type_size; }
 
 }  // namespace
 
 std::vector<uint8_t> write_ktx2(const Texture& tex, const Ktx2WriteOptions& opt) {
   using namespace bytes;
   const FormatInfo& fi = format_info(tex.format);
+  if (!(pixel_format_row(tex.format).containers & kInKtx2)) throw Error(std::string("KTX2: cannot hold ") + fi.name);
   check_texture_levels(tex, "KTX2", kMaxDimension);
   const uint32_t w = tex.levels[0].width, h = tex.levels[0].height;
   const uint32_t levels = uint32_t(tex.levels.size());
@@ -141,7 +135,8 @@ Texture read_ktx2(const uint8_t* data, size_t size, const std::string& path) {
   Texture tex;
   const uint32_t vk = r.u32(12), tsize = r.u32(16), w = r.u32(20), h = r.u32(24), depth = r.u32(28),
                  layers = r.u32(32), faces = r.u32(36), levels = r.u32(40), scheme = r.u32(44);
-  if (!format_from_vk(vk, &tex.format)) r.fail("unsupported vkFormat " + std::to_string(vk));
+  if (!format_from_vk(vk, &tex.format) || !(pixel_format_row(tex.format).containers & kInKtx2))
+    r.fail("unsupported vkFormat " + std::to_string(vk));
   if (tsize != type_size(tex.format)) r.fail("typeSize " + std::to_string(tsize) + " does not match the format");
   if (w == 0 || h == 0 || w > kMaxDimension || h > kMaxDimension)
     r.fail("unsupported size " + std::to_string(w) + "x" + std::to_string(h));

@@ -1,4 +1,5 @@
-// The texel formats ahdpack writes, with the facts containers and codecs need about each.
+// The texel formats ahdpack writes, with the facts containers and codecs need about each. Every
+// fact about a format is its row in core/pixel_format_table.cpp (docs/maintaining.md "Adding a pixel format").
 #pragma once
 #include <cstddef>
 #include <cstdint>
@@ -18,13 +19,18 @@ enum class PixelFormat : uint8_t {
   BC5_UNORM,
   BC6H_UFLOAT,
   BC6H_SFLOAT,
+  // Not a format: the number of formats above. A new format goes just above it; the registry's
+  // static_assert (core/pixel_format_table.cpp) fails until its row is in place.
+  COUNT,
 };
+
+inline constexpr size_t kPixelFormatCount = size_t(PixelFormat::COUNT);
 
 struct FormatInfo {
   PixelFormat format;
   const char* name;        // our name, as used in profiles and manifests ("bc6h-ufloat", ...)
   uint32_t vk_format;      // VkFormat enum value (KTX2 vkFormat field)
-  uint32_t dxgi_format;    // DXGI_FORMAT enum value (DDS DX10 header)
+  uint32_t dxgi_format;    // DXGI_FORMAT enum value (DDS DX10 header); 0 (DXGI_FORMAT_UNKNOWN) = none
   uint32_t gl_internal;    // OpenGL internal format (for the GL tests)
   int block_width;         // 1 for uncompressed formats, 4 for BCn
   int block_height;
@@ -34,6 +40,7 @@ struct FormatInfo {
   bool is_compressed;
 };
 
+// The facts of a format (its row's `info`). Throws ahd::Error for a value that is not a format.
 const FormatInfo& format_info(PixelFormat f);
 
 // Looks a format up by its name; returns false when no format has that name.
@@ -42,7 +49,8 @@ bool format_from_name(const std::string& name, PixelFormat* out);
 // Bytes of one mip level of w×h texels (whole blocks for compressed formats).
 size_t level_size_bytes(PixelFormat f, uint32_t width, uint32_t height);
 
-// Looks a format up by its VkFormat / DXGI_FORMAT value; false when we do not support it.
+// Looks a format up by its VkFormat / DXGI_FORMAT value; false when we do not support it. 0
+// (VK_FORMAT_UNDEFINED, DXGI_FORMAT_UNKNOWN) never matches: it is how a row says it has no code.
 bool format_from_vk(uint32_t vk_format, PixelFormat* out);
 bool format_from_dxgi(uint32_t dxgi_format, PixelFormat* out);
 

@@ -2,6 +2,7 @@
 
 #include "containers/container.h"
 #include "containers/sha256.h"
+#include "core/error.h"
 #include "pipeline/report_json.h"
 
 namespace ahd {
@@ -39,6 +40,10 @@ PackagedConversion package_conversion(PipelineResult& r, const Profile& profile,
   m.direction_frame = opt.world_frame ? "normal-frame" : "tangent";
   m.iz_scale = opt.iz_scale;
   m.directional = r.directional;
+  for (const Plane& p : r.planes)  // before any plane is encoded
+    if (!container_holds(opt.container, p.texture.format))
+      throw Error("profile " + profile.name + ": " + (opt.container == ContainerKind::DDS ? "DDS" : "KTX2") +
+                  " cannot hold plane " + p.name + " (" + format_info(p.texture.format).name + ")");
   for (Plane& p : r.planes) {
     if (opt.plane_metadata) p.texture.metadata = plane_metadata(m, p.name);
     else p.texture.metadata.clear();

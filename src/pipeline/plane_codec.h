@@ -1,26 +1,28 @@
-// One image plane ↔ one texture level of a pixel format: the switch over every codec.
+// One image plane ↔ one texture level of a pixel format, through the format's row of the
+// registry (core/pixel_format_table.h): the checks around every codec, no format named here.
 #pragma once
 #include <ahd/types.h>
 #include <cstddef>
 
 #include "core/image.h"
+#include "core/pixel_format_table.h"
 #include "core/texture.h"
 
 namespace ahd {
 
 struct PlaneCodecOptions {
   int threads = 0;
+  // The encoder effort of every codec (CodecParams::effort, on this scale); named after the public
+  // option it carries (ConvertOptions::bc6h_quality).
   Bc6hQuality bc6h_quality = Bc6hQuality::Default;
 };
 
 // What encoding had to clamp (counted, reported).
-struct PlaneCodecStats {
-  size_t clamped = 0;     // values outside the format's range (e.g. > 65504 for half)
-  size_t non_finite = 0;  // NaN/Inf inputs
-};
+using PlaneCodecStats = CodecStats;
 
 // Encodes `img` (floats; UNORM formats take [0,1], float formats take HDR values) into one level.
 // Uses the first `format_info(f).channels` channels of img (missing ones read as 0, alpha as 1).
+// Throws ahd::Error when the format has no encoder in this build.
 TextureLevel encode_plane(PixelFormat f, const ImageF& img, const PlaneCodecOptions& opt,
                           PlaneCodecStats* stats = nullptr);
 

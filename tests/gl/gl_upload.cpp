@@ -1,5 +1,7 @@
 #include "gl_upload.h"
 
+#include "core/pixel_format_table.h"
+
 namespace ahd_test {
 
 GLuint upload_texture(const ahd::Texture& t, size_t level) {
@@ -13,17 +15,8 @@ GLuint upload_texture(const ahd::Texture& t, size_t level) {
     glCompressedTexImage2D(GL_TEXTURE_2D, 0, fi.gl_internal, GLsizei(l.width), GLsizei(l.height), 0,
                            GLsizei(l.data.size()), l.data.data());
   } else {
-    GLenum format = GL_RGBA, type = GL_UNSIGNED_BYTE;
-    switch (t.format) {
-      case ahd::PixelFormat::R8_UNORM: format = GL_RED; break;
-      case ahd::PixelFormat::RG8_UNORM: format = GL_RG; break;
-      case ahd::PixelFormat::RGBA8_UNORM: break;
-      case ahd::PixelFormat::RGBA16_SFLOAT: type = GL_HALF_FLOAT; break;
-      case ahd::PixelFormat::RGBA32_SFLOAT: type = GL_FLOAT; break;
-      case ahd::PixelFormat::B10G11R11_UFLOAT: format = GL_RGB, type = GL_UNSIGNED_INT_10F_11F_11F_REV; break;
-      case ahd::PixelFormat::E5B9G9R9_UFLOAT: format = GL_RGB, type = GL_UNSIGNED_INT_5_9_9_9_REV; break;
-      default: break;
-    }
+    const ahd::PixelFormatRow& row = ahd::pixel_format_row(t.format);  // its upload format and type
+    const GLenum format = row.gl_format, type = row.gl_type;
     glTexImage2D(GL_TEXTURE_2D, 0, GLint(fi.gl_internal), GLsizei(l.width), GLsizei(l.height), 0, format, type,
                  l.data.data());
   }

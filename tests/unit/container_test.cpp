@@ -9,15 +9,11 @@
 #include "containers/ktx2.h"
 #include "containers/sha256.h"
 #include "core/error.h"
+#include "core/pixel_format_table.h"
 
 using namespace ahd;
 
 namespace {
-
-constexpr PixelFormat kAll[] = {PixelFormat::R8_UNORM,         PixelFormat::RG8_UNORM,     PixelFormat::RGBA8_UNORM,
-                                PixelFormat::RGBA16_SFLOAT,    PixelFormat::RGBA32_SFLOAT, PixelFormat::B10G11R11_UFLOAT,
-                                PixelFormat::E5B9G9R9_UFLOAT,  PixelFormat::BC4_UNORM,     PixelFormat::BC5_UNORM,
-                                PixelFormat::BC6H_UFLOAT,      PixelFormat::BC6H_SFLOAT};
 
 Texture random_texture(PixelFormat f, uint32_t w, uint32_t h, size_t levels, uint32_t seed) {
   std::mt19937 rng(seed);
@@ -55,11 +51,20 @@ void wr32(std::vector<uint8_t>& b, size_t at, uint32_t v) {
 
 }  // namespace
 
+// Every row of the registry, in each container its row names (and refused by the others).
 TEST(Container, RoundTripEveryFormatBothContainers) {
-  for (PixelFormat f : kAll)
+  for (const PixelFormatRow& row : pixel_format_rows())
     for (auto [w, h, levels] : {std::tuple{13u, 7u, 4u}, {16u, 16u, 5u}, {1u, 1u, 1u}, {5u, 3u, 1u}}) {
+      const PixelFormat f = row.info.format;
       const Texture t = random_texture(f, w, h, levels, w * 31 + h);
+      if (!(row.containers & kInKtx2)) {
+        EXPECT_THROW(write_ktx2(t, {}), Error) << row.info.name;
+      }
+      if (!(row.containers & kInDds)) {
+        EXPECT_THROW(write_dds(t), Error) << row.info.name;
+      }
       for (bool zstd : {false, true}) {
+        if (!(row.containers & kInKtx2)) break;
         const std::vector<uint8_t> k = write_ktx2(t, {zstd, 9});
         const Texture back = read_ktx2(k.data(), k.size(), "t.ktx2");
         expect_same_levels(t, back);
@@ -69,6 +74,7 @@ TEST(Container, RoundTripEveryFormatBothContainers) {
         EXPECT_TRUE(found);
         EXPECT_EQ(back.metadata.front().first, "KTXorientation");
       }
+      if (!(row.containers & kInDds)) continue;
       const std::vector<uint8_t> d = write_dds(t);
       expect_same_levels(t, read_dds(d.data(), d.size(), "t.dds"));
     }
