@@ -26,7 +26,7 @@
 
 namespace ahd {
 
-// What to read: the options of `ahdpack convert`'s input (docs/cli.md), field for field.
+// What to read: the input options of `ahdpack convert` (`ahdpack convert --help`), field for field.
 // `struct_size` guards against a header and a library from different versions: leave it as
 // initialised; the library throws ahd::Error when it differs from its own sizeof.
 struct BakeSource {
@@ -61,13 +61,13 @@ struct BakeRead {
   // The atlas pages in order: one, unless a paged layout (Godot) holds several. Each in the working
   // space (linear Rec.709, irradiance SH), with normals (world-space bakes) and coverage when known.
   std::vector<ShImage> pages;
-  std::string source;        // what was read, one line (the summary's and the report's "source")
-  std::string notes;         // what detection found and decided, lines ending in '\n' (may be empty)
-  size_t non_finite_texels = 0;   // NaN/Inf texels zeroed and marked uncovered
-  bool coverage_derived = false;  // no coverage channel: all-zero SH counted as uncovered
-  std::string input_space;        // the space the input was converted from ("" = read as the working space)
-  std::vector<std::string> files; // every file read, in order, each once, as named (a depfile's list)
-  std::vector<InputProbe> probes; // every existence test made, in order
+  std::string source;              // what was read, one line (the summary's and the report's "source")
+  std::string notes;               // what detection found and decided, lines ending in '\n' (may be empty)
+  size_t non_finite_texels = 0;    // NaN/Inf texels zeroed and marked uncovered
+  bool coverage_derived = false;   // no coverage channel: all-zero SH counted as uncovered
+  std::string input_space;         // the space the input was converted from ("" = read as the working space)
+  std::vector<std::string> files;  // every file read, in order, each once, as named (a depfile's list)
+  std::vector<InputProbe> probes;  // every existence test made, in order
 };
 
 // Reads `source` (see above). `threads` bakes the sample (0 = all hardware threads).

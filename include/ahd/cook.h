@@ -104,12 +104,12 @@ struct CookRequest {
   bool keep_intermediate = false;  // also OUT.ahd.exr, the lossless fitted planes (one page; not with a cache)
   std::string depfile;             // "" = none; else every file read, target OUT.json
   std::shared_ptr<const CacheBackend> cache;  // null = no cache
-  bool key_only = false;           // compute the conversion's key (result.key) and write nothing
+  bool key_only = false;                      // compute the conversion's key (result.key) and write nothing
 };
 
 // A conversion served from the cache.
 struct CookCacheHit {
-  std::string source;    // the input, as the run that stored it described it
+  std::string source;  // the input, as the run that stored it described it
   std::string key;
   std::string entry;     // CacheBackend::entry_path
   std::string manifest;  // OUT.json
@@ -130,9 +130,9 @@ struct CookEvents {
 struct CookResult {
   uint32_t struct_size = sizeof(CookResult);
   enum class Outcome { Converted, CacheHit, KeyOnly } outcome = Outcome::Converted;
-  std::string key;       // the conversion's key (with a cache or key_only; else "")
-  std::string source;    // what was read, one line
-  std::string manifest;  // OUT.json as published ("" with key_only)
+  std::string key;                      // the conversion's key (with a cache or key_only; else "")
+  std::string source;                   // what was read, one line
+  std::string manifest;                 // OUT.json as published ("" with key_only)
   std::vector<std::string> files_read;  // the depfile's list (empty for a direct cache hit's reuse: see files)
   int width = 0, height = 0;
   size_t planes = 0;

@@ -12,8 +12,8 @@ namespace ahd {
 
 BakeRead read_bake(const BakeSource& source, int threads) {
   if (source.struct_size != sizeof(BakeSource))
-    throw Error("ahd::read_bake: BakeSource of another ahdpack version (struct_size " + std::to_string(source.struct_size) +
-                ", this library " + std::to_string(sizeof(BakeSource)) + ")");
+    throw Error("ahd::read_bake: BakeSource of another ahdpack version (struct_size " +
+                std::to_string(source.struct_size) + ", this library " + std::to_string(sizeof(BakeSource)) + ")");
   BakeInput in;
   static_cast<BakeSource&>(in) = source;
   InputRecord record;

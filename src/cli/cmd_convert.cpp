@@ -75,15 +75,15 @@ BatchRow run_convert(ConvertArgs a, const BatchJob* job = nullptr) {
   r.keep_intermediate = a.keep_intermediate;
   r.depfile = a.depfile;
   r.key_only = a.print_key;
-  if (!a.cache.empty())
-    r.cache = open_cache(a.cache, parse_byte_size(a.cache_max_size, "--cache-max-size"));
+  if (!a.cache.empty()) r.cache = open_cache(a.cache, parse_byte_size(a.cache_max_size, "--cache-max-size"));
   CookHooks h;
   h.events.warning = [](const std::string& m) { std::fprintf(stderr, "ahdpack: warning: %s\n", m.c_str()); };
   if (!a.conv.quiet) {
     h.events.notes = [](const std::string& text) { std::fputs(text.c_str(), stdout), std::fflush(stdout); };
     h.events.cache_hit = [](const CookCacheHit& hit) {
       std::printf("ahdpack: %s\n", hit.source.c_str());
-      std::printf("cache hit %s (%s): %zu files -> %s\n", hit.key.c_str(), hit.entry.c_str(), hit.files, hit.manifest.c_str());
+      std::printf("cache hit %s (%s): %zu files -> %s\n", hit.key.c_str(), hit.entry.c_str(), hit.files,
+                  hit.manifest.c_str());
     };
     h.events.stored = [](const std::string& key, const CacheStats& st) {
       std::printf("cache: stored %s (%zu entries, %.1f MiB%s)\n", key.c_str(), st.entries, double(st.bytes) / 1048576.0,

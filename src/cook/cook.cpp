@@ -53,7 +53,8 @@ struct DirectHit {
   InputsRecord inputs;
   std::string key;
 };
-std::optional<DirectHit> direct_lookup(const CacheBackend& cache, const std::string& command_key, const OutputPaths& out) {
+std::optional<DirectHit> direct_lookup(const CacheBackend& cache, const std::string& command_key,
+                                       const OutputPaths& out) {
   std::optional<InputsRecord> rec = cache.lookup_inputs(command_key);
   if (!rec) return std::nullopt;
   for (const InputProbe& p : rec->probes)
@@ -87,8 +88,8 @@ void publish(const OutputPaths& out, std::vector<OutputFile> files, Intermediate
 
 CookResult cook_conversion(const CookRequest& request, const CookHooks& hooks) {
   if (request.struct_size != sizeof(CookRequest) || request.input.struct_size != sizeof(BakeSource))
-    throw Error("ahd::cook: CookRequest of another ahdpack version (struct_size " + std::to_string(request.struct_size) +
-                ", this library " + std::to_string(sizeof(CookRequest)) + ")");
+    throw Error("ahd::cook: CookRequest of another ahdpack version (struct_size " +
+                std::to_string(request.struct_size) + ", this library " + std::to_string(sizeof(CookRequest)) + ")");
   const CookEvents& ev = hooks.events;
   BakeInput a;
   static_cast<BakeSource&>(a) = request.input;
@@ -105,9 +106,9 @@ CookResult cook_conversion(const CookRequest& request, const CookHooks& hooks) {
     given.container = out.kind;
     cmd_key = command_key(a, given, out.name, request.options.profile, request.iz_scale);
     if (std::optional<DirectHit> h = direct_lookup(*cache, cmd_key, out)) {
-      const Manifest m = manifest_from_json(std::string(cached_manifest(h->files, out)->bytes.begin(),
-                                                        cached_manifest(h->files, out)->bytes.end()),
-                                            out.sibling(".json"));
+      const Manifest m = manifest_from_json(
+          std::string(cached_manifest(h->files, out)->bytes.begin(), cached_manifest(h->files, out)->bytes.end()),
+          out.sibling(".json"));
       const size_t n = h->files.size();
       publish(out, std::move(h->files));
       if (!request.depfile.empty()) write_depfile(request.depfile, out.sibling(".json"), h->inputs.files);
@@ -138,13 +139,15 @@ CookResult cook_conversion(const CookRequest& request, const CookHooks& hooks) {
     detection_notes = a.notes.size();  // why this path was taken: told even on failure
     std::string out_path = request.output;
     if (out_path.empty())
-      out_path = "ahdpack-out/" + (a.input.empty() ? std::string("sample") : fs::path(a.input).stem().string()) + ".ktx2";
+      out_path =
+          "ahdpack-out/" + (a.input.empty() ? std::string("sample") : fs::path(a.input).stem().string()) + ".ktx2";
     out = output_paths(out_path);
     co = request.options;
     co.container = out.kind;
 
     // Checked before anything is read or written: one clear line, no output.
-    ro = co.profile_json.empty() ? resolve_options(co, out.name, load_profile(co.profile)) : resolve_options(co, out.name);
+    ro = co.profile_json.empty() ? resolve_options(co, out.name, load_profile(co.profile))
+                                 : resolve_options(co, out.name);
     if (!(iz_scale > 0) || !std::isfinite(iz_scale))
       throw Error("iz_scale must be a positive factor, not " + std::to_string(iz_scale));
     check_bake_input(a);
@@ -171,7 +174,8 @@ CookResult cook_conversion(const CookRequest& request, const CookHooks& hooks) {
   const auto remember_inputs = [&]() {
     if (cmd_key.empty()) return;
     try {
-      cache->store_inputs(cmd_key, {conversion_options_text(a, co, out.name, iz_scale), source, record.files, record.probes});
+      cache->store_inputs(cmd_key,
+                          {conversion_options_text(a, co, out.name, iz_scale), source, record.files, record.probes});
     } catch (const std::exception& e) {
       if (ev.warning) ev.warning(std::string(e.what()) + " (the inputs are not recorded in the cache)");
     }
@@ -202,16 +206,18 @@ CookResult cook_conversion(const CookRequest& request, const CookHooks& hooks) {
   if (pkg.iz_scale != 1.0)  // the SH is linear in the light: scaling it scales I_z and keeps d and the ratio
     for (ShImage& p : pages)
       for (float& v : p.data) v = float(double(v) * pkg.iz_scale);
-  pkg.report_extra = {{"source", source},
-                      {"working_space", kWorkingSpace},
-                      {"read", {{"non_finite_texels", rs.non_finite_texels}, {"coverage_derived", rs.coverage_derived}}}};
+  pkg.report_extra = {
+      {"source", source},
+      {"working_space", kWorkingSpace},
+      {"read", {{"non_finite_texels", rs.non_finite_texels}, {"coverage_derived", rs.coverage_derived}}}};
   // The space the input was converted from; absent when it was read in the working space (reports as before).
   if (!rs.input_space.empty()) pkg.report_extra["input_space"] = rs.input_space;
   const std::vector<StageCost> read_stage = {{a.input.empty() ? "bake sample" : "read", read_seconds}};
   ConversionRun run;
   IntermediateFile intermediate;  // none: an earlier NAME.ahd.exr goes with the set it belonged to
-  if (pages.size() > 1) {  // an atlas: every page converted alone, planes stacked as array layers
-    if (request.keep_intermediate) throw Error("--keep-intermediate holds one page: not available for a multi-page atlas");
+  if (pages.size() > 1) {         // an atlas: every page converted alone, planes stacked as array layers
+    if (request.keep_intermediate)
+      throw Error("--keep-intermediate holds one page: not available for a multi-page atlas");
     run = run_pages(pages, ro.profile, ro.convert, pkg, read_stage);
   } else {
     std::function<void(const std::vector<FittedLevel>&)> on_fitted;

@@ -31,7 +31,8 @@ int main(int argc, char** argv) {
     const bool has_value = i + 1 < argc;
     if (a == "--zstd") r.options.zstd = true;
     else if (a == "--profile" && has_value) r.options.profile = argv[++i];
-    else if (a == "--cache" && has_value) r.cache = ahd::directory_cache(argv[++i], ahd::parse_byte_size("10G", "--cache-max-size"));
+    else if (a == "--cache" && has_value)
+      r.cache = ahd::directory_cache(argv[++i], ahd::parse_byte_size("10G", "--cache-max-size"));
     else if (a == "--depfile" && has_value) r.depfile = argv[++i];
     else if (a == "--mesh" && has_value) r.input.mesh = argv[++i];
     else {
@@ -50,15 +51,16 @@ int main(int argc, char** argv) {
                   res.files_read.size());
     } else if (mode == "read") {
       const ahd::BakeRead b = ahd::read_bake(r.input);
-      if (b.pages.size() != 1) throw ahd::Error("read: " + std::to_string(b.pages.size()) + " pages (this test converts one)");
+      if (b.pages.size() != 1)
+        throw ahd::Error("read: " + std::to_string(b.pages.size()) + " pages (this test converts one)");
       const ahd::Conversion c = ahd::convert(b.pages[0], name, r.options);
       for (const ahd::OutputFile& f : c.files) {
         std::ofstream out(r.output + "/" + f.name, std::ios::binary);
         out.write(reinterpret_cast<const char*>(f.bytes.data()), std::streamsize(f.bytes.size()));
         if (!out) return 1;
       }
-      std::printf("%s: %zu files read, %zu probes, %zu files written\n", b.source.c_str(), b.files.size(), b.probes.size(),
-                  c.files.size());
+      std::printf("%s: %zu files read, %zu probes, %zu files written\n", b.source.c_str(), b.files.size(),
+                  b.probes.size(), c.files.size());
     } else {
       std::fprintf(stderr, "consumer_bakers: unknown mode %s\n", mode.c_str());
       return 2;
