@@ -14,11 +14,15 @@ vermilion="$src/tests/data/bakes/godot42-vermilion/project/scenes/world.exr"
 [ -f "$vermilion" ] || { echo "skipped: $vermilion not found"; exit 77; }
 tmp="$(mktemp -d)"; trap 'rm -rf "$tmp"' EXIT
 cmake --install "$build" --prefix "$tmp/prefix" >/dev/null
+# The installed command: it and the libraries read the same installed formats/ (the depfiles name
+# the profile file they read).
+cli="$tmp/prefix/bin/ahdpack"
+[ -x "$cli" ] || { echo "FAIL: no installed ahdpack (the CLI built: $2)"; exit 1; }
 cmake -S "$here" -B "$tmp/build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH="$tmp/prefix" >/dev/null
 cmake --build "$tmp/build" --target consumer_bakers >/dev/null
 con="$tmp/build/consumer_bakers"
 # The libraries carry their file-format dependencies: a cook links none of them itself.
-link="$(grep -A3 "build consumer_bakers" "$tmp/build/build.ninja" | grep "LINK_LIBRARIES = " || true)"
+link="$(awk '/^build consumer_bakers:/ {f = 1} f && /LINK_LIBRARIES = / {print; exit}' "$tmp/build/build.ninja")"
 echo "$link" | grep -q "libahd_cook\.so" || { echo "FAIL: consumer_bakers does not link libahd_cook.so: $link"; exit 1; }
 if echo "$link" | grep -qi "OpenImageIO\|assimp\|OpenEXR\|OpenColorIO"; then
   echo "FAIL: a consumer of ahdpack::cook links a file-format library: $link"; exit 1
@@ -27,15 +31,15 @@ unset AHD_FORMATS_DIR  # the library finds the installed formats beside itself
 
 # same_set CLI_DIR LIB_DIR: the same file names, and every file but the report the same bytes.
 same_set() {
-  diff <(ls "$1") <(ls "$2") || { echo "FAIL: $1 and $2 hold different files"; exit 1; }
+  diff <(ls "$1") <(ls "$2") >&2 || { echo "FAIL: $1 and $2 hold different files" >&2; exit 1; }
   local n=0 f name
   for f in "$1"/*; do
     name="$(basename "$f")"
     [[ "$name" == *.report.json ]] && continue
-    cmp "$f" "$2/$name" || { echo "FAIL: $name differs ($1 vs $2)"; exit 1; }
+    cmp "$f" "$2/$name" >&2 || { echo "FAIL: $name differs ($1 vs $2)" >&2; exit 1; }
     n=$((n + 1))
   done
-  [ "$n" -ge 3 ] || { echo "FAIL: only $n files compared in $1"; exit 1; }
+  [ "$n" -ge 3 ] || { echo "FAIL: only $n files compared in $1" >&2; exit 1; }
   echo "$n"
 }
 
