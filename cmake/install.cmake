@@ -1,11 +1,13 @@
 # install() and the exported package: find_package(ahdpack) → ahdpack::ahd, ahdpack::ahd_sample
-# (static, or shared with BUILD_SHARED_LIBS; public headers <ahd/…>), the shared libahd.so and
+# (static, or shared with BUILD_SHARED_LIBS; public headers <ahd/…>), ahdpack::bakers and
+# ahdpack::cook (shared: libahd_bakers.so, libahd_cook.so, with the OpenImageIO module they load
+# for images other than EXR), the shared libahd.so and
 # libahd_sample.so for FFI callers (static builds install them too, not exported to CMake), and the
 # ahdpack command with its data (share/ahdpack/formats). ahd_io and ahd_lab are not installed
 # ahdpack_add_lightmaps (cmake/ahdpack_lightmaps.cmake: lightmaps cooked by the build).
 include(CMakePackageConfigHelpers)
 
-install(TARGETS ahd ahd_sample EXPORT ahdpackTargets
+install(TARGETS ahd ahd_sample ahd_bakers ahd_cook EXPORT ahdpackTargets
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
   INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 if(NOT BUILD_SHARED_LIBS)
@@ -21,11 +23,13 @@ write_basic_package_version_file(${CMAKE_CURRENT_BINARY_DIR}/ahdpackConfigVersio
   COMPATIBILITY SameMinorVersion)
 install(FILES ${CMAKE_CURRENT_BINARY_DIR}/ahdpackConfig.cmake ${CMAKE_CURRENT_BINARY_DIR}/ahdpackConfigVersion.cmake
   ${CMAKE_CURRENT_SOURCE_DIR}/cmake/ahdpack_lightmaps.cmake DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/ahdpack)
+# OpenImageIO's module, opened relative to ahdpack's bin/ folder or to libahd_bakers.so's lib/ folder
+# (image/oiio_loader.cpp).
+install(TARGETS ahd_oiio LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/ahdpack)
+# The profiles and layout presets, found the same way (files/paths.cpp).
+install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/formats/ DESTINATION ${CMAKE_INSTALL_DATADIR}/ahdpack/formats)
 if(AHD_BUILD_CLI)
   install(TARGETS ahdpack RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
-  # OpenImageIO's module, opened by ahdpack relative to its bin/ folder (image/oiio_loader.cpp).
-  install(TARGETS ahd_oiio LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/ahdpack)
-  install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/formats/ DESTINATION ${CMAKE_INSTALL_DATADIR}/ahdpack/formats)
   # three.js (MIT) for the 3D view of `ahdpack preview`, from the lockfile-pinned npm package that
   # scripts/setup.sh installs; the installed tool finds it at <formats>/../three (preview_3d.h).
   # Without it the preview page is the static one with a note.

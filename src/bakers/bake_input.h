@@ -7,6 +7,8 @@
 // The command-line flags of these fields are declared once, in bake_input_options() below; the CLI
 // only adds them to its parser (it names no baker).
 #pragma once
+#include <ahd/bakers.h>
+
 #include <memory>
 #include <string>
 #include <variant>
@@ -19,22 +21,10 @@ namespace ahd {
 
 struct GodotSceneMeshes;
 
-struct BakeInput {
-  std::string input;      // "" = the built-in sample
-  std::string layout;     // baker layout preset (name or .json); input is then the base path
-  std::string normals;    // lightmap-space normals for world-space layouts
-  std::string mesh;       // or: the mesh, rasterised in its lightmap UVs (normals and coverage)
-  int uv_set = -1;        // the mesh's lightmap UV set (−1 = the default rule of scene/mesh_io.h)
-  int pages = 0;          // atlas pages of a paged layout (0 = as recorded by the baker)
-  std::string placement;  // per-instance atlas placement of the mesh (JSON or Unity scene)
-  std::string scene;      // or: the baker's scene (a Godot .tscn, or its editor's glTF export)
-  bool allow_mismatch = false;  // convert even when the mesh's coverage disagrees with the lightmap
-  bool allow_unplaced = false;  // Godot: convert when some lightmap users cannot be placed (docs/godot.md)
-  std::string input_space;      // the input's colour space, replacing its declaration ("" = as declared)
+// The public fields (input, layout, normals, mesh, …, the sample's size/order/seed) are those of
+// <ahd/bakers.h> BakeSource; what reading keeps between calls is added here.
+struct BakeInput : BakeSource {
   mutable std::shared_ptr<const GodotSceneMeshes> godot;  // the scene, loaded once for every page
-  int sample_size = 256;
-  int sample_order = 2;
-  unsigned seed = 0;
   // What reading found (detection, pages, overlaps), printed once the input has been read, so that
   // a failure prints its one error line and nothing else.
   mutable std::string notes;

@@ -8,35 +8,20 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
-#include <mutex>
 #include <set>
 
-#include "api/options.h"
 #include "cli/batch_schedule.h"
 #include "cli/commands.h"
 #include "cli/conversion_args.h"
 #include "bakers/bake_input.h"
-#include "cook/conversion_key.h"
 #include "cli/output.h"
 #include "cli/progress.h"
 #include "core/error.h"
 #include "core/parallel.h"
-#include "image/ahd_intermediate.h"
 #include "bakers/baker_layout.h"
-#include "image/colour_space.h"
-#include "cook/conversion_cache.h"
-#include "cook/depfile.h"
-#include "files/input_record.h"
+#include "cook/cook.h"
 #include "image/image_io.h"
 #include "bakers/layout_detect.h"
-#include "bakers/layout_pages.h"
-#include "scene/mesh_io.h"
-#include "scene/placement_io.h"
-#include "files/profile_file.h"
-#include "image/sh_exr.h"
-#include "pipeline/manifest.h"
-#include "pipeline/run.h"
-#include "sh/sh.h"
 
 namespace ahd::cli {
 namespace fs = std::filesystem;
@@ -73,218 +58,49 @@ struct BatchRow {
   double rel_mean = -1, rel_p99 = -1;  // the error estimate (−1: not measured)
 };
 
-// How a batch runs one conversion (run_convert's defaults: the terminal's progress, no lock).
+// How a batch runs one conversion (run_convert's default: the terminal's progress).
 struct BatchJob {
   std::function<void(const char* stage, double fraction)> progress;  // the batch's line, or none
-  // Held while publishing: publish_output_set swaps the process's SIGINT/SIGTERM handlers and
-  // keeps one process-wide list of temporaries, so two sets are never published at once.
-  std::mutex* publish_lock = nullptr;
 };
 
-// A cache entry's files are usable as this conversion's outputs when each is named for `out` and
-// one of them is the manifest (an entry is only found by the key, which covers the name: this
-// guards against a hand-edited or foreign folder, never writing outside out.dir).
-const OutputFile* cached_manifest(const std::vector<OutputFile>& files, const OutputPaths& out) {
-  const OutputFile* manifest = nullptr;
-  for (const OutputFile& f : files) {
-    if (f.name.rfind(out.name + ".", 0) != 0) return nullptr;
-    if (f.name == out.name + ".json") manifest = &f;
-  }
-  return manifest;
-}
-
-BatchRow row_of(const Manifest& m) {
-  BatchRow row;
-  row.width = int(m.width), row.height = int(m.height), row.planes = m.planes.size(), row.directional = m.directional;
-  return row;
-}
-
-// --cache's direct lookup (cook/conversion_cache.h): what this command read last time, if every file
-// it probed is as it was then, gives the conversion key without reading an image. The hit's files
-// and the files read, or nullopt (then the input is read as without a cache).
-struct DirectHit {
-  std::vector<OutputFile> files;
-  InputsRecord inputs;
-  std::string key;
-};
-std::optional<DirectHit> direct_lookup(const ConversionCache& cache, const std::string& command_key, const OutputPaths& out) {
-  std::optional<InputsRecord> rec = cache.lookup_inputs(command_key);
-  if (!rec) return std::nullopt;
-  for (const InputProbe& p : rec->probes)
-    if (probe_type(p.path) != p.type) return std::nullopt;
-  DirectHit h;
-  try {
-    h.key = conversion_key(rec->options_text + input_files_text(rec->files));
-  } catch (const Error&) {
-    return std::nullopt;  // a file it read is gone: read again (and fail there, naming it)
-  }
-  std::optional<std::vector<OutputFile>> files = cache.lookup(h.key);
-  if (!files || !cached_manifest(*files, out)) return std::nullopt;
-  h.files = std::move(*files);
-  h.inputs = std::move(*rec);
-  return h;
-}
-
+// The cook (cook/cook.h) with this command's options, its terminal output as it goes.
 BatchRow run_convert(ConvertArgs a, const BatchJob* job = nullptr) {
-  const auto publish = [&](const OutputPaths& out, std::vector<OutputFile> files, IntermediateFile im = {}) {
-    std::unique_lock<std::mutex> l;
-    if (job && job->publish_lock) l = std::unique_lock<std::mutex>(*job->publish_lock);
-    publish_conversion(out, std::move(files), std::move(im));
-  };
-  const auto print_hit = [&](const std::string& source, const std::string& key, const ConversionCache& cache,
-                             const OutputPaths& out, size_t n) {
-    if (a.conv.quiet) return;
-    std::printf("ahdpack: %s\n", source.c_str());
-    std::printf("cache hit %s (%s): %zu files -> %s\n", key.c_str(), cache.entry_path(key).c_str(), n,
-                out.sibling(".json").c_str());
-  };
-  if (!a.cache.empty() && a.keep_intermediate)
-    throw Error("--cache stores the conversion's outputs, not --keep-intermediate's file: use one of them");
-  const ConversionCache cache(a.cache, a.cache.empty() ? 0 : parse_byte_size(a.cache_max_size, "--cache-max-size"));
-  std::string cmd_key;
-  if (!a.cache.empty() && !a.output.empty() && !a.print_key) {
-    const OutputPaths out = output_paths(a.output);
-    ConversionOptions given = conversion_options(a.conv);
-    given.container = out.kind;
-    cmd_key = command_key(a, given, out.name, a.conv.profile, iz_scale_factor(a.iz_scale));
-    if (std::optional<DirectHit> h = direct_lookup(cache, cmd_key, out)) {
-      const Manifest m = manifest_from_json(std::string(cached_manifest(h->files, out)->bytes.begin(),
-                                                        cached_manifest(h->files, out)->bytes.end()),
-                                            out.sibling(".json"));
-      const size_t n = h->files.size();
-      publish(out, std::move(h->files));
-      if (!a.depfile.empty()) write_depfile(a.depfile, out.sibling(".json"), h->inputs.files);
-      print_hit(h->inputs.source, h->key, cache, out, n);
-      return row_of(m);
-    }
+  CookRequest r;
+  r.input = a;
+  r.output = a.output;
+  r.options = conversion_options(a.conv);
+  if (job) r.options.cancel = interrupt_flag(), r.options.progress = job->progress;  // the batch installed the handler
+  else attach_terminal_progress(&r.options, a.conv.quiet);
+  r.iz_scale = iz_scale_factor(a.iz_scale);
+  r.keep_intermediate = a.keep_intermediate;
+  r.depfile = a.depfile;
+  r.key_only = a.print_key;
+  if (!a.cache.empty()) r.cache = open_cache(a.cache, parse_byte_size(a.cache_max_size, "--cache-max-size"));
+  CookHooks h;
+  h.events.warning = [](const std::string& m) { std::fprintf(stderr, "ahdpack: warning: %s\n", m.c_str()); };
+  if (!a.conv.quiet) {
+    h.events.notes = [](const std::string& text) { std::fputs(text.c_str(), stdout), std::fflush(stdout); };
+    h.events.cache_hit = [](const CookCacheHit& hit) {
+      std::printf("ahdpack: %s\n", hit.source.c_str());
+      std::printf("cache hit %s (%s): %zu files -> %s\n", hit.key.c_str(), hit.entry.c_str(), hit.files,
+                  hit.manifest.c_str());
+    };
+    h.events.stored = [](const std::string& key, const CacheStats& st) {
+      std::printf("cache: stored %s (%zu entries, %.1f MiB%s)\n", key.c_str(), st.entries, double(st.bytes) / 1048576.0,
+                  st.evicted ? (", " + std::to_string(st.evicted) + " least recently used evicted").c_str() : "");
+    };
+    h.converted = [](const CookConverted& c) {
+      print_conversion(c.source, c.out, c.run, c.closed_loop, c.non_finite_texels);
+    };
   }
-
-  // Everything read from here to the end of the block is noted in `record` (files/input_record.h):
-  // the one list the depfile names and the key hashes. Nothing read after it is an input.
-  InputRecord record;
-  OutputPaths out;
-  ConversionOptions co;
-  ResolvedOptions ro;
-  ReadStats rs;
-  std::string source;
-  std::vector<ShImage> pages;
-  size_t detection_notes = 0;
-  double iz_scale = 1.0;
-  const auto t0 = std::chrono::steady_clock::now();
-  {
-    const RecordInputs recording(&record);
-    resolve_auto_layout(&a);
-    find_scene_for_input(&a);
-    detection_notes = a.notes.size();  // why this path was taken: printed even on failure
-    std::string out_path = a.output;
-    if (out_path.empty())
-      out_path = "ahdpack-out/" + (a.input.empty() ? std::string("sample") : fs::path(a.input).stem().string()) + ".ktx2";
-    out = output_paths(out_path);
-    co = conversion_options(a.conv);
-    co.container = out.kind;
-    if (job) co.cancel = interrupt_flag(), co.progress = job->progress;  // the batch installed the handler
-    else attach_terminal_progress(&co, a.conv.quiet);
-
-    // Checked before anything is read or written: one clear line, no output.
-    ro = resolve_options(co, out.name, load_profile(a.conv.profile));
-    iz_scale = iz_scale_factor(a.iz_scale);
-    check_bake_input(a);
-    try {
-      pages = read_bake_pages(a, a.conv.options.threads, &rs, &source);
-    } catch (const std::exception&) {
-      // What detection found says why the run took this path: printed before the one error line.
-      if (!a.conv.quiet && !a.print_key) std::fputs(a.notes.substr(0, detection_notes).c_str(), stdout), std::fflush(stdout);
-      throw;
-    }
-  }
-  if (!a.conv.quiet && !a.print_key) std::fputs(a.notes.c_str(), stdout);
-  const double read_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-
-  std::string key;
-  if (a.print_key || !a.cache.empty()) key = conversion_key(conversion_key_text(a, co, out.name, record, iz_scale));
-  if (a.print_key) {
-    std::printf("%s\n", key.c_str());
+  const CookResult res = cook_conversion(r, h);
+  if (res.outcome == CookResult::Outcome::KeyOnly) {
+    std::printf("%s\n", res.key.c_str());
     return {};
   }
-  // What the direct lookup of the next run of this command needs (best effort, as the store).
-  const auto remember_inputs = [&]() {
-    if (cmd_key.empty()) return;
-    try {
-      cache.store_inputs(cmd_key, {conversion_options_text(a, co, out.name, iz_scale), source, record.files, record.probes});
-    } catch (const std::exception& e) {
-      std::fprintf(stderr, "ahdpack: warning: %s (the inputs are not recorded in the cache)\n", e.what());
-    }
-  };
-  const auto write_deps = [&]() {
-    if (!a.depfile.empty()) write_depfile(a.depfile, out.sibling(".json"), record.files);
-  };
-
-  if (!a.cache.empty()) {
-    std::optional<std::vector<OutputFile>> hit = cache.lookup(key);
-    const OutputFile* mf = hit ? cached_manifest(*hit, out) : nullptr;
-    if (mf) {  // a hit: the stored files, published exactly as a conversion's (cli/output.h)
-      const Manifest m = manifest_from_json(std::string(mf->bytes.begin(), mf->bytes.end()), out.sibling(".json"));
-      const size_t n = hit->size();
-      publish(out, std::move(*hit));
-      write_deps();
-      remember_inputs();
-      print_hit(source, key, cache, out, n);
-      return row_of(m);
-    }
-  }
-
-  PackageOptions pkg = ro.package;
-  pkg.world_frame = !pages[0].normals.empty();
-  pkg.iz_scale = iz_scale;
-  if (pkg.iz_scale != 1.0)  // the SH is linear in the light: scaling it scales I_z and keeps d and the ratio
-    for (ShImage& p : pages)
-      for (float& v : p.data) v = float(double(v) * pkg.iz_scale);
-  pkg.report_extra = {{"source", source},
-                      {"working_space", kWorkingSpace},
-                      {"read", {{"non_finite_texels", rs.non_finite_texels}, {"coverage_derived", rs.coverage_derived}}}};
-  // The space the input was converted from; absent when it was read in the working space (reports as before).
-  if (!rs.input_space.empty()) pkg.report_extra["input_space"] = rs.input_space;
-  const std::vector<StageCost> read_stage = {{a.input.empty() ? "bake sample" : "read", read_seconds}};
-  ConversionRun run;
-  IntermediateFile intermediate;  // none: an earlier NAME.ahd.exr goes with the set it belonged to
-  if (pages.size() > 1) {  // an atlas: every page converted alone, planes stacked as array layers
-    if (a.keep_intermediate) throw Error("--keep-intermediate holds one page: not available for a multi-page atlas");
-    run = run_pages(pages, ro.profile, ro.convert, pkg, read_stage);
-  } else {
-    std::function<void(const std::vector<FittedLevel>&)> on_fitted;
-    // Kept in memory and published with the set: a conversion that fails or is cancelled after the
-    // fit leaves the previous NAME.ahd.exr as it was.
-    if (a.keep_intermediate)
-      on_fitted = [&](const std::vector<FittedLevel>& levels) {
-        intermediate.bytes = encode_intermediate(out.sibling(".ahd.exr"), levels, ro.convert.fit);
-      };
-    run = run_conversion(std::move(pages[0]), ro.profile, ro.convert, pkg, read_stage, on_fitted);
-  }
-  std::vector<OutputFile> to_store;
-  if (!a.cache.empty()) to_store = run.output.files;
-  publish(out, std::move(run.output.files), std::move(intermediate));  // the summary needs the manifest, not the bytes
-  write_deps();
-  if (!a.conv.quiet) print_conversion(source, out, run, ro.convert.closed_loop, rs.non_finite_texels);
-  if (!a.cache.empty()) {
-    // The outputs are published: a cache that cannot be written (read-only shared folder, full
-    // disk) costs the next run a conversion, it does not fail this one.
-    try {
-      const CacheStats st = cache.store(key, to_store);
-      if (!a.conv.quiet)
-        std::printf("cache: stored %s (%zu entries, %.1f MiB%s)\n", key.c_str(), st.entries, double(st.bytes) / 1048576.0,
-                    st.evicted ? (", " + std::to_string(st.evicted) + " least recently used evicted").c_str() : "");
-    } catch (const std::exception& e) {
-      std::fprintf(stderr, "ahdpack: warning: %s (the conversion is not cached)\n", e.what());
-    }
-    remember_inputs();
-  }
   BatchRow row;
-  row.width = int(run.output.manifest.width);
-  row.height = int(run.output.manifest.height);
-  row.planes = run.output.manifest.planes.size();
-  row.directional = run.result.directional;
-  if (run.result.final_error.texels)
-    row.rel_mean = run.result.final_error.relative.mean, row.rel_p99 = run.result.final_error.relative.p99;
+  row.width = res.width, row.height = res.height, row.planes = res.planes, row.directional = res.directional;
+  row.rel_mean = res.error_mean, row.rel_p99 = res.error_p99;
   return row;
 }
 
@@ -355,7 +171,6 @@ void run_batch(const ConvertArgs& a, const std::vector<std::string>& inputs) {
   const BatchPlan plan = plan_batch(texels, resolve_threads(a.conv.options.threads));
   install_interrupt_handler();
   BatchProgress progress(files.size(), a.conv.quiet);
-  std::mutex publish_lock;
   const auto t_batch = std::chrono::steady_clock::now();
   const auto convert_one = [&](size_t i, int threads) {
     if (interrupt_flag()->load()) throw Cancelled();  // Ctrl-C: start no further file
@@ -370,7 +185,6 @@ void run_batch(const ConvertArgs& a, const std::vector<std::string>& inputs) {
       one.conv.options.threads = threads;
       BatchJob job;
       if (plan.jobs == 1 || threads > 1) job.progress = progress.stage_of(d.file);  // alone: its stages
-      job.publish_lock = &publish_lock;
       d.row = run_convert(std::move(one), &job);
     } catch (const Cancelled&) {
       throw;

@@ -22,6 +22,7 @@
 // the entry just stored. Temporaries older than an hour (writers that died) are removed too.
 #pragma once
 #include <ahd/convert.h>
+#include <ahd/cook.h>
 
 #include <cstdint>
 #include <optional>
@@ -32,23 +33,9 @@
 
 namespace ahd {
 
-// What a conversion read and probed (files/input_record.h), stored under its command key
-// (cook/conversion_key.h command_key) beside the entries: `options_text` is the option part of the
-// conversion key, `source` the summary's description of the input.
-struct InputsRecord {
-  std::string options_text;
-  std::string source;
-  std::vector<std::string> files;
-  std::vector<InputProbe> probes;
-};
+// InputsRecord, CacheStats and the backend interface: <ahd/cook.h>.
 
-struct CacheStats {
-  size_t entries = 0;
-  uint64_t bytes = 0;
-  size_t evicted = 0;  // entries removed by the last store
-};
-
-class ConversionCache {
+class ConversionCache : public CacheBackend {
  public:
   // `max_bytes` = 0: unbounded. The folder is created on the first store.
   ConversionCache(std::string dir, uint64_t max_bytes);
@@ -56,20 +43,20 @@ class ConversionCache {
   // The files stored under `key` (64 hex digits), or nullopt for a missing, truncated or corrupt
   // entry. Safe on untrusted entries (every length bounded, every byte hashed). Never throws except
   // std::bad_alloc; refreshes the entry's modification time (ignored on a read-only folder).
-  std::optional<std::vector<OutputFile>> lookup(const std::string& key) const;
+  std::optional<std::vector<OutputFile>> lookup(const std::string& key) const override;
 
   // Stores `files` under `key` (temporary + rename), then evicts. File names must be plain names
   // (no folder). Throws ahd::Error naming the entry when it cannot be written; eviction never throws.
-  CacheStats store(const std::string& key, const std::vector<OutputFile>& files) const;
+  CacheStats store(const std::string& key, const std::vector<OutputFile>& files) const override;
 
-  std::string entry_path(const std::string& key) const;
+  std::string entry_path(const std::string& key) const override;
 
   // The inputs record stored under `command_key` (DIR/<command_key>.ahdinputs), or nullopt when
   // missing or malformed (its own SHA-256 is checked). Never throws except std::bad_alloc.
-  std::optional<InputsRecord> lookup_inputs(const std::string& command_key) const;
+  std::optional<InputsRecord> lookup_inputs(const std::string& command_key) const override;
   // Stores it (temporary + rename). Throws ahd::Error when it cannot be written; a record holding
   // a path with a line break is not stored.
-  void store_inputs(const std::string& command_key, const InputsRecord& record) const;
+  void store_inputs(const std::string& command_key, const InputsRecord& record) const override;
 
   // The serialised entry (exposed for tests) and its reader (nullopt unless well-formed for `key`).
   static std::vector<uint8_t> encode(const std::string& key, const std::vector<OutputFile>& files);
@@ -80,8 +67,6 @@ class ConversionCache {
   uint64_t max_bytes_;
 };
 
-// Parses a size with an optional K, M, G or T suffix (powers of 1024), e.g. "512M". Throws
-// ahd::Error naming `option` for anything else.
-uint64_t parse_byte_size(const std::string& text, const std::string& option);
+// parse_byte_size: <ahd/cook.h>.
 
 }  // namespace ahd

@@ -18,18 +18,14 @@
 // record. Reading happens on the thread that opened the scope (the io readers parallelise over rows
 // of data already opened, never over opens).
 #pragma once
+#include <ahd/bakers.h>
+
 #include <string>
 #include <vector>
 
 namespace ahd {
 
-// An existence test a reader's decision rests on (is NAME.exr.import beside it? which baker's
-// files are present?): `convert --cache` replays them to reuse a conversion without reading it.
-struct InputProbe {
-  std::string path;
-  int type = 0;  // std::filesystem::file_type of the path when probed (not_found = absent)
-  bool operator==(const InputProbe&) const = default;
-};
+// InputProbe (<ahd/bakers.h>): an existence test a reader's decision rests on.
 
 struct InputRecord {
   // Files in the order first read, each once, as the reader named them (relative paths stay

@@ -1,5 +1,7 @@
 #include "files/paths.h"
 
+#include <dlfcn.h>
+
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
@@ -16,16 +18,28 @@ std::string executable_prefix() {
   return prefix.string();
 }
 
+std::string library_prefix() {
+  Dl_info info{};
+  if (!::dladdr(reinterpret_cast<void*>(&library_prefix), &info) || !info.dli_fname || !*info.dli_fname) return {};
+  std::filesystem::path prefix = std::filesystem::path(info.dli_fname).parent_path();
+  for (const auto& part : std::filesystem::path(AHD_INSTALL_LIBDIR))
+    if (!part.empty() && part != ".") prefix = prefix.parent_path();
+  return prefix.string();
+}
+
 namespace {
 
 // The installed data beside the running executable: <prefix>/share/ahdpack/formats for
-// <prefix>/bin/ahdpack. Empty when there is none (a build tree, or no /proc).
+// <prefix>/bin/ahdpack, else beside the library holding this code. Empty when there is none (a
+// build tree, or no /proc).
 std::string installed_formats_dir() {
-  const std::string prefix = executable_prefix();
-  if (prefix.empty()) return {};
-  std::error_code ec;
-  const std::filesystem::path dir = std::filesystem::path(prefix) / AHD_INSTALL_FORMATS_DIR;
-  return std::filesystem::is_directory(dir / "profiles", ec) ? dir.string() : std::string();
+  for (const std::string& prefix : {executable_prefix(), library_prefix()}) {
+    if (prefix.empty()) continue;
+    std::error_code ec;
+    const std::filesystem::path dir = std::filesystem::path(prefix) / AHD_INSTALL_FORMATS_DIR;
+    if (std::filesystem::is_directory(dir / "profiles", ec)) return dir.string();
+  }
+  return {};
 }
 
 }  // namespace

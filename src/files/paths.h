@@ -10,8 +10,15 @@ namespace ahd {
 // /proc/self/exe.
 std::string executable_prefix();
 
+// The install prefix of the file holding this code by the same rule (<prefix>/<libdir>/libahd_cook.so
+// → <prefix>): where a program linking the installed ahdpack::bakers or ahdpack::cook, whose own
+// executable is elsewhere, finds the package's files. Tried after executable_prefix(). Empty when
+// unknown.
+std::string library_prefix();
+
 // $AHD_FORMATS_DIR when set, else the installed data beside the executable (<prefix>/bin/ahdpack
-// → <prefix>/share/ahdpack/formats) when it exists, else the source tree's formats/ folder.
+// → <prefix>/share/ahdpack/formats) or beside the library (library_prefix) when it exists, else
+// the source tree's formats/ folder.
 std::string formats_dir();
 
 // A named data file of formats/<folder>/ ("NAME" → formats/<folder>/NAME.json), or the path itself

@@ -11,10 +11,12 @@ namespace ahd {
 
 namespace {
 
-// The installed module: <prefix>/<libdir>/ahdpack/libahd_oiio.so for <prefix>/<bindir>/ahdpack (the
-// install's relative layout, as files/paths.cpp finds formats/), else the build tree's.
+// The installed module: <prefix>/<libdir>/ahdpack/libahd_oiio.so for <prefix>/<bindir>/ahdpack, or
+// for <prefix>/<libdir>/libahd_bakers.so (the install's relative layout, as files/paths.cpp finds
+// formats/), else the build tree's.
 std::string module_path() {
-  if (const std::string prefix = executable_prefix(); !prefix.empty()) {
+  for (const std::string& prefix : {executable_prefix(), library_prefix()}) {
+    if (prefix.empty()) continue;
     std::error_code ec;
     const std::filesystem::path installed = std::filesystem::path(prefix) / AHD_INSTALL_OIIO_MODULE;
     if (std::filesystem::exists(installed, ec)) return installed.string();

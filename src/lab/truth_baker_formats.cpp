@@ -98,7 +98,8 @@ BakerFormatEval mono_sh_format(const ShImage& sh, bool quantised) {
     }
   }
   if (quantised) f->l0 = through_bc6h(image_of(f->l0, sh.width, sh.height, 3, 0)).data;
-  return {t_format_eval(f), quantised ? 1.0 + 4.0 : 0.0};
+  return {t_format_eval(f), quantised ? 1.0 + 4.0 : 0.0,
+          quantised ? "MonoSH (Bakery): L0 BC6H + L1 RGBA8" : "MonoSH (Bakery), float"};
 }
 
 BakerFormatEval godot_l1_format(const ShImage& sh, bool quantised) {
@@ -129,7 +130,15 @@ BakerFormatEval godot_l1_format(const ShImage& sh, bool quantised) {
         for (int c = 0; c < 3; ++c) f->t[i * 9 + size_t(c) * 3 + size_t(a)] = back.data[i * 3 + size_t(c)];
     }
   }
-  return {t_format_eval(f), quantised ? 4.0 : 0.0};
+  return {t_format_eval(f), quantised ? 4.0 : 0.0,
+          quantised ? "L1 SH as Godot stores it: 4 BC6H layers" : "L1 SH as Godot stores it, float"};
+}
+
+std::vector<BakerFormatEval> baker_formats(const ShImage& sh, bool quantised) {
+  std::vector<BakerFormatEval> f;
+  f.push_back(mono_sh_format(sh, quantised));
+  f.push_back(godot_l1_format(sh, quantised));
+  return f;
 }
 
 }  // namespace ahd

@@ -3,6 +3,9 @@
 // through our real codecs as the engine would load it, and decoded with the baker's runtime formula
 // (docs/bakers.md). Lab code.
 #pragma once
+#include <string>
+#include <vector>
+
 #include "lab/truth_reference.h"
 #include "sh/sh_image.h"
 
@@ -11,6 +14,7 @@ namespace ahd {
 struct BakerFormatEval {
   TruthEval eval;             // irradiance E for texel i at tangent-space normal n (captures its data)
   double bytes_per_texel = 0; // level 0 as the engine loads it; 0 = float, not a shipped format
+  std::string label;          // the row's name in `report truth` (the baker and the storage)
 };
 
 // Bakery's MonoSH: L0 RGB and one L1 vector shared by the channels, the luminance's L1 over its L0,
@@ -24,5 +28,8 @@ BakerFormatEval mono_sh_format(const ShImage& sh, bool quantised);
 // Quantised: the four layers in BC6H (unsigned, default quality; Godot's VRAM-compressed import,
 // 4 bytes a texel); otherwise float.
 BakerFormatEval godot_l1_format(const ShImage& sh, bool quantised);
+
+// The bakers' own directional formats above, in the order `report truth` lists them.
+std::vector<BakerFormatEval> baker_formats(const ShImage& sh, bool quantised);
 
 }  // namespace ahd

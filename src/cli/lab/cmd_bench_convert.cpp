@@ -270,8 +270,8 @@ void add_bench_convert_command(CLI::App& bench) {
   c->add_option("--plain", a->plain, "Sizes of the generated plain lightmaps (default 2048; 0 = none)")
       ->check(CLI::Range(0, 16384));
   c->add_option("--plain-file", a->plain_files,
-                 "Real plain lightmaps (RGB EXRs, e.g. tests/data/bakes/godot-ragdoll-plain/ragdoll_physics.exr), "
-                 "converted with the plain layout beside the generated inputs")
+                "Real plain lightmaps (RGB EXRs, e.g. the plain bake in tests/data/bakes), "
+                "converted with the plain layout beside the generated inputs")
       ->check(CLI::ExistingFile);
   c->add_option("--threads", a->threads, "Worker threads (0 = all)");
   c->add_option("--dir", a->dir, "Folder for the generated inputs and outputs (default: a fresh temp folder, removed after)");

@@ -95,11 +95,8 @@ void report_truth(const std::vector<std::string>& dirs, const std::vector<std::s
     rows.push_back({"plain lightmap (I_z only), float", 0, truth_errors(t, plain_eval(l2))});
     // The bakers' own directional formats from the same SH's L1 part, at their shipped bytes.
     for (bool q : {false, true}) {
-      const BakerFormatEval mono = mono_sh_format(l2, q), godot = godot_l1_format(l2, q);
-      rows.push_back({q ? "MonoSH (Bakery): L0 BC6H + L1 RGBA8" : "MonoSH (Bakery), float", mono.bytes_per_texel,
-                      truth_errors(t, mono.eval)});
-      rows.push_back({q ? "L1 SH as Godot stores it: 4 BC6H layers" : "L1 SH as Godot stores it, float",
-                      godot.bytes_per_texel, truth_errors(t, godot.eval)});
+      for (const BakerFormatEval& f : baker_formats(l2, q))
+        rows.push_back({f.label, f.bytes_per_texel, truth_errors(t, f.eval)});
     }
     FitOptions lum;
     lum.pair_guard_deg = guard;
