@@ -265,6 +265,7 @@ BatchRow run_convert(ConvertArgs a, const BatchJob* job = nullptr) {
   publish(out, std::move(run.output.files), std::move(intermediate));  // the summary needs the manifest, not the bytes
   write_deps();
   if (!a.conv.quiet) print_conversion(source, out, run, ro.convert.closed_loop, rs.non_finite_texels);
+  print_warnings(a.input, run.result);
   if (!a.cache.empty()) {
     // The outputs are published: a cache that cannot be written (read-only shared folder, full
     // disk) costs the next run a conversion, it does not fail this one.

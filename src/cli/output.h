@@ -43,4 +43,8 @@ void publish_conversion(const OutputPaths& out, std::vector<OutputFile> files, I
 void print_conversion(const std::string& source, const OutputPaths& out, const ConversionRun& run, bool closed_loop,
                       size_t non_finite_inputs);
 
+// The conversion's warnings (bad or unsuitable data: pipeline/sh_input_check.h), one
+// "ahdpack: warning: INPUT: …" line each on stderr; printed with --quiet too.
+void print_warnings(const std::string& input, const PipelineResult& r);
+
 }  // namespace ahd::cli
