@@ -30,7 +30,7 @@ struct L1Figures {
 L1Figures measure_l1(const ShImage& sh);
 
 // Thresholds of the warnings (docs/godot.md "Damaged or unsuitable SH": measured there on real bakes).
-constexpr double kL1ZeroShareDamaged = 0.10;  // a layer with ≥ 10 % exact zeros and no negative value anywhere
+constexpr double kL1ZeroShareDamaged = 0.20;  // a layer with ≥ 20 % exact zeros and no negative value anywhere
 constexpr double kRulesShareWarned = 0.03;    // horizon-tilted + negative I_z on > 3 % of covered texels
 constexpr size_t kFewestTexelsJudged = 64;    // fewer lit covered texels: too few to judge
 
