@@ -5,6 +5,7 @@
 #include "core/error.h"
 #include "image/colour_space.h"
 #include "bakers/baker_layout.h"
+#include "bakers/godot/godot_import.h"
 #include "bakers/godot/godot_scene.h"
 #include "bakers/godot/godot_unplaced.h"
 #include "bakers/layout_detect.h"
@@ -63,7 +64,37 @@ const std::vector<BakeInputOption>& bake_input_options() {
   return options;
 }
 
+namespace {
+
+// `--layout plain` reads one image as one lightmap. Godot's atlases are one image of stacked
+// layers (its importer's 2d_array_texture, slices/vertical = pages × 4 for directional SH: L0, L1y,
+// L1z, L1x per page), which plain would convert as one tall map mixing L0 with L1: refused, naming
+// what the set is and the remedy (docs/godot.md "Damaged or unsuitable SH").
+void refuse_plain_on_a_stack(const BakeInput& a) {
+  if (a.layout != "plain" || a.input.empty()) return;
+  const std::string exr = layout_base(load_layout("plain"), a.input) + ".exr";
+  const GodotImport gi = read_godot_import(exr);
+  if (!gi.found || gi.importer != "2d_array_texture" || gi.slices_vertical <= 1) return;
+  std::string detected;
+  try {
+    if (std::optional<LayoutDetection> d = try_detect_layout(exr)) detected = d->preset;
+  } catch (const Error&) {  // ambiguous or unsupported: --layout auto says why
+  }
+  const int s = gi.slices_vertical;
+  const std::string what = s % 4 == 0 ? "a Godot directional SH atlas, " + std::to_string(s / 4) +
+                                            " page(s) x (L0 + three L1 layers)"
+                                      : "a Godot atlas of " + std::to_string(s) + " layers";
+  throw file_error(exr, "is " + what + " stacked vertically (" + std::filesystem::path(exr).filename().string() +
+                            ".import: slices/vertical=" + std::to_string(s) + (detected.empty() ? "" : "; detected: " + detected) +
+                            "): --layout plain would convert the whole stack as one lightmap; use --layout auto" +
+                            (detected.empty() ? "" : " or --layout " + detected) +
+                            " (add --direction drop for the I_z plane alone)");
+}
+
+}  // namespace
+
 void resolve_auto_layout(BakeInput* a) {
+  refuse_plain_on_a_stack(*a);
   if (a->input.empty() || (!a->layout.empty() && a->layout != "auto")) return;
   if (a->layout.empty() && is_canonical_sh_file(a->input)) return;
   std::optional<LayoutDetection> d;
@@ -123,7 +154,37 @@ GodotSceneMeshes load_godot_meshes(const BakeInput& a) {
   return load_godot_export(a.scene, lmbake);
 }
 
-MeshTriangles godot_page_mesh(const BakeInput& a, int page, MeshReadInfo* mi, std::string* note) {
+// What a page's meshes gave, for the summary line: read_bake_pages sums it over an atlas's pages
+// (one page's counts alone would say "9 of 39 users placed" when the 4 pages placed 32).
+struct PageMesh {
+  MeshReadInfo mi;
+  size_t covered = 0;      // texels the page's triangles cover
+  size_t placed = 0;       // instances placed on the page (--godot-scene, --placement)
+  std::string placed_of;   // after the count: " of N lightmap users placed by X", " instance(s) placed by P"
+  size_t unplaced = 0;     // --placement: instances no placement names (the same on every page)
+  std::string overlaps;    // ", overlap: A and B" for --placement
+  size_t unplaced_users = 0, unplaced_kept = 0;  // --allow-unplaced: Godot users left out, their lit texels kept
+  std::string unplaced_where;                    // " on page P", " on pages 0-N"
+};
+
+std::string placed_text(const PageMesh& pm) {
+  if (pm.placed_of.empty()) return "";
+  return ", " + std::to_string(pm.placed) + pm.placed_of +
+         (pm.unplaced ? " (" + std::to_string(pm.unplaced) + " without placement left out)" : "") + pm.overlaps;
+}
+
+// ", normals and coverage from SRC (T triangles, UV set U, C texels covered, P … placed by X)".
+std::string mesh_text(const BakeInput& a, const LayoutPreset& layout, const PageMesh& pm, const std::string& pages) {
+  return ", " + std::string(layout.world_space ? "normals and coverage" : "coverage") + " from " + mesh_source(a) +
+         " (" + std::to_string(pm.mi.triangles) + " triangles, UV set " + std::to_string(pm.mi.uv_set) + ", " +
+         std::to_string(pm.covered) + " texels covered" + pages + placed_text(pm) + ")" +
+         (a.godot && !a.godot->unplaced.empty()
+              ? ", " + std::to_string(pm.unplaced_users) + " unplaced user(s)" + pm.unplaced_where + ": " +
+                    std::to_string(pm.unplaced_kept) + " lit texels kept with normals from the SH (--allow-unplaced)"
+              : "");
+}
+
+MeshTriangles godot_page_mesh(const BakeInput& a, int page, MeshReadInfo* mi, PageMesh* note) {
   if (!a.godot) {
     auto g = std::make_shared<const GodotSceneMeshes>(load_godot_meshes(a));
     if (!g->unplaced.empty() && !a.allow_unplaced) throw file_error(g->lmbake, godot_unplaced_refusal(*g));
@@ -139,12 +200,13 @@ MeshTriangles godot_page_mesh(const BakeInput& a, int page, MeshReadInfo* mi, st
   const GodotSceneMeshes& g = *a.godot;
   PlacedMesh pm = place_instances(g.scene, g.placements, page, g.lmbake);
   *mi = {2, 2, int(pm.placed.size()), pm.mesh.indices.size() / 3};
-  *note = ", " + std::to_string(pm.placed.size()) + " of " + std::to_string(g.users) + " lightmap users placed by " + g.lmbake;
+  note->placed = pm.placed.size();
+  note->placed_of = " of " + std::to_string(g.users) + " lightmap users placed by " + g.lmbake;
   for (const std::string& o : pm.overlaps) a.notes += "placement: page " + std::to_string(page) + ": instances " + o + " overlap in the atlas\n";
   return std::move(pm.mesh);
 }
 
-MeshTriangles page_mesh(const BakeInput& a, int page, MeshReadInfo* mi, std::string* note) {
+MeshTriangles page_mesh(const BakeInput& a, int page, MeshReadInfo* mi, PageMesh* note) {
   if (!a.scene.empty()) return godot_page_mesh(a, page, mi, note);
   if (a.placement.empty()) {
     // Several instances whose lightmap UVs overlap need their atlas placement: merged, they
@@ -162,17 +224,18 @@ MeshTriangles page_mesh(const BakeInput& a, int page, MeshReadInfo* mi, std::str
   }
   const MeshInstances scene = read_mesh_instances(a.mesh, a.uv_set, mi);
   PlacedMesh pm = place_instances(scene, read_placements(a.placement), page, a.placement);
-  *note = ", " + std::to_string(pm.placed.size()) + " instance(s) placed by " + a.placement +
-          (pm.unplaced.empty() ? "" : " (" + std::to_string(pm.unplaced.size()) + " without placement left out)");
+  note->placed = pm.placed.size();
+  note->placed_of = " instance(s) placed by " + a.placement;
+  note->unplaced = pm.unplaced.size();
   for (const std::string& o : pm.overlaps) {
-    *note += ", overlap: " + o;
+    note->overlaps += ", overlap: " + o;
     a.notes += "placement: page " + std::to_string(page) + ": instances " + o + " overlap in the atlas\n";
   }
   return std::move(pm.mesh);
 }
 
 ShImage read_layout_input(const BakeInput& a, const LayoutPreset& layout, ReadStats* rs, std::string* source,
-                          int page = 0) {
+                          int page = 0, PageMesh* page_mesh_out = nullptr) {
   std::string from_mesh;
   ShImage sh;
   if (!a.mesh.empty() || !a.scene.empty()) {
@@ -182,8 +245,8 @@ ShImage read_layout_input(const BakeInput& a, const LayoutPreset& layout, ReadSt
     // The mesh is rasterised at the lightmap's size, known from the first file's header.
     int w = 0, h = 0;
     layout_size(layout, a.input, &w, &h);
-    MeshReadInfo mi;
-    std::string placed;
+    PageMesh placed;
+    MeshReadInfo& mi = placed.mi;
     const MeshTriangles mesh = page_mesh(a, page, &mi, &placed);
     RasterisedNormals rn = rasterise_lightmap_normals(mesh, w, h);
     mesh_normals_to_layout_axes(layout, &rn.normals);  // glTF's axes → the baker's world
@@ -215,17 +278,17 @@ ShImage read_layout_input(const BakeInput& a, const LayoutPreset& layout, ReadSt
                                                          "placement (--placement) or --godot-scene for a Godot project"
                                                        : "the scene, meshes or unwrap caches are not the ones that baked it") +
                                 "; --allow-mismatch converts anyway");
-    from_mesh = ", " + std::string(layout.world_space ? "normals and coverage" : "coverage") + " from " + src + " (" +
-                std::to_string(mi.triangles) + " triangles, UV set " + std::to_string(mi.uv_set) + ", " +
-                std::to_string(covered) + " texels covered" + placed + ")";
+    placed.covered = covered;
     if (a.godot && !a.godot->unplaced.empty()) {
-      size_t users = 0;
-      for (const GodotUnplacedUser& u : a.godot->unplaced) users += u.page == page;
-      from_mesh += ", " + std::to_string(users) + " unplaced user(s) on page " + std::to_string(page) + ": " +
-                   std::to_string(kept) + " lit texels kept with normals from the SH (--allow-unplaced)";
-      a.notes += "unplaced: page " + std::to_string(page) + ": " + std::to_string(users) + " user(s), " +
-                 std::to_string(kept) + " lit texels fitted about the SH's own direction, not the surface's\n";
+      for (const GodotUnplacedUser& u : a.godot->unplaced) placed.unplaced_users += u.page == page;
+      placed.unplaced_kept = kept;
+      placed.unplaced_where = " on page " + std::to_string(page);
+      a.notes += "unplaced: page " + std::to_string(page) + ": " + std::to_string(placed.unplaced_users) + " user(s), " +
+                 std::to_string(kept) + " lit texels fitted about the SH's own direction, not the surface's
+";
     }
+    from_mesh = mesh_text(a, layout, placed, "");
+    if (page_mesh_out) *page_mesh_out = placed;
   } else {
     sh = read_layout(layout, a.input, a.normals, rs);
   }
@@ -277,7 +340,28 @@ std::vector<ShImage> read_bake_pages(const BakeInput& a, int threads, ReadStats*
   const LayoutPages lp = layout_pages(layout, a.input, a.pages);
   if (!lp.why.empty()) a.notes += "atlas: " + lp.why + "\n";
   std::vector<ShImage> pages;
-  for (int p = 0; p < lp.pages; ++p) pages.push_back(read_layout_input(a, layout_page(layout, p, lp.pages), rs, source, p));
+  std::vector<PageMesh> meshes(size_t(lp.pages));
+  for (int p = 0; p < lp.pages; ++p)
+    pages.push_back(read_layout_input(a, layout_page(layout, p, lp.pages), rs, source, p, &meshes[size_t(p)]));
+  if (lp.pages > 1 && (!a.mesh.empty() || !a.scene.empty())) {
+    // The summary of every page, not the last one's: totals, and the placed count of each page.
+    PageMesh total = meshes[0];
+    std::string per_page;
+    for (size_t p = 0; p < meshes.size(); ++p) {
+      if (p) {
+        total.mi.triangles += meshes[p].mi.triangles, total.covered += meshes[p].covered;
+        total.placed += meshes[p].placed, total.overlaps += meshes[p].overlaps;
+        total.unplaced_users += meshes[p].unplaced_users, total.unplaced_kept += meshes[p].unplaced_kept;
+      }
+      per_page += (p ? " + " : "") + std::to_string(meshes[p].placed);
+    }
+    if (!total.placed_of.empty()) total.placed_of += " (" + per_page + " on pages 0-" + std::to_string(lp.pages - 1) + ")";
+    total.unplaced_where = " on pages 0-" + std::to_string(lp.pages - 1);
+    *source = a.input + " (layout " + layout.name + ", " + std::to_string(pages[0].width) + "x" +
+              std::to_string(pages[0].height) + " " + std::string(sh_order_name(pages[0].coeffs)) +
+              (pages[0].normals.empty() ? ", tangent space" : ", world space + normals") +
+              mesh_text(a, layout, total, " on " + std::to_string(lp.pages) + " pages") + ")";
+  }
   if (lp.pages > 1) *source += ", " + std::to_string(lp.pages) + " atlas pages -> array layers";
   note_colour(rs, source);
   return pages;

@@ -47,6 +47,9 @@ const std::vector<BakeInputOption>& bake_input_options();
 // `layout` "auto", and the default for an input that is not the canonical EXR: the baker's set is
 // detected from the files present and their contents, and what was found goes to a->notes.
 // Without a layout, an input nothing recognises goes to the canonical reader (its errors).
+// `layout` "plain" on a Godot atlas of stacked layers (NAME.exr.import: 2d_array_texture,
+// slices/vertical > 1) throws ahd::Error("<exr>: is a Godot directional SH atlas …") naming the
+// detected preset and the remedy: plain would read the stack as one lightmap.
 void resolve_auto_layout(BakeInput* a);
 
 // A world-space bake without normals, mesh or scene: the baker's scene that baked it (a Godot

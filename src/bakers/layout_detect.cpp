@@ -105,7 +105,11 @@ void detect_godot(const std::string& input, Found* found) {
     d.reasons.push_back(std::string("contents: ") + range + ", within [0, 1] as packed L1 is");
   } else if (version_packs == 0) {
     d.preset = "godot4-unpacked";
-    d.reasons.push_back(std::string("contents: ") + range + " (no negative value, consistent with the project's version)");
+    // Raw L1 without a negative value is also what Godot's denoiser leaves (godotengine/godot#82655):
+    // the conversion measures it and warns (pipeline/sh_input_check.h).
+    d.reasons.push_back(std::string("contents: ") + range +
+                        " (no negative value: raw L1 as the project's version writes it, or L1 clamped by Godot's "
+                        "denoiser, which the conversion checks)");
   } else {
     throw file_error(exr, "ambiguous Godot bake (candidates: godot4-packed, godot4-unpacked): " + std::string(range) +
                               ", no project.godot or .lmbake tells the version; give --layout");

@@ -77,7 +77,10 @@ BatchRow run_convert(ConvertArgs a, const BatchJob* job = nullptr) {
   r.key_only = a.print_key;
   if (!a.cache.empty()) r.cache = open_cache(a.cache, parse_byte_size(a.cache_max_size, "--cache-max-size"));
   CookHooks h;
-  h.events.warning = [](const std::string& m) { std::fprintf(stderr, "ahdpack: warning: %s\n", m.c_str()); };
+  h.events.warning = [](const std::string& m) {
+    std::fflush(stdout);  // after the summary, when both go to one terminal
+    std::fprintf(stderr, "ahdpack: warning: %s\n", m.c_str());
+  };
   if (!a.conv.quiet) {
     h.events.notes = [](const std::string& text) { std::fputs(text.c_str(), stdout), std::fflush(stdout); };
     h.events.cache_hit = [](const CookCacheHit& hit) {

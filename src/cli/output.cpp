@@ -30,8 +30,18 @@ void print_conversion(const std::string& source, const OutputPaths& out, const C
     std::printf("fit: %zu covered of %zu texels; rules fired: no direction %zu, horizon-tilted %zu, negative I_z %zu, black %zu",
                 s.covered, s.texels, s.no_direction, s.dir_clamped, s.negative_iz, s.black);
     if (non_finite_inputs) std::printf(", non-finite input texels zeroed %zu", non_finite_inputs);
+    if (!r.pages.empty()) std::printf(" (all %zu pages)", r.pages.size());
     std::printf("\n");
   }
+  for (size_t p = 0; p < r.pages.size(); ++p) {  // an atlas: the lines above are totals, each page here
+    const PipelineResult& pr = r.pages[p];
+    std::printf("  page %zu: %zu covered; horizon-tilted %zu, negative I_z %zu, black %zu; direction %s", p,
+                pr.fit_stats.covered, pr.fit_stats.dir_clamped, pr.fit_stats.negative_iz, pr.fit_stats.black,
+                pr.directional ? "kept" : "dropped");
+    if (pr.final_error.texels) std::printf("; relative error mean %.2e, p99 %.2e", pr.final_error.relative.mean, pr.final_error.relative.p99);
+    std::printf("\n");
+  }
+
   if (!r.dilate_stats.empty())
     std::printf("dilation: %zu guard texels around the charts, %zu texels filled in %d rings, %zu beyond them set "
                 "to 0 (level 0)\n",

@@ -234,6 +234,10 @@ CookResult cook_conversion(const CookRequest& request, const CookHooks& hooks) {
   publish(out, std::move(run.output.files), std::move(intermediate));  // the summary needs the manifest, not the bytes
   write_deps();
   if (hooks.converted) hooks.converted({source, out, run, ro.convert.closed_loop, rs.non_finite_texels});
+  // Bad or unsuitable data (pipeline/sh_input_check.h): said, one warning each, naming the input.
+  if (hooks.events.warning)
+    for (const std::string& w : run.result.warnings)
+      hooks.events.warning((request.input.input.empty() ? std::string() : request.input.input + ": ") + w);
   if (cache) {
     // The outputs are published: a cache that cannot be written (read-only shared folder, full
     // disk) costs the next run a conversion, it does not fail this one.

@@ -418,6 +418,9 @@ std::vector<FittedLevel> fit_levels(ShImage&& input, const PipelineOptions& opt,
   std::vector<FittedLevel> levels =
       fit_mip_chain(std::move(input), opt.fit, opt.max_levels, opt.threads, &fit_stats, &r->dilate_stats);
   r->fit_stats = fit_stats[0];
+  r->coeffs = levels[0].sh.coeffs;
+  r->l1 = measure_l1(levels[0].sh);
+  r->warnings = sh_input_warnings(r->l1, r->fit_stats, r->coeffs);
   r->timings.push_back({"mips, fit, dilate", seconds_since(t0)});
   opt.step("fit", 1);
   if (!opt.measuring()) return levels;
@@ -469,6 +472,9 @@ PipelineResult run_conversion(ShImage&& sh, const Profile& profile, const Pipeli
     fit += seconds_since(t0);
     if (l == 0) {
       r.fit_stats = fs;
+      r.coeffs = level.sh.coeffs;
+      r.l1 = measure_l1(level.sh);
+      r.warnings = sh_input_warnings(r.l1, r.fit_stats, r.coeffs);
       opt.step("fit", 1);
       t0 = Clock::now();
       if (opt.measuring()) measure_fit(level, opt, &r);

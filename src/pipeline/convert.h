@@ -13,6 +13,7 @@
 #include "pipeline/plane_codec.h"
 #include "pipeline/plane_decode.h"
 #include "pipeline/profile.h"
+#include "pipeline/sh_input_check.h"
 #include "sh/sh_image.h"
 
 namespace ahd {
@@ -72,6 +73,12 @@ struct PipelineResult {
   bool directional = true;    // the direction and ratio planes were written
   ErrorReport ambient_error;  // I_z alone (d = z, ratio = 1) vs the SH, level 0 (Auto, when measuring)
   std::string direction_reason;  // why the planes were kept or dropped (for the report)
+  int coeffs = 0;                // the input's SH coefficients (1: no L1)
+  L1Figures l1;                  // the input's L1 signs and zeros, level 0 (pipeline/sh_input_check.h)
+  std::vector<std::string> warnings;  // bad or unsuitable data, one sentence each (sh_input_warnings)
+  // An atlas (pipeline/pages.h): each page's own figures, planes left out; the fields above are
+  // then every page's totals. Empty for one page.
+  std::vector<PipelineResult> pages;
 };
 
 // Throws ahd::Error when `profile` cannot be written with these options (a format this build cannot
