@@ -146,7 +146,7 @@ BatchRow run_convert(ConvertArgs a, const BatchJob* job = nullptr) {
     const OutputPaths out = output_paths(a.output);
     ConversionOptions given = conversion_options(a.conv);
     given.container = out.kind;
-    cmd_key = command_key(a, given, out.name, a.conv.profile, iz_scale_factor(a.iz_scale));
+    cmd_key = command_key(a, given, out.name, a.conv.options.profile, iz_scale_factor(a.iz_scale));
     if (std::optional<DirectHit> h = direct_lookup(cache, cmd_key, out)) {
       const Manifest m = manifest_from_json(std::string(cached_manifest(h->files, out)->bytes.begin(),
                                                         cached_manifest(h->files, out)->bytes.end()),
@@ -186,7 +186,7 @@ BatchRow run_convert(ConvertArgs a, const BatchJob* job = nullptr) {
     else attach_terminal_progress(&co, a.conv.quiet);
 
     // Checked before anything is read or written: one clear line, no output.
-    ro = resolve_options(co, out.name, load_profile(a.conv.profile));
+    ro = resolve_options(co, out.name, load_profile(a.conv.options.profile));
     iz_scale = iz_scale_factor(a.iz_scale);
     check_bake_input(a);
     try {
