@@ -219,7 +219,7 @@ std::vector<OptionRow> make_table() {
        .help = "Ratio form: luminance (one channel) or rgb (default: the profile's)",
        .fit_only = true,
        .key = KeyForm::Name,
-       .doc = "the ratio plane's form (C: −1 the profile's, 0 luminance, 1 rgb)",
+       .doc = "the ratio plane's form; unset (C: −1) the profile's",
        .doc_default = "the profile's"}));
   t.push_back(enum_option(
       "direction_fit", &CO::direction_fit, &ahd_options::direction_fit, kDirectionFits,
@@ -288,8 +288,8 @@ std::vector<OptionRow> make_table() {
        .help = "Error diagnostics: off, estimate (a fixed sample of texels; default) or full (every texel, every "
                "level, the unconstrained and open-loop baselines)",
        .cli_default = "estimate",  // the command prints an error estimate; the library measures nothing unless asked
-       .doc = "error diagnostics in the report: `Off`, `Estimate` (a sample of texels), `Full` (the command's "
-              "default is `estimate`)"}));
+       .doc = "error diagnostics in the report: none, a fixed sample of texels, or every texel and level with "
+              "the baselines (the command's default is `estimate`)"}));
   return t;
 }
 
