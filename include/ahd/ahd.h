@@ -34,8 +34,15 @@ typedef struct ahd_sh_input {
   const float* normals;
 } ahd_sh_input;
 
-/* Options; ahd_options_init sets the documented defaults (those of ahd::ConversionOptions). */
+/* Options; ahd_options_init sets the documented defaults (those of ahd::ConversionOptions).
+ * Versioned by size, as KTX-Software's parameter structs: struct_size is the size of the struct the
+ * caller was compiled with, and the struct only grows at its end. A library newer than the caller's
+ * header takes the members that fit in struct_size and the defaults for the rest; ahd_convert
+ * refuses a struct_size that no version of this struct has (0, garbage, or a newer header than
+ * the library's). Start from ahd_options_init (or ahd_options_init_size from an FFI), never from
+ * uninitialised memory. The members' table: src/api/option_table.cpp. */
 typedef struct ahd_options {
+  size_t struct_size;       /* sizeof(ahd_options) of the caller's header: set by ahd_options_init */
   const char* profile;      /* standard profile name, default "uncompressed" */
   const char* profile_json; /* or a profile definition (JSON text); NULL = use `profile` */
   int ratio;                /* -1 the profile's form (default), 0 luminance, 1 rgb */
@@ -52,9 +59,15 @@ typedef struct ahd_options {
   int zstd;                 /* KTX2 supercompression, default 0 */
   int plane_metadata;       /* ahd.* KTX2 key/values, default 1 */
   int measure;              /* 0 off (default), 1 estimate, 2 full */
+  /* New members only here, at the end (docs/maintaining.md "Adding a conversion option"). */
 } ahd_options;
 
-AHD_API void ahd_options_init(ahd_options* options);
+/* Sets every member that fits in struct_size bytes to its default and options->struct_size to
+ * struct_size, writing nothing past struct_size bytes (a caller compiled with an older, smaller
+ * header is safe). FFI callers pass their mirror's size (ctypes.sizeof). */
+AHD_API void ahd_options_init_size(ahd_options* options, size_t struct_size);
+/* The same with the size of the struct in the header the caller is compiled with. */
+#define ahd_options_init(options) ahd_options_init_size((options), sizeof(ahd_options))
 
 /* The finished conversion: files (planes, then NAME.report.json, then NAME.json
  * — the manifest last: write it last, it commits the set) owned by it. */

@@ -4,9 +4,11 @@
 #include <ahd/convert.h>
 
 #include <algorithm>
+#include <cstddef>
 #include <cstring>
 #include <new>
 
+#include "api/option_table.h"
 #include "sh/sh.h"
 
 struct ahd_result {
@@ -38,30 +40,27 @@ ahd::ShImage image_from(const ahd_sh_input& in) {
   return img;
 }
 
-template <typename E>
-E enum_in_range(int v, int count, const char* what) {
-  if (v < 0 || v >= count) throw ahd::Error(std::string("invalid option ") + what + " = " + std::to_string(v));
-  return E(v);
+// The smallest struct_size accepted: struct_size and the first member (every later member of an
+// older, smaller struct takes its default).
+constexpr size_t kMinOptionsSize = offsetof(ahd_options, profile) + sizeof(const char*);
+
+bool valid_options_size(size_t n) {
+  return n >= kMinOptionsSize && n <= sizeof(ahd_options) && n % alignof(ahd_options) == 0;
 }
 
-ahd::ConversionOptions options_from(const ahd_options& o) {
+// The caller's options (of its struct_size) as the C++ options: the members within struct_size,
+// the defaults for the rest, each checked by its row of the option table.
+ahd::ConversionOptions options_from(const ahd_options& given) {
+  const size_t n = given.struct_size;
+  if (!valid_options_size(n))
+    throw ahd::Error("invalid ahd_options.struct_size " + std::to_string(n) + ": set it with ahd_options_init (this library takes " +
+                     std::to_string(kMinOptionsSize) + " to " + std::to_string(sizeof(ahd_options)) + " bytes)");
+  ahd_options o;
+  ahd_options_init_size(&o, sizeof o);
+  std::memcpy(static_cast<void*>(&o), &given, n);
   ahd::ConversionOptions c;
-  if (o.profile) c.profile = o.profile;
-  if (o.profile_json) c.profile_json = o.profile_json;
-  if (o.ratio >= 0) c.ratio = enum_in_range<ahd::RatioForm>(o.ratio, 2, "ratio");
-  c.direction_fit = enum_in_range<ahd::DirectionFit>(o.direction_fit, 2, "direction_fit");
-  c.bc6h_quality = enum_in_range<ahd::Bc6hQuality>(o.bc6h_quality, 4, "bc6h_quality");
-  c.threads = o.threads;
-  c.eps = o.eps;
-  c.closed_loop = o.closed_loop != 0;
-  c.levels = o.levels;
-  c.coverage_plane = o.coverage_plane != 0;
-  c.direction = enum_in_range<ahd::DirectionPlanes>(o.direction, 3, "direction");
-  c.ambient_threshold = o.ambient_threshold;
-  c.container = enum_in_range<ahd::ContainerKind>(o.container, 2, "container");
-  c.zstd = o.zstd != 0;
-  c.plane_metadata = o.plane_metadata != 0;
-  c.measure = enum_in_range<ahd::Measure>(o.measure, 3, "measure");
+  for (const ahd::OptionRow& r : ahd::option_table())
+    if (r.c_offset + r.c_size <= n) r.from_c(o, c);
   return c;
 }
 
@@ -69,26 +68,15 @@ ahd::ConversionOptions options_from(const ahd_options& o) {
 
 extern "C" {
 
-void ahd_options_init(ahd_options* o) {
-  if (!o) return;
-  const ahd::ConversionOptions d;
-  *o = ahd_options{};
-  o->profile = "uncompressed";
-  o->profile_json = nullptr;
-  o->ratio = -1;
-  o->direction_fit = int(d.direction_fit);
-  o->bc6h_quality = int(d.bc6h_quality);
-  o->threads = d.threads;
-  o->eps = d.eps;
-  o->closed_loop = d.closed_loop;
-  o->levels = d.levels;
-  o->coverage_plane = d.coverage_plane;
-  o->direction = int(d.direction);
-  o->ambient_threshold = d.ambient_threshold;
-  o->container = int(d.container);
-  o->zstd = d.zstd;
-  o->plane_metadata = d.plane_metadata;
-  o->measure = int(d.measure);
+void ahd_options_init_size(ahd_options* o, size_t struct_size) {
+  if (!o || struct_size < sizeof(size_t)) return;
+  ahd_options d;
+  std::memset(static_cast<void*>(&d), 0, sizeof d);  // padding too: the caller's bytes are all defined
+  for (const ahd::OptionRow& r : ahd::option_table()) r.c_default(d);
+  d.struct_size = struct_size;
+  // A caller compiled with a newer, larger struct: its members past ours stay as they are, and
+  // ahd_convert refuses the size.
+  std::memcpy(static_cast<void*>(o), &d, std::min(struct_size, sizeof d));
 }
 
 int ahd_convert(const ahd_sh_input* input, const char* name, const ahd_options* options, ahd_result** result,
@@ -96,9 +84,7 @@ int ahd_convert(const ahd_sh_input* input, const char* name, const ahd_options* 
   if (result) *result = nullptr;
   try {
     if (!input || !name || !result) throw ahd::Error("input, name and result must not be NULL");
-    ahd_options defaults;
-    ahd_options_init(&defaults);
-    ahd::Conversion c = ahd::convert(image_from(*input), name, options_from(options ? *options : defaults));
+    ahd::Conversion c = ahd::convert(image_from(*input), name, options ? options_from(*options) : ahd::ConversionOptions{});
     *result = new ahd_result{std::move(c.files)};
     return 0;
   } catch (const std::bad_alloc&) {

@@ -32,7 +32,7 @@ void add_transcode_command(CLI::App& app) {
     ConversionOptions co = conversion_options(a->conv);
     co.container = out.kind;
     attach_terminal_progress(&co, a->conv.quiet);
-    const Profile profile = load_profile(a->conv.profile);
+    const Profile profile = load_profile(a->conv.options.profile);
     const auto t0 = std::chrono::steady_clock::now();
     FitOptions fit;
     const std::vector<FittedLevel> levels = read_intermediate(a->input, &fit);

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <vector>
 
+#include "api/option_table.h"
 #include "containers/sha256.h"
 #include "core/error.h"
 #include "files/paths.h"
@@ -31,22 +32,10 @@ std::string conversion_options_text(const BakeInput& in, const ConversionOptions
   t += "version " AHD_VERSION_STRING "\n";
   // Output naming.
   t += "name " + out_name + "\n";
-  t += std::string("container ") + (o.container == ContainerKind::DDS ? "dds" : "ktx2") + "\n";
-  // ConversionOptions: every field that reaches the bytes (threads, progress and cancel do not).
-  t += "profile " + o.profile + "\n";
-  t += "profile_json " + sha256_hex(reinterpret_cast<const uint8_t*>(o.profile_json.data()), o.profile_json.size()) + "\n";
-  t += "ratio " + std::string(!o.ratio ? "profile" : *o.ratio == RatioForm::Rgb ? "rgb" : "luminance") + "\n";
-  t += "direction_fit " + std::to_string(int(o.direction_fit)) + "\n";
-  t += "bc6h_quality " + std::to_string(int(o.bc6h_quality)) + "\n";
-  t += "eps " + num(o.eps) + "\n";
-  t += "closed_loop " + std::to_string(int(o.closed_loop)) + "\n";
-  t += "levels " + std::to_string(o.levels) + "\n";
-  t += "coverage_plane " + std::to_string(int(o.coverage_plane)) + "\n";
-  t += "direction " + std::to_string(int(o.direction)) + "\n";
-  t += "ambient_threshold " + num(o.ambient_threshold) + "\n";
-  t += "zstd " + std::to_string(int(o.zstd)) + "\n";
-  t += "plane_metadata " + std::to_string(int(o.plane_metadata)) + "\n";
-  t += "measure " + std::to_string(int(o.measure)) + "\n";
+  // ConversionOptions: every option the table puts in the key (api/option_table.h; not threads,
+  // progress, cancel), the container first.
+  for (const OptionRow& r : option_table())
+    if (r.spec.key != KeyForm::None) t += std::string(r.name) + " " + r.key_text(o) + "\n";
   // The input's options (which role each file plays; the files themselves follow).
   t += "input " + std::string(in.input.empty() ? "sample" : "files") + "\n";
   if (in.input.empty())

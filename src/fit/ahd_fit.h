@@ -28,6 +28,8 @@ struct FitOptions {
   // |L1 luminance| below this fraction of the L0 luminance means "no preferred direction": d = z.
   double no_direction_threshold = 1e-6;
   RatioForm ratio_form = RatioForm::Luminance;
+  // The fit stage's own default, the paper's direction; a conversion's is ConversionOptions'
+  // (refined), which PipelineOptions and the option table (api/option_table.h) carry.
   DirectionFit direction_fit = DirectionFit::Linear;
   // Refined only, over an image (fit_image): a texel takes its neighbourhood's mean direction when
   // that costs at most this fraction of its constrained hemisphere error (direction_coherence.h;

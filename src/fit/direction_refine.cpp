@@ -3,19 +3,16 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/option_enums.h"
 #include "fit/ahd_decode.h"
 #include "fit/branchless.h"
 #include "fit/refine_objective.h"
 
 namespace ahd {
 
-const char* direction_fit_name(DirectionFit f) { return f == DirectionFit::Refined ? "refined" : "linear"; }
+const char* direction_fit_name(DirectionFit f) { return enum_name(kDirectionFits, f); }
 
-bool parse_direction_fit(const std::string& s, DirectionFit* out) {
-  if (s == "linear") return *out = DirectionFit::Linear, true;
-  if (s == "refined") return *out = DirectionFit::Refined, true;
-  return false;
-}
+bool parse_direction_fit(const std::string& s, DirectionFit* out) { return parse_enum(kDirectionFits, s, out); }
 
 double least_squares_ratio(const LuneMoments& m, const double f0[3], const double iz[3], double dz) {
   return least_squares_ratio_k(m, f0, iz, 1.0 / dz);

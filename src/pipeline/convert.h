@@ -26,8 +26,12 @@ namespace ahd {
 // quantisation error (measured by `ahdpack report direction`; docs/container-format.md "Outputs").
 constexpr double kDefaultAmbientThreshold = 0.01;
 
+// Every default is ConversionOptions' (<ahd/convert.h>; test OptionTable.InternalDefaultsAreThePublicOnes),
+// so a conversion run below the API (the report commands, the tests) runs what ahd::convert runs.
 struct PipelineOptions {
-  FitOptions fit;
+  // The conversion's fit: the refined direction fit, not FitOptions' own default (the paper's linear
+  // fit, what the fit stage's tests take alone).
+  FitOptions fit = {.direction_fit = DirectionFit::Refined};
   bool closed_loop = true;
   // Off: no error measurement (the library's default: a cook step pays only for the conversion).
   // Estimate: a deterministic sample of texels per level. Full: every texel and level, plus the

@@ -3,6 +3,7 @@
 #include "containers/container.h"
 #include "containers/sha256.h"
 #include "core/error.h"
+#include "core/option_enums.h"
 #include "pipeline/report_json.h"
 
 namespace ahd {
@@ -66,6 +67,7 @@ PackagedConversion package_conversion(PipelineResult& r, const Profile& profile,
   const std::string manifest_text = manifest_to_json(m);
   nlohmann::json report = convert_report_json(r, total_seconds);
   report["profile"] = profile.name;
+  report["direction_fit"] = enum_name(kDirectionFits, fit.direction_fit);  // the fit that ran (a transcode: the stored one)
   for (auto it = opt.report_extra.begin(); it != opt.report_extra.end(); ++it) report[it.key()] = *it;
   const std::string report_text = report.dump(2) + "\n";
   // The manifest last: publishing it commits the set (files/output_set.h).

@@ -28,8 +28,9 @@ class ShInput(ctypes.Structure):
 
 
 class Options(ctypes.Structure):
-    """ahd_options of <ahd/ahd.h>, field by field in the header's order."""
-    _fields_ = [("profile", ctypes.c_char_p), ("profile_json", ctypes.c_char_p), ("ratio", ctypes.c_int),
+    """ahd_options of <ahd/ahd.h>, field by field in the header's order (test
+    OptionTable.CtypesMirrorHasEveryCMemberInOrder compares it with the option table)."""
+    _fields_ = [("struct_size", ctypes.c_size_t), ("profile", ctypes.c_char_p), ("profile_json", ctypes.c_char_p), ("ratio", ctypes.c_int),
                 ("direction_fit", ctypes.c_int), ("bc6h_quality", ctypes.c_int), ("threads", ctypes.c_int),
                 ("eps", ctypes.c_double), ("closed_loop", ctypes.c_int), ("levels", ctypes.c_int),
                 ("coverage_plane", ctypes.c_int), ("direction", ctypes.c_int),
@@ -61,7 +62,7 @@ def load(libahd_path, libsample_path):
     ahd = ctypes.CDLL(libahd_path)
     sample = ctypes.CDLL(libsample_path)
     ahd.ahd_version.restype = ctypes.c_char_p
-    ahd.ahd_options_init.argtypes = [ctypes.POINTER(Options)]
+    ahd.ahd_options_init_size.argtypes = [ctypes.POINTER(Options), ctypes.c_size_t]
     ahd.ahd_convert.argtypes = [ctypes.POINTER(ShInput), ctypes.c_char_p, ctypes.POINTER(Options),
                                 ctypes.POINTER(ctypes.c_void_p), ctypes.c_char_p, ctypes.c_size_t]
     ahd.ahd_result_file_count.argtypes = [ctypes.c_void_p]
@@ -86,7 +87,7 @@ def convert(ahd, sample, bake, fields, out_dir):
         raise RuntimeError("ahd_sample_bake(%d, %d, %d) failed" % bake)
     inp = ShInput(size, size, 4 if order == 1 else 9, sh, cov, None)
     opt = Options()
-    ahd.ahd_options_init(ctypes.byref(opt))
+    ahd.ahd_options_init_size(ctypes.byref(opt), ctypes.sizeof(opt))
     for k, v in fields.items():
         setattr(opt, k, v)
     result = ctypes.c_void_p()
@@ -101,6 +102,12 @@ def convert(ahd, sample, bake, fields, out_dir):
         if ahd.ahd_convert(ctypes.byref(inp), b"x", ctypes.byref(opt), ctypes.byref(bad), error, len(error)) == 0 \
                 or bad.value or b"direction" not in error.value:
             raise RuntimeError("ahd_convert accepted direction = 7")
+        # A struct_size no version of ahd_options has (here 0, memory not from ahd_options_init) is refused.
+        opt.direction = 0
+        opt.struct_size = 0
+        if ahd.ahd_convert(ctypes.byref(inp), b"x", ctypes.byref(opt), ctypes.byref(bad), error, len(error)) == 0 \
+                or bad.value or b"struct_size" not in error.value:
+            raise RuntimeError("ahd_convert accepted struct_size = 0")
     finally:
         sample.ahd_sample_free(ctypes.cast(sh, ctypes.c_void_p))
         sample.ahd_sample_free(ctypes.cast(cov, ctypes.c_void_p))

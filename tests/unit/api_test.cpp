@@ -4,6 +4,8 @@
 #include <ahd/sample.h>
 #include <gtest/gtest.h>
 
+#include <cstddef>
+#include <cstring>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -166,4 +168,38 @@ TEST(Api, CApiConvertsAndReportsErrors) {
   EXPECT_NE(std::string(err).find("eps"), std::string::npos);
   EXPECT_NE(ahd_convert(nullptr, "s", &opt, &r, err, 8), 0);
   EXPECT_EQ(std::string(err).size(), 7u);  // truncated to the buffer, NUL-terminated
+}
+
+// ahd_options is versioned by its leading struct_size: a caller compiled with an older, smaller
+// struct gets the defaults for the members it lacks; a size no version has is refused.
+TEST(Api, CApiOptionsStructSize) {
+  const ahd::ShImage& sh = sample32();
+  ahd_sh_input in = {sh.width, sh.height, sh.coeffs, sh.data.data(), sh.coverage.data(), nullptr};
+  char err[256] = "";
+  ahd_result* r = nullptr;
+  // An older struct ending before `measure` (aligned as the struct): measure takes its default,
+  // whatever lies beyond the caller's size.
+  const size_t older = offsetof(ahd_options, measure) / alignof(ahd_options) * alignof(ahd_options);
+  ahd_options opt;
+  std::memset(&opt, 0xAB, sizeof opt);
+  ahd_options_init_size(&opt, older);
+  EXPECT_EQ(opt.struct_size, older);
+  EXPECT_EQ(opt.measure, int(0xABABABAB)) << "init wrote past the caller's size";
+  EXPECT_EQ(opt.direction_fit, 1);
+  ASSERT_EQ(ahd_convert(&in, "s", &opt, &r, err, sizeof err), 0) << err;
+  ahd_result_free(r);
+  opt.struct_size = sizeof(ahd_options);  // now measure = 0xABABABAB is read, and refused
+  EXPECT_NE(ahd_convert(&in, "s", &opt, &r, err, sizeof err), 0);
+  EXPECT_NE(std::string(err).find("measure"), std::string::npos) << err;
+  // Zero, unaligned, larger than this library's: refused with the cause, no result.
+  for (size_t bad : {size_t(0), older + 1, sizeof(ahd_options) + alignof(ahd_options), size_t(0xABABABABABABABABull)}) {
+    opt.struct_size = bad;
+    r = nullptr;
+    EXPECT_NE(ahd_convert(&in, "s", &opt, &r, err, sizeof err), 0) << bad;
+    EXPECT_EQ(r, nullptr);
+    EXPECT_NE(std::string(err).find("struct_size"), std::string::npos) << err;
+  }
+  // NULL options: the defaults.
+  ASSERT_EQ(ahd_convert(&in, "s", nullptr, &r, err, sizeof err), 0) << err;
+  ahd_result_free(r);
 }

@@ -63,8 +63,7 @@ TEST(Cli, ConvertBuiltInSampleWritesPlanesManifestAndReport) {
     // Re-read by our own reader: the same planes, bit for bit, as the library produces in memory.
     ahd::BakerOptions bo;
     bo.width = bo.height = 48;
-    ahd::PipelineOptions defaults;  // the CLI's defaults are the public ones (<ahd/convert.h>)
-    defaults.fit.direction_fit = ahd::ConversionOptions{}.direction_fit;
+    const ahd::PipelineOptions defaults;  // the CLI's defaults are the public ones (<ahd/convert.h>)
     const ahd::PipelineResult mem =
         ahd::run_conversion(ahd::bake_analytic_scene(bo), ahd::load_profile("uncompressed"), defaults);
     for (const auto& p : mem.planes) {
@@ -247,7 +246,6 @@ TEST(Cli, EveryProfileAndContainerRoundTrips) {
       ahd::BakerOptions bo;
       bo.width = bo.height = 24;
       ahd::PipelineOptions opt;
-      opt.fit.direction_fit = ahd::ConversionOptions{}.direction_fit;
       if (p.ratio_rgb) opt.fit.ratio_form = ahd::RatioForm::Rgb;
       const ahd::PipelineResult mem = ahd::run_conversion(ahd::bake_analytic_scene(bo), p, opt);
       for (const auto& plane : mem.planes) {

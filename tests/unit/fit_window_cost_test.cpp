@@ -7,6 +7,7 @@
 #include <cstring>
 #include <vector>
 
+#include "core/option_enums.h"
 #include "fit_bits.h"
 #include "fit/direction_filter.h"
 #include "fit/fit_image.h"
@@ -110,7 +111,7 @@ TEST(FitWindowCost, DirectionStageAloneGivesTheFitsDirectionIzAndFlags) {
     }
   const size_t texels = polys.size() / 3;
   size_t constant = 0, no_direction = 0;
-  for (DirectionFit fit : {DirectionFit::Linear, DirectionFit::Refined})
+  for (const auto& [fit, fit_name, fit_cpp] : kDirectionFits)  // every strategy
     for (RatioForm form : {RatioForm::Luminance, RatioForm::Rgb})
       for (int n = 1; n <= 4; ++n)
         for (size_t i0 = 0; i0 + size_t(n) <= texels; i0 += size_t(n)) {

@@ -37,8 +37,11 @@ ShImage canonical_world(const WorldScene& w) {
   return sh;
 }
 
+// The linear fit: smooth in the SH, so a storage difference moves it by a bounded amount (the
+// refined fit, the conversion's default, chooses d on a window and may turn further).
 PipelineResult convert_planes(const ShImage& sh) {
   PipelineOptions opt;
+  opt.fit.direction_fit = DirectionFit::Linear;
   opt.measure = Measure::Off;
   opt.direction = DirectionPlanes::Keep;
   return run_conversion(sh, load_profile("uncompressed"), opt);
@@ -47,6 +50,7 @@ PipelineResult convert_planes(const ShImage& sh) {
 // The fitted AHD of level 0 before quantisation, as plane values.
 DecodedPlanes fitted_planes(const ShImage& sh) {
   PipelineOptions opt;
+  opt.fit.direction_fit = DirectionFit::Linear;
   opt.measure = Measure::Off;
   PipelineResult r;
   const auto lv = fit_levels(sh, opt, &r);

@@ -6,6 +6,7 @@
 //   fit         linear vs refined direction fit (cmd_report_fit.cpp)
 #include <cstdio>
 
+#include "api/option_table.h"
 #include "cli/commands.h"
 #include "cli/report.h"
 #include "cli/lab/svg_plot.h"
@@ -135,14 +136,19 @@ void add_report_command(CLI::App& app) {
   CLI::App* h = r->add_subcommand("hard-cases", "Fit and quantise the hard-case set; print the error table");
   auto profile = std::make_shared<std::string>("uncompressed");
   h->add_option("--profile", *profile, "Output profile");
-  auto dir_fit = std::make_shared<std::string>(direction_fit_name(FitOptions{}.direction_fit));
-  h->add_option("--direction-fit", *dir_fit, "linear or refined");
+  // The conversion's default fit (ConversionOptions, the option table), not the fit stage's own.
+  const OptionRow& fit_row = option_row("direction_fit");
+  auto dir_fit = std::make_shared<std::string>(fit_row.text(ConversionOptions{}));
+  std::vector<std::string> fits;
+  for (const OptionEnumValue& v : fit_row.values) fits.push_back(v.name);
+  h->add_option("--direction-fit", *dir_fit, "The direction fit (default: the conversion's, " + *dir_fit + ")")
+      ->check(CLI::IsMember(fits));
   h->callback([profile, dir_fit]() {
     const Profile p = load_profile(*profile);
     FitOptions fit;
     if (!parse_direction_fit(*dir_fit, &fit.direction_fit)) throw Error("--direction-fit must be 'linear' or 'refined'");
-    std::printf("Hard cases, profile %s. Errors vs the source SH over 64 hemisphere normals, relative to the "
-                "texel's mean irradiance; I_z = error along the normal.\n\n", p.name.c_str());
+    std::printf("Hard cases, profile %s, direction fit %s. Errors vs the source SH over 64 hemisphere normals, relative "
+                "to the texel's mean irradiance; I_z = error along the normal.\n\n", p.name.c_str(), dir_fit->c_str());
     std::printf("| case | texels | rules fired | fit rel mean | fit rel max | fit I_z max | LS rel mean | LS I_z max | "
                 "LS negative texels | quantised rel max | quantised I_z max |\n|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (HardCase& hc : hard_cases()) {

@@ -11,6 +11,7 @@
 
 #include "files/profile_file.h"
 #include "cli/commands.h"
+#include "core/option_enums.h"
 #include "fit/direction_refine.h"
 #include "lab/fit_quality.h"
 #include "pipeline/convert.h"
@@ -92,8 +93,8 @@ void report_fit(const FitSets& fs) {
               "|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (size_t s = 0; s < sets.size(); ++s)
     for (RatioForm form : {RatioForm::Rgb, RatioForm::Luminance})
-      for (DirectionFit dir : {DirectionFit::Linear, DirectionFit::Refined}) {
-        if (dir == DirectionFit::Refined && !fs.refined) continue;
+      for (const auto& [dir, dir_name, dir_cpp] : kDirectionFits) {
+        if (dir != DirectionFit::Linear && !fs.refined) continue;  // the paper's fit, the others when asked
         FitOptions opt;
         opt.ratio_form = form;
         opt.direction_fit = dir;
@@ -115,7 +116,7 @@ void report_fit(const FitSets& fs) {
         if (dir == DirectionFit::Refined && opt.pair_guard_deg > 0 && st.covered && sets[s].height > 1)
           std::snprintf(reverted, sizeof reverted, "%.2f %%", 100.0 * double(st.guard_reverted) / double(st.covered));
         std::printf("| %s | %s | %s | %.3f | %.3f | %.3f | %.3f | %s | %s | %s | %.0f |\n", names[s].c_str(),
-                    form == RatioForm::Rgb ? "rgb" : "luminance", direction_fit_name(dir), qf.ratio(), qq.ratio(),
+                    form == RatioForm::Rgb ? "rgb" : "luminance", dir_name, qf.ratio(), qq.ratio(),
                     qf.sampled_texel_ratio, qf.sampled_ratio, angle, filtered, reverted, ns);
         std::fflush(stdout);
       }

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "cli/commands.h"
+#include "core/option_enums.h"
 #include "lab/truth_baker_formats.h"
 #include "lab/truth_reference.h"
 #include "lab/truth_file.h"
@@ -100,28 +101,28 @@ void report_truth(const std::vector<std::string>& dirs, const std::vector<std::s
     }
     FitOptions lum;
     lum.pair_guard_deg = guard;
-    for (DirectionFit df : {DirectionFit::Linear, DirectionFit::Refined}) {
+    for (const EnumName<DirectionFit>& df : kDirectionFits) {
       FitOptions o = lum;
-      o.direction_fit = df;
+      o.direction_fit = df.value;
       const AhdImage a = fit_image(l2, o, 0);
-      rows.push_back({std::string("AHD float, ") + (df == DirectionFit::Linear ? "linear d" : "refined d"), 0,
+      rows.push_back({std::string("AHD float, ") + df.name + " d", 0,
                       truth_errors(t, ahd_eval(a, o.dz_min)), direction_p99_angle_deg(a)});
     }
     const AhdImage bf = searched_direction_fit(l2, lum, search);
     rows.push_back({"constrained AHD float, d searched per texel (" + std::to_string(search) + " directions)", 0,
                     truth_errors(t, ahd_eval(bf, lum.dz_min)), direction_p99_angle_deg(bf)});
     for (const std::string& name : profiles) {
-      for (DirectionFit df : {DirectionFit::Linear, DirectionFit::Refined}) {
+      for (const EnumName<DirectionFit>& df : kDirectionFits) {
         const Profile prof = load_profile(name);
         PipelineOptions opt;
-        opt.fit.direction_fit = df;
+        opt.fit.direction_fit = df.value;
         opt.fit.pair_guard_deg = guard;
         opt.fit.ratio_form = prof.ratio_rgb ? RatioForm::Rgb : RatioForm::Luminance;
         opt.max_levels = 1;
         opt.direction = DirectionPlanes::Keep;
         const PipelineResult r = run_conversion(l2, prof, opt);
         const DecodedPlanes p = decode_planes(r.planes, prof.ratio_rgb, 0);
-        rows.push_back({"ahdpack " + name + ", " + (df == DirectionFit::Linear ? "linear d" : "refined d"),
+        rows.push_back({"ahdpack " + name + ", " + df.name + " d",
                         level0_bytes_per_texel(r), truth_errors(t, planes_eval(p, opt.fit.dz_min))});
       }
     }

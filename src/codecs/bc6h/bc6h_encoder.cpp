@@ -42,6 +42,7 @@
 #include "codecs/bc6h/bc6h_search_avx512.h"
 #include "codecs/bc6h/bc6h_tables.h"
 #include "core/cpu.h"
+#include "core/option_enums.h"
 #include "core/parallel.h"
 
 #ifdef __SSE2__
@@ -1313,17 +1314,9 @@ Candidate search_max(const Block& b) {
 
 }  // namespace
 
-bool bc6h_quality_from_name(const std::string& name, Bc6hQuality* out) {
-  static const char* names[] = {"fast", "default", "high", "max"};
-  for (int i = 0; i < 4; ++i)
-    if (name == names[i]) return *out = Bc6hQuality(i), true;
-  return false;
-}
+bool bc6h_quality_from_name(const std::string& name, Bc6hQuality* out) { return parse_enum(kBc6hQualities, name, out); }
 
-const char* bc6h_quality_name(Bc6hQuality q) {
-  static const char* names[] = {"fast", "default", "high", "max"};
-  return names[int(q)];
-}
+const char* bc6h_quality_name(Bc6hQuality q) { return enum_name(kBc6hQualities, q); }
 
 namespace {
 
