@@ -284,8 +284,7 @@ ShImage read_layout_input(const BakeInput& a, const LayoutPreset& layout, ReadSt
       placed.unplaced_kept = kept;
       placed.unplaced_where = " on page " + std::to_string(page);
       a.notes += "unplaced: page " + std::to_string(page) + ": " + std::to_string(placed.unplaced_users) + " user(s), " +
-                 std::to_string(kept) + " lit texels fitted about the SH's own direction, not the surface's
-";
+                 std::to_string(kept) + " lit texels fitted about the SH's own direction, not the surface's\n";
     }
     from_mesh = mesh_text(a, layout, placed, "");
     if (page_mesh_out) *page_mesh_out = placed;
