@@ -427,18 +427,7 @@ struct Loader {
       }
       groups[it->second].nodes.push_back(id);
     }
-    // First every mesh whose key is in the cache claims its entry; then the others are matched by
-    // their triangles among the entries left.
-    std::vector<bool> claimed(uf.cache.size(), false);
-    if (gen_uv2)
-      for (MeshGroup& g : groups) exact_entry(uf, &g, &claimed);
-    for (MeshGroup& g : groups) {
-      const int geo = group_geometry(uf, &g, claimed);
-      for (int id : g.nodes) {
-        nodes[size_t(id)].geometry = geo;
-        nodes[size_t(id)].why = g.why;
-      }
-    }
+    assign_groups(uf, groups, gen_uv2);
     return root;
   }
 
@@ -510,16 +499,7 @@ struct Loader {
       }
       groups[it->second].nodes.push_back(id);
     }
-    std::vector<bool> claimed(uf.cache.size(), false);
-    if (gen_uv2)
-      for (MeshGroup& g : groups) exact_entry(uf, &g, &claimed);
-    for (MeshGroup& g : groups) {
-      const int geo = group_geometry(uf, &g, claimed);
-      for (int id : g.nodes) {
-        nodes[size_t(id)].geometry = geo;
-        nodes[size_t(id)].why = g.why;
-      }
-    }
+    assign_groups(uf, groups, gen_uv2);
     return root;
   }
 
@@ -546,6 +526,22 @@ struct Loader {
     int entry = -1;   // the cache entry matched by Godot's key
     std::string why;  // why there is no geometry
   };
+
+  // Every group's geometry from the unwrap cache, given to its nodes: first every mesh whose key is
+  // in the cache claims its entry; then the others are matched by their triangles among the
+  // entries left.
+  void assign_groups(const UnwrapFile& uf, std::vector<MeshGroup>& groups, bool gen_uv2) {
+    std::vector<bool> claimed(uf.cache.size(), false);
+    if (gen_uv2)
+      for (MeshGroup& g : groups) exact_entry(uf, &g, &claimed);
+    for (MeshGroup& g : groups) {
+      const int geo = group_geometry(uf, &g, claimed);
+      for (int id : g.nodes) {
+        nodes[size_t(id)].geometry = geo;
+        nodes[size_t(id)].why = g.why;
+      }
+    }
+  }
 
   static float import_float(const std::string& import_file, const std::string& key, float fallback) {
     const std::string v = import_param(import_file, key);
