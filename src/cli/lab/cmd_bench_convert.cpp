@@ -22,6 +22,7 @@
 #include <map>
 #include <sstream>
 
+#include "core/option_enums.h"
 #include "cli/commands.h"
 #include "api/options.h"
 #include "cli/output.h"
@@ -277,9 +278,13 @@ void add_bench_convert_command(CLI::App& bench) {
   c->add_option("--dir", a->dir, "Folder for the generated inputs and outputs (default: a fresh temp folder, removed after)");
   c->add_flag("--full-measure", a->full_measure, "Measure every texel (--measure full) instead of the default estimate");
   c->add_option("--direction-fit", a->direction_fit,
-                "Direction fits to convert each input with, one row each (linear, refined; default: the "
+                "Direction fits to convert each input with, one row each (the --direction-fit values; default: the "
                 "conversion's default only), e.g. --direction-fit linear refined to compare them")
-      ->check(CLI::IsMember({"linear", "refined"}));
+      ->check(CLI::IsMember([] {
+        std::vector<std::string> names;
+        for (const auto& f : kDirectionFits) names.push_back(f.name);  // the strategy table (core/option_enums.h)
+        return names;
+      }()));
   c->add_option("--child", a->child)->group("");  // hidden: the measuring child process
   c->add_option("--child-file", a->child_file)->group("");
   c->add_option("--child-out", a->child_out)->group("");
