@@ -7,7 +7,7 @@
 #include "containers/dds.h"
 #include "containers/ktx2.h"
 #include "core/error.h"
-#include "core/pixel_format_table.h"
+#include "codecs/pixel_format_table.h"
 
 namespace ahd {
 

@@ -14,7 +14,7 @@ namespace ahd {
 // By extension (.ktx2 / .dds, any case). Throws ahd::Error("<path>: …") for anything else.
 ContainerKind container_kind_from_path(const std::string& path);
 
-// True when the container can hold the format (its row's ContainerBits, core/pixel_format_table.h).
+// True when the container can hold the format (its row's ContainerBits, codecs/pixel_format_table.h).
 bool container_holds(ContainerKind kind, PixelFormat f);
 
 // Serialises `tex` (levels[0] = full size; each level must hold exactly level_size_bytes()).

@@ -5,7 +5,7 @@
 #include "containers/byte_io.h"
 #include "containers/limits.h"
 #include "core/error.h"
-#include "core/pixel_format_table.h"
+#include "codecs/pixel_format_table.h"
 
 namespace ahd {
 namespace {
@@ -102,7 +102,7 @@ Texture read_dds(const uint8_t* data, size_t size, const std::string& path) {
   if (levels > full_mip_count(w, h)) r.fail("invalid mip count " + std::to_string(levels));
   Texture tex;
   size_t data_at = 4 + kHeaderSize;
-  // A legacy encoding some row writes or reads (core/pixel_format_table.h DdsFacts).
+  // A legacy encoding some row writes or reads (codecs/pixel_format_table.h DdsFacts).
   auto legacy = [&](auto matches) {
     for (const PixelFormatRow& row : pixel_format_rows())
       if (matches(row.dds)) return tex.format = row.info.format, true;

@@ -8,7 +8,7 @@
 #include "containers/byte_io.h"
 #include "containers/limits.h"
 #include "core/error.h"
-#include "core/pixel_format_table.h"
+#include "codecs/pixel_format_table.h"
 
 namespace ahd {
 namespace {

@@ -1,9 +1,9 @@
 // The basic Data Format Descriptor of every format we write (Khronos Data Format Spec 1.3), from
-// the format's row (core/pixel_format_table.h: colour model and samples).
+// the format's row (codecs/pixel_format_table.h: colour model and samples).
 #include <cstring>
 
 #include "containers/ktx2.h"
-#include "core/pixel_format_table.h"
+#include "codecs/pixel_format_table.h"
 
 namespace ahd {
 namespace {

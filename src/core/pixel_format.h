@@ -1,5 +1,5 @@
 // The texel formats ahdpack writes, with the facts containers and codecs need about each. Every
-// fact about a format is its row in core/pixel_format_table.cpp (docs/maintaining.md "Adding a pixel format").
+// fact about a format is its row in codecs/pixel_format_table.cpp (docs/maintaining.md "Adding a pixel format").
 #pragma once
 #include <cstddef>
 #include <cstdint>
@@ -20,7 +20,7 @@ enum class PixelFormat : uint8_t {
   BC6H_UFLOAT,
   BC6H_SFLOAT,
   // Not a format: the number of formats above. A new format goes just above it; the registry's
-  // static_assert (core/pixel_format_table.cpp) fails until its row is in place.
+  // static_assert (codecs/pixel_format_table.cpp) fails until its row is in place.
   COUNT,
 };
 

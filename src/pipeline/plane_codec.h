@@ -1,11 +1,11 @@
 // One image plane ↔ one texture level of a pixel format, through the format's row of the
-// registry (core/pixel_format_table.h): the checks around every codec, no format named here.
+// registry (codecs/pixel_format_table.h): the checks around every codec, no format named here.
 #pragma once
 #include <ahd/types.h>
 #include <cstddef>
 
 #include "core/image.h"
-#include "core/pixel_format_table.h"
+#include "codecs/pixel_format_table.h"
 #include "core/texture.h"
 
 namespace ahd {

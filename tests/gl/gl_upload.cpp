@@ -1,6 +1,6 @@
 #include "gl_upload.h"
 
-#include "core/pixel_format_table.h"
+#include "codecs/pixel_format_table.h"
 
 namespace ahd_test {
 

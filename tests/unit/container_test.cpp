@@ -9,7 +9,7 @@
 #include "containers/ktx2.h"
 #include "containers/sha256.h"
 #include "core/error.h"
-#include "core/pixel_format_table.h"
+#include "codecs/pixel_format_table.h"
 
 using namespace ahd;
 

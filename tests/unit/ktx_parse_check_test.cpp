@@ -11,7 +11,7 @@
 
 #include "cli_runner.h"
 #include "containers/ktx2.h"
-#include "core/pixel_format_table.h"
+#include "codecs/pixel_format_table.h"
 #include "files/output_set.h"
 
 namespace fs = std::filesystem;

@@ -1,4 +1,4 @@
-// The registry of pixel formats (core/pixel_format_table.h): one row per format in enum order,
+// The registry of pixel formats (codecs/pixel_format_table.h): one row per format in enum order,
 // codes that name one format each (0 names none), the spec numbers the files carry, and every
 // row's codec and descriptor consistent with its facts.
 #include <gtest/gtest.h>
@@ -11,7 +11,7 @@
 
 #include "containers/ktx2.h"
 #include "core/error.h"
-#include "core/pixel_format_table.h"
+#include "codecs/pixel_format_table.h"
 #include "pipeline/plane_codec.h"
 
 using namespace ahd;

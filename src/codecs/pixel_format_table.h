@@ -2,7 +2,7 @@
 // rest of the code needs to know about the format — its facts (core/pixel_format.h FormatInfo),
 // its KTX2 descriptor, its DDS encoding, its GL upload, the containers that hold it and its codec
 // (encode, decode, one-texel decode). Containers, plane codecs, decoders and tests iterate or index
-// this table; nothing outside core/pixel_format_table.cpp switches over PixelFormat.
+// this table; nothing outside codecs/pixel_format_table.cpp switches over PixelFormat.
 // docs/maintaining.md "Adding a pixel format" lists what a new format touches.
 #pragma once
 #include <cstddef>

@@ -1,6 +1,7 @@
-// The registry of pixel formats (core/pixel_format_table.h): one row per format. The one core
-// file that sees the codecs: binding each format to its codec is what a row is for.
-#include "core/pixel_format_table.h"
+// The registry of pixel formats (codecs/pixel_format_table.h): one row per format, binding each
+// format to its codec. It lives with the codecs so that core (the enum and FormatInfo,
+// core/pixel_format.h) includes no codec: the rooms' includes stay acyclic.
+#include "codecs/pixel_format_table.h"
 
 #include <Imath/half.h>
 
