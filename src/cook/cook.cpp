@@ -14,6 +14,7 @@
 #include "cook/depfile.h"
 #include "core/error.h"
 #include "files/input_record.h"
+#include "files/output_set.h"
 #include "files/profile_file.h"
 #include "image/ahd_intermediate.h"
 #include "image/colour_space.h"
@@ -110,8 +111,10 @@ CookResult cook_conversion(const CookRequest& request, const CookHooks& hooks) {
           std::string(cached_manifest(h->files, out)->bytes.begin(), cached_manifest(h->files, out)->bytes.end()),
           out.sibling(".json"));
       const size_t n = h->files.size();
+      // Refused paths (cook/depfile.cpp) fail before anything is published.
+      const std::string deps = request.depfile.empty() ? "" : depfile_text(out.sibling(".json"), h->inputs.files);
       publish(out, std::move(h->files));
-      if (!request.depfile.empty()) write_depfile(request.depfile, out.sibling(".json"), h->inputs.files);
+      if (!request.depfile.empty()) write_file_atomic(request.depfile, deps);
       print_hit(h->inputs.source, h->key, out, n);
       CookResult r = hit_result(m);
       r.key = h->key, r.source = h->inputs.source, r.manifest = out.sibling(".json");
@@ -180,8 +183,11 @@ CookResult cook_conversion(const CookRequest& request, const CookHooks& hooks) {
       if (ev.warning) ev.warning(std::string(e.what()) + " (the inputs are not recorded in the cache)");
     }
   };
+  // Made before anything is published: a path no depfile can carry (cook/depfile.cpp) is one error
+  // line and no output.
+  const std::string deps = request.depfile.empty() ? "" : depfile_text(out.sibling(".json"), record.files);
   const auto write_deps = [&]() {
-    if (!request.depfile.empty()) write_depfile(request.depfile, out.sibling(".json"), record.files);
+    if (!request.depfile.empty()) write_file_atomic(request.depfile, deps);
   };
 
   if (cache) {

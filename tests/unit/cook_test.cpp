@@ -101,6 +101,75 @@ TEST(Cook, DepfileEscapesForMakeAndNinja) {
   EXPECT_THROW(depfile_text("a.json", {"/bad\nname"}), Error);
 }
 
+// Issue 44: ';' (a command for Make), tab, '|', wildcards, quotes and backslash runs before a
+// separator are refused, one error naming the path; ':' and '\' are escaped.
+TEST(Cook, DepfileRefusesWhatMakeOrNinjaCannotCarry) {
+  EXPECT_EQ(depfile_text("a.json", {"/x:y/p\\q.exr"}), "a.json: \\\n  /x\\:y/p\\q.exr\n");
+  for (const std::string bad : {"/x;touch\tPWNED;true.exr", "/a;b", "/a\tb", "/a|b", "/a*b", "/a?b", "/a[b]", "/a%b",
+                                "/a=b", "/a'b", "/a\"b", "/a\\ b", "/a\\#b", "/a\\\\b", "/a\\", "/a(b)", "/a\rb"}) {
+    try {
+      depfile_text("a.json", {bad});
+      ADD_FAILURE() << bad << " accepted";
+    } catch (const Error& e) {
+      // Control characters are printed escaped (file_error's printable_path): the cause is checked.
+      EXPECT_TRUE(contains(e.what(), ": cannot be written to a depfile: ")) << e.what();
+    }
+  }
+  EXPECT_THROW(depfile_text("~a.json", {"/p"}), Error);
+}
+
+// Issue 44, with the real tools: an input under a folder named "we ird#$x:y\z" gets a depfile that
+// GNU Make and Ninja both read as that one path (a newer input rebuilds, an unchanged one does not);
+// an input under "x;touch<TAB>PWNED;true" is refused (exit 1, one line, no output at all), so no
+// build tool ever sees it.
+TEST(Cook, DepfileRebuildsWithMakeAndNinja) {
+  const bool have_make = ahd_test::run_shell("command -v make >/dev/null && echo yes") == "yes\n";
+  const bool have_ninja = ahd_test::run_shell("command -v ninja >/dev/null && echo yes") == "yes\n";
+  if (!have_make || !have_ninja) GTEST_SKIP() << "needs GNU make and ninja on PATH";
+  const fs::path d = fs::absolute(ahd_test::temp_dir("cook_depfile_tools"));
+  const fs::path weird = d / "we ird#$x:y\\z";
+  fs::create_directories(weird);
+  const std::string in = (weird / "s.exr").string();
+  ASSERT_EQ(run_cli({"sample", "--size", "16", "-o", in}).exit_code, 0);
+  const auto r = run_cli({"convert", in, "-o", (d / "out" / "s.ktx2").string(), "--profile", "uncompressed", "-q",
+                          "--depfile", (d / "out" / "s.d").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  // Make: the rule's only prerequisites come from the depfile (whose target is -o's manifest path,
+  // absolute here).
+  const std::string target = (d / "out" / "s.json").string();
+  spit(d / "Makefile", target + ":\n\t@echo REBUILD\n-include out/s.d\n");
+  const auto make_q = [&] { return ahd_test::run_shell("cd '" + d.string() + "' && make -q '" + target + "' 2>&1; echo rc=$?"); };
+  const std::string db = ahd_test::run_shell("cd '" + d.string() + "' && make -p -q '" + target + "' 2>/dev/null");
+  EXPECT_TRUE(contains(db, "\n" + target + ": " + in + " ")) << ahd_test::read_text(d / "out" / "s.d");  // then the profile
+  EXPECT_TRUE(contains(make_q(), "rc=0")) << make_q();
+  // Ninja: the depfile read after the build (deps = gcc, which deletes it: a copy), its one
+  // dependency listed as is.
+  fs::copy_file(d / "out" / "s.d", d / "ninja.d");
+  spit(d / "build.ninja", "rule cook\n  command = true\n  depfile = ninja.d\n  deps = gcc\nbuild " + target + ": cook\n");
+  const std::string ninja = "cd '" + d.string() + "' && ninja ";
+  ahd_test::run_shell(ninja + ">/dev/null 2>&1");
+  const std::string deps = ahd_test::run_shell(ninja + "-t deps '" + target + "'");
+  EXPECT_TRUE(contains(deps, "\n    " + in + "\n")) << deps;
+  EXPECT_TRUE(contains(ahd_test::run_shell(ninja + "-n 2>&1"), "no work to do"));
+  fs::last_write_time(in, fs::last_write_time(in) + std::chrono::hours(1));
+  EXPECT_TRUE(contains(make_q(), "rc=1")) << make_q();
+  EXPECT_FALSE(contains(ahd_test::run_shell(ninja + "-n 2>&1"), "no work to do"));
+
+  // The attack: refused before anything is written; make never sees a recipe.
+  const fs::path pwn = d / "x;touch\tPWNED;true";
+  fs::create_directories(pwn);
+  const std::string pin = (pwn / "s.exr").string();
+  fs::copy_file(in, pin);
+  const auto bad = run_cli({"convert", pin, "-o", (d / "pwn" / "s.ktx2").string(), "--profile", "uncompressed", "-q",
+                            "--depfile", (d / "pwn" / "s.d").string()});
+  EXPECT_EQ(bad.exit_code, 1) << bad.output;
+  EXPECT_EQ(bad.output.rfind("ahdpack: error: " + d.string() + "/x;touch\\tPWNED;true/s.exr: cannot be written to a depfile: the character ';'", 0), 0u) << bad.output;
+  EXPECT_EQ(std::count(bad.output.begin(), bad.output.end(), '\n'), 1) << bad.output;
+  EXPECT_FALSE(fs::exists(d / "pwn"));
+  EXPECT_FALSE(fs::exists(d / "PWNED"));
+  fs::remove_all(d);
+}
+
 // The done-when of issue 31: a Godot multi-page conversion's depfile names the .exr.import, the
 // .lmbake and every image — and, checked by strace, every file the process opened for reading
 // among the inputs' folder and the data files.
