@@ -4,6 +4,7 @@
 // fillers, `verify` reads the baker's files as convert does, and a CMake + Ninja project cooks
 // lightmaps incrementally through the installed ahdpack_add_lightmaps (tests/cook/run.sh).
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <chrono>
 #include <fstream>
@@ -12,6 +13,7 @@
 #include <sstream>
 
 #include "cli_runner.h"
+#include "containers/sha256.h"
 #include "cook/conversion_cache.h"
 #include "cook/depfile.h"
 #include "layout_test_scene.h"
@@ -368,6 +370,95 @@ TEST(Cook, TruncatedOrCorruptCacheEntryIsIgnoredAndReplaced) {
     EXPECT_TRUE(ConversionCache::decode(key, std::vector<uint8_t>(now.begin(), now.end()))) << i;
     for (const auto& [name, bytes] : folder_files(d / "o"))
       if (name != "s.report.json") EXPECT_EQ(bytes, expected.at(name)) << name;
+  }
+  fs::remove_all(d);
+}
+
+// Issue 44: a hit published the entry's manifest without checking it against the stored planes. An
+// entry that is well-formed (every header hash right) but whose plane is not the one its manifest
+// records, or that carries a file no manifest names: a warning and a miss, never published.
+TEST(Cook, CacheEntryNotMatchingItsManifestIsAMiss) {
+  const fs::path d = ahd_test::temp_dir("cook_mismatch");
+  const std::string in = (d / "s.exr").string(), cache = (d / "cache").string();
+  ASSERT_EQ(run_cli({"sample", "--size", "32", "-o", in}).exit_code, 0);
+  const std::vector<std::string> args = {"convert", in, "-o", (d / "o" / "s.ktx2").string(), "--cache", cache,
+                                         "--profile", "uncompressed"};
+  ASSERT_EQ(run_cli(args).exit_code, 0);
+  fs::path entry;
+  for (const auto& e : fs::directory_iterator(cache))
+    if (e.path().extension() == ".ahdcache") entry = e.path();
+  const std::string key = entry.stem().string(), good = ahd_test::read_text(entry);
+  const auto expected = folder_files(d / "o");
+  const std::vector<OutputFile> files = *ConversionCache::decode(key, std::vector<uint8_t>(good.begin(), good.end()));
+  std::vector<std::vector<OutputFile>> broken;
+  for (size_t i = 0; i < files.size(); ++i)
+    if (files[i].name.find(".iz.") != std::string::npos) {
+      broken.push_back(files);
+      broken.back()[i].bytes.back() ^= 1;  // same size, another SHA-256
+      broken.push_back(files);
+      broken.back()[i].bytes.pop_back();  // another size
+      broken.push_back(files);
+      broken.back().erase(broken.back().begin() + std::ptrdiff_t(i));  // missing
+    }
+  broken.push_back(files);
+  broken.back().push_back({"s.extra.ktx2", {1, 2, 3}});  // a file no manifest names
+  ASSERT_EQ(broken.size(), 4u);
+  for (size_t i = 0; i < broken.size(); ++i) {
+    spit(entry, std::string([&] {
+           const std::vector<uint8_t> b = ConversionCache::encode(key, broken[i]);
+           return std::string(b.begin(), b.end());
+         }()));
+    fs::remove_all(d / "o");
+    const auto r = run_cli(args);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_TRUE(contains(r.output, entry.string() + ": cache entry refused (")) << i << ": " << r.output;
+    EXPECT_TRUE(contains(r.output, "cache: stored")) << i << ": " << r.output;  // converted again
+    EXPECT_FALSE(contains(r.output, "cache hit")) << i << ": " << r.output;
+    for (const auto& [name, bytes] : folder_files(d / "o"))
+      if (name != "s.report.json") EXPECT_EQ(bytes, expected.at(name)) << name;
+  }
+  fs::remove_all(d);
+}
+
+// Issue 44: a lookup read a whole entry into memory (an 8 GB sparse entry: out of memory on every
+// run), and a stored inputs record could make the key hash /dev/zero or block on a FIFO. Under a
+// 4 GB address limit and a 120 s timeout: the sparse entry is a miss without reading it, the
+// record naming /dev/zero or a FIFO falls back to reading the input (a normal hit).
+TEST(Cook, CacheNeverReadsHugeEntriesOrSpecialFiles) {
+  const fs::path d = ahd_test::temp_dir("cook_special");
+  const std::string in = (d / "s.exr").string(), cache = (d / "cache").string();
+  ASSERT_EQ(run_cli({"sample", "--size", "16", "-o", in}).exit_code, 0);
+  const std::string cmd = "ulimit -v 4000000; timeout 120 '" + std::string(AHD_CLI_PATH) + "' convert '" + in + "' -o '" +
+                          (d / "o" / "s.ktx2").string() + "' --profile uncompressed --cache '" + cache + "' 2>&1; echo rc=$?";
+  std::string out = ahd_test::run_shell(cmd);
+  ASSERT_TRUE(contains(out, "rc=0")) << out;
+  fs::path entry, inputs;
+  for (const auto& e : fs::directory_iterator(cache)) {
+    if (e.path().extension() == ".ahdcache") entry = e.path();
+    if (e.path().extension() == ".ahdinputs") inputs = e.path();
+  }
+  ASSERT_FALSE(entry.empty());
+  ASSERT_FALSE(inputs.empty());
+  // An 8 GB sparse file in the entry's place.
+  fs::remove(entry);
+  { std::ofstream(entry) << "ahdpack-cache 1\n"; }
+  fs::resize_file(entry, uint64_t(8) << 30);
+  out = ahd_test::run_shell(cmd);
+  EXPECT_TRUE(contains(out, "rc=0")) << out;
+  EXPECT_TRUE(contains(out, "cache: stored")) << out;  // a miss, converted and stored again
+  EXPECT_LT(fs::file_size(entry), uint64_t(1) << 30);
+  // The inputs record's file line pointed at /dev/zero, then at a FIFO (its own SHA-256 redone).
+  const std::string record = ahd_test::read_text(inputs);
+  ASSERT_TRUE(contains(record, "\nfile " + in + "\n")) << record;
+  ASSERT_EQ(::mkfifo((d / "fifo").c_str(), 0600), 0);
+  for (const std::string& special : {std::string("/dev/zero"), (d / "fifo").string()}) {
+    std::string t = record.substr(0, record.rfind("sha256 "));
+    t.replace(t.find("\nfile " + in + "\n"), in.size() + 7, "\nfile " + special + "\n");
+    t += "sha256 " + sha256_hex(reinterpret_cast<const uint8_t*>(t.data()), t.size()) + "\n";
+    spit(inputs, t);
+    out = ahd_test::run_shell(cmd);
+    EXPECT_TRUE(contains(out, "rc=0")) << special << ": " << out;
+    EXPECT_TRUE(contains(out, "cache hit")) << special << ": " << out;  // read again, the key's entry found
   }
   fs::remove_all(d);
 }
