@@ -9,6 +9,7 @@
 #include "files/file_io.h"
 #include "files/manifest_file.h"
 #include "files/output_set.h"
+#include "pipeline/set_name.h"
 #include "files/regular_file.h"
 #include "pipeline/manifest.h"
 
@@ -20,10 +21,8 @@ OutputPaths output_paths(const std::string& out) {
   p.kind = container_kind_from_path(out);
   p.dir = fs::path(out).parent_path();
   p.name = fs::path(out).stem().string();
-  if (!is_plain_file_name(p.name) || !is_plain_file_name(p.name + ".json"))
-    throw file_error(out, "the set's name \"" + p.name +
-                              "\" would make file names decode refuses (it must not be empty, start with '.' or "
-                              "hold '/', '\\' or ':')");
+  const std::string problem = set_name_problem(p.name);
+  if (!problem.empty()) throw file_error(out, "the set's name \"" + p.name + "\" " + problem);
   return p;
 }
 

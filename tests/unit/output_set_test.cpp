@@ -212,3 +212,19 @@ TEST(OutputSet, CleanUpDeletesOnlyPlanesItWroteForTheStem) {
   fs::remove_all(d);
 }
 
+// Issue 44: `-o room.report.ktx2` wrote room.report.json as its manifest, the report of the set
+// "room" beside it: each run replaced the other's file. A stem ending in ".report" is refused up
+// front (one line, nothing written), as are control characters and stems over 200 bytes.
+TEST(OutputSet, SetsInOneFolderNeverShareAFileName) {
+  const fs::path d = ahd_test::temp_dir("output_set_report_stem");
+  ASSERT_EQ(convert_set(d, "uncompressed").exit_code, 0);
+  const auto before = snapshot_files(d);
+  for (const std::string& name : {std::string("room.report.ktx2"), std::string("a\nb.ktx2"), std::string(201, 'r') + ".ktx2"}) {
+    const auto r = ahd_test::run_cli({"convert", "-o", (d / name).string(), "--sample-size", "16", "-q"});
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    EXPECT_EQ(r.output.rfind("ahdpack: error: " + d.string() + "/", 0), 0u) << r.output;
+    EXPECT_NE(r.output.find(": the set's name \""), std::string::npos) << r.output;
+    EXPECT_EQ(snapshot_files(d), before);
+  }
+  fs::remove_all(d);
+}
