@@ -79,10 +79,12 @@ AHD_API uint64_t parse_byte_size(const std::string& text, const std::string& opt
 // ---- Depfiles -------------------------------------------------------------------------------
 
 // "TARGET: \\\n  DEP1 \\\n  DEP2\n" with each dependency made absolute (Ninja resolves relative
-// paths against its build folder, not the tool's working directory) and escaped as both Make and
-// Ninja read it: space and '#' after a backslash, '$' doubled. The target is written as given
-// (it must match the build rule's output as the build system names it). Throws ahd::Error for a
-// path holding a newline (no depfile syntax can carry it).
+// paths against its build folder, not the tool's working directory) and escaped as both GNU Make
+// and Ninja read it: space, '#' and ':' after a backslash, '$' doubled. The target is written as
+// given (it must match the build rule's output as the build system names it). Throws ahd::Error
+// ("<path>: cannot be written to a depfile: …") for a path no spelling carries to both: control
+// characters (newline, tab), ; | * ? [ ] % = quotes & < > ` ^, a backslash before a space, '#',
+// ':', '$', a backslash or the end, a leading '~', "a(b)" (cook/depfile.cpp says why each).
 AHD_API std::string depfile_text(const std::string& target, const std::vector<std::string>& deps);
 
 // depfile_text written to `path` through a temporary file and a rename. Throws ahd::Error naming

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <cmath>
 #include <cstring>
 #include <new>
 
@@ -36,7 +37,18 @@ ahd::ShImage image_from(const ahd_sh_input& in) {
   img.coverage.assign(n, 1);
   if (in.coverage)
     for (size_t i = 0; i < n; ++i) img.coverage[i] = in.coverage[i] ? 1 : 0;
-  if (in.normals) img.normals.assign(in.normals, in.normals + n * 3);
+  if (in.normals) {
+    img.normals.assign(in.normals, in.normals + n * 3);
+    // As the CLI's normal maps (bakers/baker_layout.cpp check_normals): a covered texel's normal must
+    // have a length (a zero one normalises to NaN: a black texel); non-finite ones: check_sh_image.
+    for (size_t i = 0; i < n; ++i) {
+      const double x = img.normals[i * 3], y = img.normals[i * 3 + 1], z = img.normals[i * 3 + 2];
+      const double len = std::sqrt(x * x + y * y + z * z);
+      if (img.coverage[i] && std::isfinite(len) && !(len > 1e-6))
+        throw ahd::Error("zero-length normal at texel (" + std::to_string(i % size_t(in.width)) + ", " +
+                         std::to_string(i / size_t(in.width)) + ")");
+    }
+  }
   return img;
 }
 

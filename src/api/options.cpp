@@ -1,6 +1,9 @@
 #include "api/options.h"
 
+#include <cmath>
+
 #include "core/error.h"
+#include "pipeline/set_name.h"
 #include "sh/sh.h"
 
 namespace ahd {
@@ -16,6 +19,8 @@ ResolvedOptions resolve_options(const ConversionOptions& o, const std::string& n
   if (!(o.ambient_threshold >= 0)) throw Error("the ambient threshold must be ≥ 0");
   if (name.empty() || name.find_first_of("/\\") != std::string::npos)
     throw Error("the output name must be a file stem without folders (got '" + name + "')");
+  const std::string problem = set_name_problem(name);  // the CLI's rule (cook/publish.h output_paths)
+  if (!problem.empty()) throw Error("the output name '" + name + "' " + problem);
   ResolvedOptions r;
   r.profile = profile;
   PipelineOptions& c = r.convert;
@@ -50,6 +55,12 @@ void check_sh_image(const ShImage& sh) {
                 std::to_string(n * size_t(sh.coeffs) * 3));
   if (sh.coverage.size() != n) throw Error("the coverage must hold width*height entries");
   if (!sh.normals.empty() && sh.normals.size() != n * 3) throw Error("the normals must be empty or width*height*3 floats");
+  // A NaN or infinite normal made an all-black map without a word (issue 44): refused as the CLI's
+  // readers refuse it (bakers/baker_layout.cpp check_normals).
+  for (size_t i = 0; i < sh.normals.size(); ++i)
+    if (!std::isfinite(sh.normals[i]))
+      throw Error("non-finite normal at texel (" + std::to_string(i / 3 % size_t(sh.width)) + ", " +
+                  std::to_string(i / 3 / size_t(sh.width)) + ")");
 }
 
 }  // namespace ahd

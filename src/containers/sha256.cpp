@@ -1,5 +1,7 @@
 #include "containers/sha256.h"
+#include "containers/sha256_stream.h"
 
+#include <algorithm>
 #include <cstring>
 
 #include "core/cpu.h"
@@ -96,23 +98,27 @@ bool sha256_hardware() {
 #endif
 }
 
-std::string sha256_hex(const uint8_t* data, size_t size, Sha256Path path) {
-  uint32_t h[8] = {0x6a09e667, 0xbb67ae85, 0x3c6ef372, 0xa54ff53a, 0x510e527f, 0x9b05688c, 0x1f83d9ab, 0x5be0cd19};
-  auto blocks = compress_blocks;
+namespace {
+
+using BlockFn = void (*)(uint32_t[8], const uint8_t*, size_t);
+
+BlockFn block_fn(Sha256Path path) {
 #ifdef AHD_SHA_NI
-  if (path == Sha256Path::Best && sha256_hardware()) blocks = compress_blocks_ni;
+  if (path == Sha256Path::Best && sha256_hardware()) return compress_blocks_ni;
 #else
   (void)path;
 #endif
-  const size_t i = size / 64 * 64;
-  blocks(h, data, size / 64);
-  // Padding: 0x80, zeros, then the message length in bits (big-endian) in the last 8 bytes.
+  return compress_blocks;
+}
+
+// The padding (0x80, zeros, the message length in bits, big-endian, in the last 8 bytes) after the
+// `rest` < 64 buffered bytes of a `size`-byte message, then the digest as hex.
+std::string finish(uint32_t h[8], const uint8_t* rest_data, size_t rest, uint64_t size, BlockFn blocks) {
   uint8_t tail[128] = {};
-  const size_t rest = size - i;
-  if (rest) std::memcpy(tail, data + i, rest);
+  if (rest) std::memcpy(tail, rest_data, rest);
   tail[rest] = 0x80;
   const size_t tail_len = rest + 9 <= 64 ? 64 : 128;
-  const uint64_t bits = uint64_t(size) * 8;
+  const uint64_t bits = size * 8;
   for (int b = 0; b < 8; ++b) tail[tail_len - 1 - b] = uint8_t(bits >> (8 * b));
   blocks(h, tail, tail_len / 64);
   static const char* hex = "0123456789abcdef";
@@ -121,5 +127,34 @@ std::string sha256_hex(const uint8_t* data, size_t size, Sha256Path path) {
     for (int b = 0; b < 8; ++b) out[size_t(j * 8 + b)] = hex[(h[j] >> (28 - 4 * b)) & 0xF];
   return out;
 }
+
+}  // namespace
+
+std::string sha256_hex(const uint8_t* data, size_t size, Sha256Path path) {
+  uint32_t h[8] = {0x6a09e667, 0xbb67ae85, 0x3c6ef372, 0xa54ff53a, 0x510e527f, 0x9b05688c, 0x1f83d9ab, 0x5be0cd19};
+  const BlockFn blocks = block_fn(path);
+  const size_t i = size / 64 * 64;
+  blocks(h, data, size / 64);
+  return finish(h, data + i, size - i, size, blocks);
+}
+
+void Sha256::update(const uint8_t* data, size_t size) {
+  const BlockFn blocks = block_fn(Sha256Path::Best);
+  total_ += size;
+  if (buffered_) {
+    const size_t take = std::min(size, 64 - buffered_);
+    std::memcpy(buf_ + buffered_, data, take);
+    buffered_ += take, data += take, size -= take;
+    if (buffered_ < 64) return;
+    blocks(h_, buf_, 1);
+    buffered_ = 0;
+  }
+  blocks(h_, data, size / 64);
+  const size_t i = size / 64 * 64;
+  std::memcpy(buf_, data + i, size - i);
+  buffered_ = size - i;
+}
+
+std::string Sha256::hex() { return finish(h_, buf_, buffered_, total_, block_fn(Sha256Path::Best)); }
 
 }  // namespace ahd

@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "files/file_io.h"
 #include "files/output_set.h"
+#include "files/regular_file.h"
 
 namespace ahd {
 namespace fs = std::filesystem;
@@ -21,7 +22,12 @@ constexpr const char* kMagic = "ahdpack-cache 1\n";
 constexpr const char* kExt = ".ahdcache";
 constexpr const char* kInputsExt = ".ahdinputs";
 constexpr size_t kMaxFiles = 4096;
-constexpr uint64_t kMaxEntryBytes = uint64_t(1) << 36;  // refuse to read anything larger
+// An entry is read into memory to be published: one larger is never read (a miss) nor stored (the
+// store fails: "not cached"). 2 GiB holds a 16384² set of BC6H planes with mips; a sparse 8 GB
+// file in the folder costs a stat, not 8 GB (docs/asset-cook.md "The key and the cache").
+constexpr uint64_t kMaxEntryBytes = uint64_t(1) << 31;
+// The header: the format, key and count lines and one line per file, each at most 1024 bytes.
+constexpr size_t kMaxHeaderBytes = (kMaxFiles + 3) * 1024;
 
 bool is_key(const std::string& key) {
   return key.size() == 64 && std::all_of(key.begin(), key.end(), [](char c) { return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f'); });
@@ -72,35 +78,49 @@ std::vector<uint8_t> ConversionCache::encode(const std::string& key, const std::
   return out;
 }
 
-std::optional<std::vector<OutputFile>> ConversionCache::decode(const std::string& key, const std::vector<uint8_t>& b) {
+namespace {
+
+struct Item {
+  uint64_t size;
+  std::string sha, name;
+};
+
+// The header of an entry for `key` in b[0, n): its files (sizes, hashes, names) and where the bytes
+// begin (*body); false unless well-formed with sizes that add up to `total` − *body exactly.
+bool parse_header(const std::string& key, const std::vector<uint8_t>& b, uint64_t total, std::vector<Item>* items,
+                  size_t* body) {
   const size_t magic = std::strlen(kMagic);
-  if (b.size() < magic || std::memcmp(b.data(), kMagic, magic) != 0) return std::nullopt;
+  if (b.size() < magic || std::memcmp(b.data(), kMagic, magic) != 0) return false;
   size_t pos = magic;
   std::string line;
-  if (!next_line(b, &pos, &line) || line != "key " + key) return std::nullopt;
+  if (!next_line(b, &pos, &line) || line != "key " + key) return false;
   uint64_t n = 0;
   if (!next_line(b, &pos, &line) || line.rfind("files ", 0) != 0 || !parse_u64(line.substr(6), &n) || n == 0 ||
       n > kMaxFiles)
-    return std::nullopt;
-  struct Item {
-    uint64_t size;
-    std::string sha, name;
-  };
-  std::vector<Item> items;
-  uint64_t total = 0;
+    return false;
+  uint64_t sum = 0;
   for (uint64_t i = 0; i < n; ++i) {
-    if (!next_line(b, &pos, &line) || line.rfind("file ", 0) != 0) return std::nullopt;
+    if (!next_line(b, &pos, &line) || line.rfind("file ", 0) != 0) return false;
     const size_t s1 = line.find(' ', 5);
-    if (s1 == std::string::npos || line.size() < s1 + 1 + 64 + 2 || line[s1 + 65] != ' ') return std::nullopt;
+    if (s1 == std::string::npos || line.size() < s1 + 1 + 64 + 2 || line[s1 + 65] != ' ') return false;
     Item it;
-    if (!parse_u64(line.substr(5, s1 - 5), &it.size)) return std::nullopt;
+    if (!parse_u64(line.substr(5, s1 - 5), &it.size)) return false;
     it.sha = line.substr(s1 + 1, 64);
     it.name = line.substr(s1 + 66);
-    if (!is_key(it.sha) || !plain_name(it.name) || it.size > kMaxEntryBytes) return std::nullopt;
-    total += it.size;
-    items.push_back(std::move(it));
+    if (!is_key(it.sha) || !plain_name(it.name) || it.size > kMaxEntryBytes) return false;
+    sum += it.size;
+    items->push_back(std::move(it));
   }
-  if (total != b.size() - pos) return std::nullopt;  // truncated, or bytes appended
+  *body = pos;
+  return total >= pos && sum == total - pos;  // else truncated, or bytes appended
+}
+
+}  // namespace
+
+std::optional<std::vector<OutputFile>> ConversionCache::decode(const std::string& key, const std::vector<uint8_t>& b) {
+  std::vector<Item> items;
+  size_t pos = 0;
+  if (!parse_header(key, b, b.size(), &items, &pos)) return std::nullopt;
   std::vector<OutputFile> files;
   for (const Item& it : items) {
     OutputFile f{it.name, std::vector<uint8_t>(b.begin() + std::ptrdiff_t(pos), b.begin() + std::ptrdiff_t(pos + it.size))};
@@ -111,20 +131,35 @@ std::optional<std::vector<OutputFile>> ConversionCache::decode(const std::string
   return files;
 }
 
+// Streamed: the header is read first (at most kMaxHeaderBytes) and checked against the entry's
+// size from fstat before any file's bytes are allocated; each file is then read into its own buffer
+// and hashed. A non-regular file, a symlink, an entry over kMaxEntryBytes: a miss, nothing read.
 std::optional<std::vector<OutputFile>> ConversionCache::lookup(const std::string& key) const {
   if (!is_key(key)) return std::nullopt;
   const std::string path = entry_path(key);
-  std::error_code ec;
-  const auto size = fs::file_size(path, ec);
-  if (ec || size > kMaxEntryBytes) return std::nullopt;
-  std::vector<uint8_t> bytes;
+  std::vector<OutputFile> files;
   try {
-    bytes = read_file_bytes(path, kMaxEntryBytes);
+    RegularFile f(path, kMaxEntryBytes, true);
+    std::vector<uint8_t> head(size_t(std::min<uint64_t>(f.size(), kMaxHeaderBytes)));
+    f.read(head.data(), head.size());
+    std::vector<Item> items;
+    size_t pos = 0;
+    if (!parse_header(key, head, f.size(), &items, &pos)) return std::nullopt;
+    size_t in_head = head.size() - pos;  // file bytes already read with the header
+    for (const Item& it : items) {
+      OutputFile o{it.name, std::vector<uint8_t>(size_t(it.size))};
+      const size_t from_head = size_t(std::min<uint64_t>(in_head, it.size));
+      std::memcpy(o.bytes.data(), head.data() + pos, from_head);
+      pos += from_head, in_head -= from_head;
+      f.read(o.bytes.data() + from_head, o.bytes.size() - from_head);
+      if (sha256_hex(o.bytes.data(), o.bytes.size()) != it.sha) return std::nullopt;
+      files.push_back(std::move(o));
+    }
   } catch (const Error&) {
-    return std::nullopt;  // removed by another process's eviction meanwhile: a miss
+    return std::nullopt;  // missing, removed by another process's eviction meanwhile, too large: a miss
   }
-  std::optional<std::vector<OutputFile>> files = decode(key, bytes);
-  if (files) fs::last_write_time(path, fs::file_time_type::clock::now(), ec);  // LRU: recently used
+  std::error_code ec;
+  fs::last_write_time(path, fs::file_time_type::clock::now(), ec);  // LRU: recently used
   return files;
 }
 
@@ -134,6 +169,11 @@ CacheStats ConversionCache::store(const std::string& key, const std::vector<Outp
   std::error_code ec;
   fs::create_directories(dir_, ec);
   if (ec) throw file_error(dir_, "cannot create the cache folder (" + ec.message() + ")");
+  uint64_t total = 0;
+  for (const OutputFile& f : files) total += f.bytes.size();
+  if (total > kMaxEntryBytes)
+    throw file_error(path, "the set is " + std::to_string(total) + " bytes, over the cache's bound of " +
+                               std::to_string(kMaxEntryBytes) + " per entry");
   write_file_atomic(path, encode(key, files));
 
   // Eviction: least recently used first. Races with other processes are harmless: a file another
@@ -182,7 +222,9 @@ std::optional<InputsRecord> ConversionCache::lookup_inputs(const std::string& co
   const std::string path = (fs::path(dir_) / (command_key + kInputsExt)).string();
   std::vector<uint8_t> b;
   try {
-    b = read_file_bytes(path, size_t(1) << 24);
+    RegularFile f(path, uint64_t(1) << 24, true);  // no FIFO, device or symlink; at most 16 MiB
+    b.resize(size_t(f.size()));
+    f.read(b.data(), b.size());
   } catch (const Error&) {
     return std::nullopt;
   }

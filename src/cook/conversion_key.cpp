@@ -1,5 +1,6 @@
 #include "cook/conversion_key.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -8,6 +9,8 @@
 #include "api/option_table.h"
 #include "containers/sha256.h"
 #include "core/error.h"
+#include "files/file_io.h"
+#include "files/regular_file.h"
 #include "files/paths.h"
 
 #ifndef AHD_VERSION_STRING
@@ -60,21 +63,23 @@ std::string conversion_options_text(const BakeInput& in, const ConversionOptions
 
 // A file's content hash: SHA-256 of its 4 MiB chunks' SHA-256 digests (with the size beside it, as
 // collision-resistant as SHA-256 of the whole), read through one reused buffer: a cache hit on a
-// large EXR hashes it without holding it in memory.
+// large EXR hashes it without holding it in memory. Only a regular file of at most
+// kMaxHashedInputBytes is read (files/regular_file.h RegularFile: opened without blocking, checked by
+// fstat): a record naming /dev/zero, a FIFO or a huge sparse file is an error (for a stored inputs
+// record: a miss that reads the input again), never a read without end.
+constexpr uint64_t kMaxHashedInputBytes = uint64_t(1) << 34;  // read_file_bytes' bound (files/file_io.h)
+
 static std::string file_digest(const std::string& path, uint64_t* size) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) throw file_error(path, "cannot open (it was read a moment ago)");
-  std::vector<uint8_t> buf(size_t(4) << 20);
+  RegularFile f(path, kMaxHashedInputBytes);
+  std::vector<uint8_t> buf(size_t(std::min<uint64_t>(f.size(), uint64_t(4) << 20)));
   std::string digests;
   *size = 0;
-  while (f) {
-    f.read(reinterpret_cast<char*>(buf.data()), std::streamsize(buf.size()));
-    const size_t n = size_t(f.gcount());
-    if (n == 0) break;
+  for (uint64_t left = f.size(); left > 0;) {
+    const size_t n = size_t(std::min<uint64_t>(left, buf.size()));
+    f.read(buf.data(), n);
     digests += sha256_hex(buf.data(), n);
-    *size += n;
+    *size += n, left -= n;
   }
-  if (f.bad()) throw file_error(path, "read failed");
   return sha256_hex(reinterpret_cast<const uint8_t*>(digests.data()), digests.size());
 }
 

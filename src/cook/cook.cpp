@@ -2,18 +2,23 @@
 // same order, so the command's outputs, keys, depfiles and messages are what they were.
 #include "cook/cook.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <mutex>
+#include <set>
 
 #include "api/options.h"
 #include "bakers/bake_input.h"
 #include "cook/conversion_cache.h"
 #include "cook/conversion_key.h"
+#include "containers/sha256.h"
 #include "cook/depfile.h"
 #include "core/error.h"
 #include "files/input_record.h"
+#include "files/output_set.h"
 #include "files/profile_file.h"
 #include "image/ahd_intermediate.h"
 #include "image/colour_space.h"
@@ -37,6 +42,49 @@ const OutputFile* cached_manifest(const std::vector<OutputFile>& files, const Ou
   return manifest;
 }
 
+// The manifest of a hit, checked against the entry's planes before anything is published: every
+// plane it names is in the entry once, with the size and SHA-256 it records, and the entry holds
+// nothing else but the report. A backend returns what it stored, and a store can be damaged or
+// written by another tool: a broken entry is a miss (`why` says what), never a broken set published.
+std::optional<Manifest> checked_hit(const std::vector<OutputFile>& files, const OutputPaths& out, std::string* why) {
+  const OutputFile* mf = cached_manifest(files, out);
+  if (!mf) {
+    *why = "it holds no " + out.name + ".json or a file of another name";
+    return std::nullopt;
+  }
+  Manifest m;
+  try {
+    m = manifest_from_json(std::string(mf->bytes.begin(), mf->bytes.end()), out.sibling(".json"));
+  } catch (const std::exception& e) {
+    *why = e.what();
+    return std::nullopt;
+  }
+  std::set<std::string> names;
+  for (const OutputFile& f : files)
+    if (!names.insert(f.name).second) {
+      *why = f.name + " twice";
+      return std::nullopt;
+    }
+  std::set<std::string> planes;
+  for (const ManifestPlane& p : m.planes) {
+    const auto f = std::find_if(files.begin(), files.end(), [&](const OutputFile& o) { return o.name == p.file; });
+    if (f == files.end() || !planes.insert(p.file).second) {
+      *why = "plane " + p.file + " is missing";
+      return std::nullopt;
+    }
+    if (f->bytes.size() != p.bytes || sha256_hex(f->bytes.data(), f->bytes.size()) != p.sha256) {
+      *why = "plane " + p.file + " is not the one its manifest records (size or SHA-256)";
+      return std::nullopt;
+    }
+  }
+  for (const OutputFile& f : files)
+    if (f.name != mf->name && f.name != out.name + ".report.json" && !planes.count(f.name)) {
+      *why = f.name + " is named by no manifest";
+      return std::nullopt;
+    }
+  return m;
+}
+
 // The result of a hit: the stored manifest's size and planes (no error estimate).
 CookResult hit_result(const Manifest& m) {
   CookResult r;
@@ -50,11 +98,12 @@ CookResult hit_result(const Manifest& m) {
 // files and the files read, or nullopt (then the input is read as without a cache).
 struct DirectHit {
   std::vector<OutputFile> files;
+  Manifest manifest;
   InputsRecord inputs;
   std::string key;
 };
 std::optional<DirectHit> direct_lookup(const CacheBackend& cache, const std::string& command_key,
-                                       const OutputPaths& out) {
+                                       const OutputPaths& out, const std::function<void(const std::string&)>& warn) {
   std::optional<InputsRecord> rec = cache.lookup_inputs(command_key);
   if (!rec) return std::nullopt;
   for (const InputProbe& p : rec->probes)
@@ -66,7 +115,14 @@ std::optional<DirectHit> direct_lookup(const CacheBackend& cache, const std::str
     return std::nullopt;  // a file it read is gone: read again (and fail there, naming it)
   }
   std::optional<std::vector<OutputFile>> files = cache.lookup(h.key);
-  if (!files || !cached_manifest(*files, out)) return std::nullopt;
+  if (!files) return std::nullopt;
+  std::string why;
+  std::optional<Manifest> m = checked_hit(*files, out, &why);
+  if (!m) {
+    if (warn) warn(cache.entry_path(h.key) + ": cache entry refused (" + why + "): converting again");
+    return std::nullopt;
+  }
+  h.manifest = std::move(*m);
   h.files = std::move(*files);
   h.inputs = std::move(*rec);
   return h;
@@ -100,18 +156,23 @@ CookResult cook_conversion(const CookRequest& request, const CookHooks& hooks) {
   if (cache && request.keep_intermediate)
     throw Error("--cache stores the conversion's outputs, not --keep-intermediate's file: use one of them");
   std::string cmd_key;
+  bool refused_warned = false;  // the direct lookup refused the entry the key names (said once)
   if (cache && !request.output.empty() && !request.key_only) {
     const OutputPaths out = output_paths(request.output);
     ConversionOptions given = request.options;
     given.container = out.kind;
     cmd_key = command_key(a, given, out.name, request.options.profile, request.iz_scale);
-    if (std::optional<DirectHit> h = direct_lookup(*cache, cmd_key, out)) {
-      const Manifest m = manifest_from_json(
-          std::string(cached_manifest(h->files, out)->bytes.begin(), cached_manifest(h->files, out)->bytes.end()),
-          out.sibling(".json"));
+    const auto warn_once = [&](const std::string& message) {
+      refused_warned = true;
+      if (ev.warning) ev.warning(message);
+    };
+    if (std::optional<DirectHit> h = direct_lookup(*cache, cmd_key, out, warn_once)) {
+      const Manifest m = h->manifest;
       const size_t n = h->files.size();
+      // Refused paths (cook/depfile.cpp) fail before anything is published.
+      const std::string deps = request.depfile.empty() ? "" : depfile_text(out.sibling(".json"), h->inputs.files);
       publish(out, std::move(h->files));
-      if (!request.depfile.empty()) write_depfile(request.depfile, out.sibling(".json"), h->inputs.files);
+      if (!request.depfile.empty()) write_file_atomic(request.depfile, deps);
       print_hit(h->inputs.source, h->key, out, n);
       CookResult r = hit_result(m);
       r.key = h->key, r.source = h->inputs.source, r.manifest = out.sibling(".json");
@@ -180,15 +241,21 @@ CookResult cook_conversion(const CookRequest& request, const CookHooks& hooks) {
       if (ev.warning) ev.warning(std::string(e.what()) + " (the inputs are not recorded in the cache)");
     }
   };
+  // Made before anything is published: a path no depfile can carry (cook/depfile.cpp) is one error
+  // line and no output.
+  const std::string deps = request.depfile.empty() ? "" : depfile_text(out.sibling(".json"), record.files);
   const auto write_deps = [&]() {
-    if (!request.depfile.empty()) write_depfile(request.depfile, out.sibling(".json"), record.files);
+    if (!request.depfile.empty()) write_file_atomic(request.depfile, deps);
   };
 
   if (cache) {
     std::optional<std::vector<OutputFile>> hit = cache->lookup(key);
-    const OutputFile* mf = hit ? cached_manifest(*hit, out) : nullptr;
-    if (mf) {  // a hit: the stored files, published exactly as a conversion's (cook/publish.h)
-      const Manifest m = manifest_from_json(std::string(mf->bytes.begin(), mf->bytes.end()), out.sibling(".json"));
+    std::string why;
+    std::optional<Manifest> checked = hit ? checked_hit(*hit, out, &why) : std::nullopt;
+    if (hit && !checked && ev.warning && !refused_warned)
+      ev.warning(cache->entry_path(key) + ": cache entry refused (" + why + "): converting again");
+    if (checked) {  // a hit: the stored files, published exactly as a conversion's (cook/publish.h)
+      const Manifest m = *checked;
       const size_t n = hit->size();
       publish(out, std::move(*hit));
       write_deps();

@@ -1,5 +1,6 @@
 #include "cook/publish.h"
 
+#include <algorithm>
 #include <regex>
 
 #include "containers/container.h"
@@ -8,6 +9,8 @@
 #include "files/file_io.h"
 #include "files/manifest_file.h"
 #include "files/output_set.h"
+#include "pipeline/set_name.h"
+#include "files/regular_file.h"
 #include "pipeline/manifest.h"
 
 namespace ahd {
@@ -18,41 +21,69 @@ OutputPaths output_paths(const std::string& out) {
   p.kind = container_kind_from_path(out);
   p.dir = fs::path(out).parent_path();
   p.name = fs::path(out).stem().string();
-  if (!is_plain_file_name(p.name) || !is_plain_file_name(p.name + ".json"))
-    throw file_error(out, "the set's name \"" + p.name +
-                              "\" would make file names decode refuses (it must not be empty, start with '.' or "
-                              "hold '/', '\\' or ':')");
+  const std::string problem = set_name_problem(p.name);
+  if (!problem.empty()) throw file_error(out, "the set's name \"" + p.name + "\" " + problem);
   return p;
 }
 
 namespace {
 
+// Plane files hashed for the clean-up are streamed (files/regular_file.h file_sha256); one larger than
+// this is never ours to remove (kept).
+constexpr uint64_t kMaxPlaneFileBytes = uint64_t(1) << 34;
+
+// True when `path` is a regular file (not a symlink) of `size` bytes whose SHA-256 is `sha256`.
+bool file_is(const fs::path& path, uint64_t size, const std::string& sha256) {
+  try {
+    uint64_t n = 0;
+    return file_sha256(path.string(), size, &n, true) == sha256 && n == size;
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
 // The files of the previous set of `out` that a new set supersedes (evaluated with the folder
-// locked): those its manifest names (none when it is missing or unreadable: nothing else is known
-// to be ours) and unnamed plane files that prove to be ours by their content hash.
+// locked). Only files ahdpack wrote for this stem go: a plane the previous NAME.json names when its
+// name is package.h's plane_file_name for NAME (NAME.<plane>.<12 hex>.<ktx2|dds>, the hex the
+// manifest's SHA-256 prefix) and the file's size and SHA-256 are the manifest's; and unnamed plane
+// files of NAME that prove to be ours by their content hash. A stale or crafted manifest naming
+// README.md or other.json, a plane edited since, a symlink: kept. A manifest without a valid
+// SHA-256 per plane is refused by read_manifest_file, so its planes are kept too (nothing proves
+// them ours).
 std::vector<std::string> previous_set_files(const OutputPaths& out) {
   std::vector<std::string> files;
   const std::string manifest = out.sibling(".json");
+  static const std::regex plane(R"(^\.(iz|dir|ratio|dirratio|coverage)\.([0-9a-f]{12})\.(ktx2|dds)$)");
+  // NAME.<plane>.<12 hex>.<ext>: `rest` keeps the part after NAME that `m` points into.
+  const auto plane_of_name = [&out](const std::string& fn, std::string* rest, std::smatch* m) {
+    if (fn.size() <= out.name.size() || fn.compare(0, out.name.size(), out.name) != 0) return false;
+    *rest = fn.substr(out.name.size());
+    return std::regex_match(*rest, *m, plane);
+  };
   std::error_code ec;
   if (fs::exists(manifest, ec)) try {
-      for (const ManifestPlane& p : read_manifest_file(manifest).planes) files.push_back((out.dir / p.file).string());
+      for (const ManifestPlane& p : read_manifest_file(manifest).planes) {
+        std::string rest;
+        std::smatch m;
+        if (!plane_of_name(p.file, &rest, &m) || m[1].str() != p.name || p.sha256.compare(0, 12, m[2].str()) != 0) continue;
+        if (file_is(out.dir / p.file, p.bytes, p.sha256)) files.push_back((out.dir / p.file).string());
+      }
     } catch (const std::exception&) {
     }
-  static const std::regex plane(R"(^\.(iz|dir|ratio|dirratio|coverage)\.([0-9a-f]{12})\.(ktx2|dds)$)");
   fs::directory_iterator it(out.dir.empty() ? "." : out.dir, ec), end;
   for (; !ec && it != end; it.increment(ec)) {
     const std::string fn = it->path().filename().string();
+    std::string rest;
     std::smatch m;
-    const std::string rest = fn.size() > out.name.size() && fn.compare(0, out.name.size(), out.name) == 0
-                                 ? fn.substr(out.name.size())
-                                 : std::string();
-    if (rest.empty() || !std::regex_match(rest, m, plane)) continue;
+    if (!plane_of_name(fn, &rest, &m)) continue;
     try {
-      const std::vector<uint8_t> bytes = read_file_bytes(it->path().string());
-      if (sha256_hex(bytes.data(), bytes.size()).compare(0, 12, m[2].str()) == 0) files.push_back(it->path().string());
+      if (file_sha256(it->path().string(), kMaxPlaneFileBytes, nullptr, true).compare(0, 12, m[2].str()) == 0)
+        files.push_back(it->path().string());
     } catch (const std::exception&) {
     }
   }
+  std::sort(files.begin(), files.end());
+  files.erase(std::unique(files.begin(), files.end()), files.end());
   return files;
 }
 

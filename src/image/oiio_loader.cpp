@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <mutex>
+#include <vector>
 
 #include "core/error.h"
 #include "image/oiio_module.h"
@@ -11,17 +12,31 @@ namespace ahd {
 
 namespace {
 
-// The installed module: <prefix>/<libdir>/ahdpack/libahd_oiio.so for <prefix>/<bindir>/ahdpack, or
-// for <prefix>/<libdir>/libahd_bakers.so (the install's relative layout, as files/paths.cpp finds
-// formats/), else the build tree's.
+// Where the module is, relative to the running code only (never a path compiled in: a relocated or
+// copied binary must not load whatever a build folder holds at that path now, issue 44):
+//  1. installed: <prefix>/<libdir>/ahdpack/libahd_oiio.so for <prefix>/<bindir>/ahdpack, or for
+//     <prefix>/<libdir>/libahd_bakers.so (the install's relative layout, as files/paths.cpp finds
+//     formats/);
+//  2. beside the executable, then beside the library holding this code (the build tree: CMake puts
+//     the module beside ahdpack and copies it beside the test binaries).
+// The first that exists; else the executable's neighbour, so the error names where it was looked for.
 std::string module_path() {
+  std::error_code ec;
   for (const std::string& prefix : {executable_prefix(), library_prefix()}) {
     if (prefix.empty()) continue;
-    std::error_code ec;
     const std::filesystem::path installed = std::filesystem::path(prefix) / AHD_INSTALL_OIIO_MODULE;
     if (std::filesystem::exists(installed, ec)) return installed.string();
   }
-  return AHD_BUILD_OIIO_MODULE;
+  const std::string name = std::filesystem::path(AHD_INSTALL_OIIO_MODULE).filename().string();
+  std::vector<std::filesystem::path> beside;
+  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (!ec && !exe.empty()) beside.push_back(exe.parent_path() / name);
+  Dl_info info{};
+  if (::dladdr(reinterpret_cast<void*>(&module_path), &info) && info.dli_fname && *info.dli_fname)
+    beside.push_back(std::filesystem::absolute(info.dli_fname, ec).parent_path() / name);
+  for (const std::filesystem::path& p : beside)
+    if (std::filesystem::exists(p, ec)) return p.string();
+  return beside.empty() ? name : beside.front().string();
 }
 
 struct Loaded {

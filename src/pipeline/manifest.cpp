@@ -1,4 +1,5 @@
 #include "pipeline/manifest.h"
+#include "pipeline/set_name.h"
 
 #include <nlohmann/json.hpp>
 
@@ -203,6 +204,19 @@ std::vector<std::pair<std::string, std::string>> plane_metadata(const Manifest& 
 
 bool is_plain_file_name(const std::string& s) {
   return !s.empty() && s[0] != '.' && s.find_first_of(std::string("/\\:\0", 4)) == std::string::npos;
+}
+
+std::string set_name_problem(const std::string& name) {
+  if (!is_plain_file_name(name) || !is_plain_file_name(name + ".json"))
+    return "would make file names decode refuses (it must not be empty, start with '.' or hold '/', '\\' or ':')";
+  for (char c : name)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) return "holds a control character (a line break, a tab)";
+  if (name.size() > kMaxSetNameBytes)
+    return "is " + std::to_string(name.size()) + " bytes long (at most " + std::to_string(kMaxSetNameBytes) + ")";
+  const std::string report = ".report";
+  if (name.size() >= report.size() && name.compare(name.size() - report.size(), report.size(), report) == 0)
+    return "ends in \".report\": its manifest would be the report of the set named without it";
+  return "";
 }
 
 }  // namespace ahd

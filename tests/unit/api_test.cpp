@@ -4,10 +4,12 @@
 #include <ahd/sample.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstddef>
 #include <cstring>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "containers/container.h"
 
@@ -202,4 +204,46 @@ TEST(Api, CApiOptionsStructSize) {
   // NULL options: the defaults.
   ASSERT_EQ(ahd_convert(&in, "s", nullptr, &r, err, sizeof err), 0) << err;
   ahd_result_free(r);
+}
+
+// Issue 44: the C API accepted stems `.room`, `a:b`, `..`, newlines, 300 characters and NaN
+// normals (an all-black map, exit 0). Refused now with the CLI's rule (pipeline/manifest.h
+// set_name_problem), one message, no result.
+TEST(Api, CApiRefusesStemsAndNormalsTheCliRefuses) {
+  const ahd::ShImage& sh = sample32();
+  ahd_sh_input in = {sh.width, sh.height, sh.coeffs, sh.data.data(), sh.coverage.data(), nullptr};
+  ahd_options opt;
+  ahd_options_init(&opt);
+  char err[256] = "";
+  for (const std::string& bad : {std::string(".room"), std::string("a:b"), std::string(".."), std::string("a\nb"),
+                                std::string("a\tb"), std::string(300, 'r'), std::string(""), std::string("room.report"),
+                                std::string("a/b")}) {
+    ahd_result* r = nullptr;
+    EXPECT_NE(ahd_convert(&in, bad.c_str(), &opt, &r, err, sizeof err), 0) << bad;
+    EXPECT_EQ(r, nullptr);
+    EXPECT_NE(std::string(err).find("output name"), std::string::npos) << err;
+    EXPECT_THROW(ahd::convert(sh, bad, {}), ahd::Error) << bad;
+  }
+  ahd_result* r = nullptr;
+  ASSERT_EQ(ahd_convert(&in, std::string(200, 'r').c_str(), &opt, &r, err, sizeof err), 0) << err;
+  ahd_result_free(r);
+  // Normals: one NaN, one infinite, one zero-length on a covered texel.
+  std::vector<float> normals(sh.texels() * 3, 0.0f);
+  for (size_t i = 0; i < sh.texels(); ++i) normals[i * 3 + 2] = 1.0f;
+  in.normals = normals.data();
+  r = nullptr;
+  ASSERT_EQ(ahd_convert(&in, "s", &opt, &r, err, sizeof err), 0) << err;
+  ahd_result_free(r);
+  size_t covered = 0;
+  while (!sh.coverage[covered]) ++covered;
+  for (const float v : {std::nanf(""), INFINITY, 0.0f}) {
+    std::vector<float> bad = normals;
+    bad[covered * 3 + 2] = v;
+    in.normals = bad.data();
+    r = nullptr;
+    EXPECT_NE(ahd_convert(&in, "s", &opt, &r, err, sizeof err), 0) << v;
+    EXPECT_EQ(r, nullptr);
+    EXPECT_NE(std::string(err).find("normal at texel (" + std::to_string(covered % size_t(sh.width))), std::string::npos)
+        << err;
+  }
 }

@@ -4,6 +4,7 @@
 // fillers, `verify` reads the baker's files as convert does, and a CMake + Ninja project cooks
 // lightmaps incrementally through the installed ahdpack_add_lightmaps (tests/cook/run.sh).
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <chrono>
 #include <fstream>
@@ -12,6 +13,7 @@
 #include <sstream>
 
 #include "cli_runner.h"
+#include "containers/sha256.h"
 #include "cook/conversion_cache.h"
 #include "cook/depfile.h"
 #include "layout_test_scene.h"
@@ -99,6 +101,75 @@ std::string key_of(const std::vector<std::string>& args) {
 TEST(Cook, DepfileEscapesForMakeAndNinja) {
   EXPECT_EQ(depfile_text("out/a.json", {"/x y/c$d#e.exr", "/p/q.exr"}), "out/a.json: \\\n  /x\\ y/c$$d\\#e.exr \\\n  /p/q.exr\n");
   EXPECT_THROW(depfile_text("a.json", {"/bad\nname"}), Error);
+}
+
+// Issue 44: ';' (a command for Make), tab, '|', wildcards, quotes and backslash runs before a
+// separator are refused, one error naming the path; ':' and '\' are escaped.
+TEST(Cook, DepfileRefusesWhatMakeOrNinjaCannotCarry) {
+  EXPECT_EQ(depfile_text("a.json", {"/x:y/p\\q.exr"}), "a.json: \\\n  /x\\:y/p\\q.exr\n");
+  for (const std::string bad : {"/x;touch\tPWNED;true.exr", "/a;b", "/a\tb", "/a|b", "/a*b", "/a?b", "/a[b]", "/a%b",
+                                "/a=b", "/a'b", "/a\"b", "/a\\ b", "/a\\#b", "/a\\\\b", "/a\\", "/a(b)", "/a\rb"}) {
+    try {
+      depfile_text("a.json", {bad});
+      ADD_FAILURE() << bad << " accepted";
+    } catch (const Error& e) {
+      // Control characters are printed escaped (file_error's printable_path): the cause is checked.
+      EXPECT_TRUE(contains(e.what(), ": cannot be written to a depfile: ")) << e.what();
+    }
+  }
+  EXPECT_THROW(depfile_text("~a.json", {"/p"}), Error);
+}
+
+// Issue 44, with the real tools: an input under a folder named "we ird#$x:y\z" gets a depfile that
+// GNU Make and Ninja both read as that one path (a newer input rebuilds, an unchanged one does not);
+// an input under "x;touch<TAB>PWNED;true" is refused (exit 1, one line, no output at all), so no
+// build tool ever sees it.
+TEST(Cook, DepfileRebuildsWithMakeAndNinja) {
+  const bool have_make = ahd_test::run_shell("command -v make >/dev/null && echo yes") == "yes\n";
+  const bool have_ninja = ahd_test::run_shell("command -v ninja >/dev/null && echo yes") == "yes\n";
+  if (!have_make || !have_ninja) GTEST_SKIP() << "needs GNU make and ninja on PATH";
+  const fs::path d = fs::absolute(ahd_test::temp_dir("cook_depfile_tools"));
+  const fs::path weird = d / "we ird#$x:y\\z";
+  fs::create_directories(weird);
+  const std::string in = (weird / "s.exr").string();
+  ASSERT_EQ(run_cli({"sample", "--size", "16", "-o", in}).exit_code, 0);
+  const auto r = run_cli({"convert", in, "-o", (d / "out" / "s.ktx2").string(), "--profile", "uncompressed", "-q",
+                          "--depfile", (d / "out" / "s.d").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  // Make: the rule's only prerequisites come from the depfile (whose target is -o's manifest path,
+  // absolute here).
+  const std::string target = (d / "out" / "s.json").string();
+  spit(d / "Makefile", target + ":\n\t@echo REBUILD\n-include out/s.d\n");
+  const auto make_q = [&] { return ahd_test::run_shell("cd '" + d.string() + "' && make -q '" + target + "' 2>&1; echo rc=$?"); };
+  const std::string db = ahd_test::run_shell("cd '" + d.string() + "' && make -p -q '" + target + "' 2>/dev/null");
+  EXPECT_TRUE(contains(db, "\n" + target + ": " + in + " ")) << ahd_test::read_text(d / "out" / "s.d");  // then the profile
+  EXPECT_TRUE(contains(make_q(), "rc=0")) << make_q();
+  // Ninja: the depfile read after the build (deps = gcc, which deletes it: a copy), its one
+  // dependency listed as is.
+  fs::copy_file(d / "out" / "s.d", d / "ninja.d");
+  spit(d / "build.ninja", "rule cook\n  command = true\n  depfile = ninja.d\n  deps = gcc\nbuild " + target + ": cook\n");
+  const std::string ninja = "cd '" + d.string() + "' && ninja ";
+  ahd_test::run_shell(ninja + ">/dev/null 2>&1");
+  const std::string deps = ahd_test::run_shell(ninja + "-t deps '" + target + "'");
+  EXPECT_TRUE(contains(deps, "\n    " + in + "\n")) << deps;
+  EXPECT_TRUE(contains(ahd_test::run_shell(ninja + "-n 2>&1"), "no work to do"));
+  fs::last_write_time(in, fs::last_write_time(in) + std::chrono::hours(1));
+  EXPECT_TRUE(contains(make_q(), "rc=1")) << make_q();
+  EXPECT_FALSE(contains(ahd_test::run_shell(ninja + "-n 2>&1"), "no work to do"));
+
+  // The attack: refused before anything is written; make never sees a recipe.
+  const fs::path pwn = d / "x;touch\tPWNED;true";
+  fs::create_directories(pwn);
+  const std::string pin = (pwn / "s.exr").string();
+  fs::copy_file(in, pin);
+  const auto bad = run_cli({"convert", pin, "-o", (d / "pwn" / "s.ktx2").string(), "--profile", "uncompressed", "-q",
+                            "--depfile", (d / "pwn" / "s.d").string()});
+  EXPECT_EQ(bad.exit_code, 1) << bad.output;
+  EXPECT_EQ(bad.output.rfind("ahdpack: error: " + d.string() + "/x;touch\\tPWNED;true/s.exr: cannot be written to a depfile: the character ';'", 0), 0u) << bad.output;
+  EXPECT_EQ(std::count(bad.output.begin(), bad.output.end(), '\n'), 1) << bad.output;
+  EXPECT_FALSE(fs::exists(d / "pwn"));
+  EXPECT_FALSE(fs::exists(d / "PWNED"));
+  fs::remove_all(d);
 }
 
 // The done-when of issue 31: a Godot multi-page conversion's depfile names the .exr.import, the
@@ -299,6 +370,95 @@ TEST(Cook, TruncatedOrCorruptCacheEntryIsIgnoredAndReplaced) {
     EXPECT_TRUE(ConversionCache::decode(key, std::vector<uint8_t>(now.begin(), now.end()))) << i;
     for (const auto& [name, bytes] : folder_files(d / "o"))
       if (name != "s.report.json") EXPECT_EQ(bytes, expected.at(name)) << name;
+  }
+  fs::remove_all(d);
+}
+
+// Issue 44: a hit published the entry's manifest without checking it against the stored planes. An
+// entry that is well-formed (every header hash right) but whose plane is not the one its manifest
+// records, or that carries a file no manifest names: a warning and a miss, never published.
+TEST(Cook, CacheEntryNotMatchingItsManifestIsAMiss) {
+  const fs::path d = ahd_test::temp_dir("cook_mismatch");
+  const std::string in = (d / "s.exr").string(), cache = (d / "cache").string();
+  ASSERT_EQ(run_cli({"sample", "--size", "32", "-o", in}).exit_code, 0);
+  const std::vector<std::string> args = {"convert", in, "-o", (d / "o" / "s.ktx2").string(), "--cache", cache,
+                                         "--profile", "uncompressed"};
+  ASSERT_EQ(run_cli(args).exit_code, 0);
+  fs::path entry;
+  for (const auto& e : fs::directory_iterator(cache))
+    if (e.path().extension() == ".ahdcache") entry = e.path();
+  const std::string key = entry.stem().string(), good = ahd_test::read_text(entry);
+  const auto expected = folder_files(d / "o");
+  const std::vector<OutputFile> files = *ConversionCache::decode(key, std::vector<uint8_t>(good.begin(), good.end()));
+  std::vector<std::vector<OutputFile>> broken;
+  for (size_t i = 0; i < files.size(); ++i)
+    if (files[i].name.find(".iz.") != std::string::npos) {
+      broken.push_back(files);
+      broken.back()[i].bytes.back() ^= 1;  // same size, another SHA-256
+      broken.push_back(files);
+      broken.back()[i].bytes.pop_back();  // another size
+      broken.push_back(files);
+      broken.back().erase(broken.back().begin() + std::ptrdiff_t(i));  // missing
+    }
+  broken.push_back(files);
+  broken.back().push_back({"s.extra.ktx2", {1, 2, 3}});  // a file no manifest names
+  ASSERT_EQ(broken.size(), 4u);
+  for (size_t i = 0; i < broken.size(); ++i) {
+    spit(entry, std::string([&] {
+           const std::vector<uint8_t> b = ConversionCache::encode(key, broken[i]);
+           return std::string(b.begin(), b.end());
+         }()));
+    fs::remove_all(d / "o");
+    const auto r = run_cli(args);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_TRUE(contains(r.output, entry.string() + ": cache entry refused (")) << i << ": " << r.output;
+    EXPECT_TRUE(contains(r.output, "cache: stored")) << i << ": " << r.output;  // converted again
+    EXPECT_FALSE(contains(r.output, "cache hit")) << i << ": " << r.output;
+    for (const auto& [name, bytes] : folder_files(d / "o"))
+      if (name != "s.report.json") EXPECT_EQ(bytes, expected.at(name)) << name;
+  }
+  fs::remove_all(d);
+}
+
+// Issue 44: a lookup read a whole entry into memory (an 8 GB sparse entry: out of memory on every
+// run), and a stored inputs record could make the key hash /dev/zero or block on a FIFO. Under a
+// 4 GB address limit and a 120 s timeout: the sparse entry is a miss without reading it, the
+// record naming /dev/zero or a FIFO falls back to reading the input (a normal hit).
+TEST(Cook, CacheNeverReadsHugeEntriesOrSpecialFiles) {
+  const fs::path d = ahd_test::temp_dir("cook_special");
+  const std::string in = (d / "s.exr").string(), cache = (d / "cache").string();
+  ASSERT_EQ(run_cli({"sample", "--size", "16", "-o", in}).exit_code, 0);
+  const std::string cmd = "ulimit -v 4000000; timeout 120 '" + std::string(AHD_CLI_PATH) + "' convert '" + in + "' -o '" +
+                          (d / "o" / "s.ktx2").string() + "' --profile uncompressed --cache '" + cache + "' 2>&1; echo rc=$?";
+  std::string out = ahd_test::run_shell(cmd);
+  ASSERT_TRUE(contains(out, "rc=0")) << out;
+  fs::path entry, inputs;
+  for (const auto& e : fs::directory_iterator(cache)) {
+    if (e.path().extension() == ".ahdcache") entry = e.path();
+    if (e.path().extension() == ".ahdinputs") inputs = e.path();
+  }
+  ASSERT_FALSE(entry.empty());
+  ASSERT_FALSE(inputs.empty());
+  // An 8 GB sparse file in the entry's place.
+  fs::remove(entry);
+  { std::ofstream(entry) << "ahdpack-cache 1\n"; }
+  fs::resize_file(entry, uint64_t(8) << 30);
+  out = ahd_test::run_shell(cmd);
+  EXPECT_TRUE(contains(out, "rc=0")) << out;
+  EXPECT_TRUE(contains(out, "cache: stored")) << out;  // a miss, converted and stored again
+  EXPECT_LT(fs::file_size(entry), uint64_t(1) << 30);
+  // The inputs record's file line pointed at /dev/zero, then at a FIFO (its own SHA-256 redone).
+  const std::string record = ahd_test::read_text(inputs);
+  ASSERT_TRUE(contains(record, "\nfile " + in + "\n")) << record;
+  ASSERT_EQ(::mkfifo((d / "fifo").c_str(), 0600), 0);
+  for (const std::string& special : {std::string("/dev/zero"), (d / "fifo").string()}) {
+    std::string t = record.substr(0, record.rfind("sha256 "));
+    t.replace(t.find("\nfile " + in + "\n"), in.size() + 7, "\nfile " + special + "\n");
+    t += "sha256 " + sha256_hex(reinterpret_cast<const uint8_t*>(t.data()), t.size()) + "\n";
+    spit(inputs, t);
+    out = ahd_test::run_shell(cmd);
+    EXPECT_TRUE(contains(out, "rc=0")) << special << ": " << out;
+    EXPECT_TRUE(contains(out, "cache hit")) << special << ": " << out;  // read again, the key's entry found
   }
   fs::remove_all(d);
 }

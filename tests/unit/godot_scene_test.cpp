@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_runner.h"
+#include "file_bytes.h"
 #include "test_data.h"
 #include "core/error.h"
 #include "fit/fit_image.h"
@@ -326,6 +327,35 @@ TEST(GodotScene, EditorGltfExportPlacedByTheLmbakeMatchesTheProject) {
   } catch (const Error& e) {
     EXPECT_EQ(std::string(e.what()).rfind((dir / "renamed.gltf").string() + ": no node of the .lmbake's users", 0), 0u) << e.what();
   }
+  fs::remove_all(dir);
+}
+
+// Issue 44: the export's .bin (its vertices and lightmap UVs) reached neither the key nor the
+// depfile on the Godot route: a changed UV kept the key, so `--cache` published the old set.
+TEST(GodotScene, GltfExportBufferIsInTheKeyAndTheDepfile) {
+  NEED_BAKE();
+  const fs::path dir = ahd_test::temp_dir("godot_export_bin");
+  write_gltf_export(load_godot_scene((kScenes / "world.tscn").string()), dir / "world_export.gltf", "");
+  for (const char* f : {"world.exr", "world.exr.import", "world.lmbake"}) fs::copy_file(kBake / f, dir / f);
+  const auto run = [&](const std::vector<std::string>& extra) {
+    std::vector<std::string> a = {"convert", (dir / "world.exr").string(), "--godot-scene", (dir / "world_export.gltf").string(),
+                                  "-o", (dir / "out/w.ktx2").string(), "--levels", "1", "-q"};
+    a.insert(a.end(), extra.begin(), extra.end());
+    return ahd_test::run_cli(a);
+  };
+  const auto k1 = run({"--print-key"});
+  ASSERT_EQ(k1.exit_code, 0) << k1.output;
+  ASSERT_EQ(run({"--depfile", (dir / "w.d").string()}).exit_code, 0);
+  EXPECT_TRUE(contains(ahd_test::read_text(dir / "w.d"), fs::absolute(dir / "world_export.bin").lexically_normal().string()))
+      << ahd_test::read_text(dir / "w.d");
+  // The lowest mantissa bit of the first vertex's x changed: another key.
+  std::string bin = ahd_test::read_text(dir / "world_export.bin");
+  ASSERT_GT(bin.size(), 8u);
+  bin[0] ^= 1;
+  std::ofstream(dir / "world_export.bin", std::ios::binary | std::ios::trunc) << bin;
+  const auto k2 = run({"--print-key"});
+  ASSERT_EQ(k2.exit_code, 0) << k2.output;
+  EXPECT_NE(k1.output, k2.output);
   fs::remove_all(dir);
 }
 

@@ -19,6 +19,7 @@
 #include "pipeline/convert.h"
 #include "pipeline/manifest.h"
 #include "file_bytes.h"
+#include <nlohmann/json.hpp>
 
 namespace fs = std::filesystem;
 using namespace ahd;
@@ -171,5 +172,59 @@ TEST(OutputSet, StaleTemporariesOfDeadProcessesAreRemoved) {
   EXPECT_FALSE(fs::exists(d / dead_tmp));
   EXPECT_TRUE(fs::exists(d / live_tmp));
   EXPECT_TRUE(fs::exists(d / "room.ahdtmp.notours"));
+  fs::remove_all(d);
+}
+
+// Issue 44: clean-up removed every plain-named file the previous manifest named. A stale or
+// crafted room.json naming README.md and other.json (even with their exact sizes and hashes) and a
+// plane of the right name edited since: all kept; the previous set's own planes still go.
+TEST(OutputSet, CleanUpDeletesOnlyPlanesItWroteForTheStem) {
+  const fs::path d = ahd_test::temp_dir("output_set_crafted");
+  const std::string readme_md = std::string("READ") + "ME.md";
+  ASSERT_EQ(convert_set(d, "uncompressed").exit_code, 0);
+  nlohmann::json m = nlohmann::json::parse(ahd_test::read_text(d / "room.json"));
+  ASSERT_GE(m["planes"].size(), 3u);
+  // README.md and other.json hold planes 0 and 1's bytes, so their sizes and SHA-256 match.
+  const fs::path plane0 = d / m["planes"][0]["file"].get<std::string>(), plane1 = d / m["planes"][1]["file"].get<std::string>();
+  fs::copy_file(plane0, d / readme_md);
+  fs::copy_file(plane1, d / "other.json");
+  m["planes"][0]["file"] = readme_md;
+  m["planes"][1]["file"] = "other.json";
+  // Plane 2 keeps its name but its content changed (same size): not the file the manifest recorded.
+  const fs::path edited = d / m["planes"][2]["file"].get<std::string>();
+  std::string bytes = ahd_test::read_text(edited);
+  bytes.back() ^= 1;
+  std::ofstream(edited, std::ios::binary | std::ios::trunc) << bytes;
+  std::ofstream(d / "room.json", std::ios::trunc) << m.dump(2);
+  const std::string readme = ahd_test::read_text(d / readme_md), other = ahd_test::read_text(d / "other.json");
+  ASSERT_EQ(convert_set(d, "pc-bc").exit_code, 0);
+  EXPECT_EQ(ahd_test::read_text(d / readme_md), readme);
+  EXPECT_EQ(ahd_test::read_text(d / "other.json"), other);
+  EXPECT_EQ(ahd_test::read_text(edited), bytes);
+  // The stem's own plane files, untouched and now named by no manifest, still go.
+  EXPECT_FALSE(fs::exists(plane0));
+  EXPECT_FALSE(fs::exists(plane1));
+  const std::set<std::string> set_files = manifest_set_files(d / "room.json");
+  for (const auto& e : fs::directory_iterator(d)) {
+    const std::string fn = e.path().filename().string();
+    if (!set_files.count(fn)) EXPECT_TRUE(fn == readme_md || fn == "other.json" || e.path() == edited) << fn;
+  }
+  fs::remove_all(d);
+}
+
+// Issue 44: `-o room.report.ktx2` wrote room.report.json as its manifest, the report of the set
+// "room" beside it: each run replaced the other's file. A stem ending in ".report" is refused up
+// front (one line, nothing written), as are control characters and stems over 200 bytes.
+TEST(OutputSet, SetsInOneFolderNeverShareAFileName) {
+  const fs::path d = ahd_test::temp_dir("output_set_report_stem");
+  ASSERT_EQ(convert_set(d, "uncompressed").exit_code, 0);
+  const auto before = snapshot_files(d);
+  for (const std::string& name : {std::string("room.report.ktx2"), std::string("a\nb.ktx2"), std::string(201, 'r') + ".ktx2"}) {
+    const auto r = ahd_test::run_cli({"convert", "-o", (d / name).string(), "--sample-size", "16", "-q"});
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    EXPECT_EQ(r.output.rfind("ahdpack: error: " + d.string() + "/", 0), 0u) << r.output;
+    EXPECT_NE(r.output.find(": the set's name \""), std::string::npos) << r.output;
+    EXPECT_EQ(snapshot_files(d), before);
+  }
   fs::remove_all(d);
 }

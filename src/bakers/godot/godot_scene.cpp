@@ -22,6 +22,7 @@
 #include "core/error.h"
 #include "bakers/godot/godot_lmbake.h"
 #include "files/input_record.h"
+#include "scene/mesh_io.h"
 #include "bakers/godot/godot_tscn.h"
 #include "bakers/godot/godot_unwrap_cache.h"
 #include <nlohmann/json.hpp>
@@ -367,6 +368,7 @@ struct Loader {
   int mesh_file(const std::string& path, int parent) {
     files.push_back(path);
     Assimp::Importer importer;
+    record_assimp_reads(&importer);  // a .gltf's .bin buffers reach the depfile and the key (issue 44)
     // No JoinIdenticalVertices: the unwrap cache indexes the accessor's vertices as stored.
     const aiScene* sc = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_ValidateDataStructure);
     if (!sc || !sc->mRootNode) throw file_error(path, "cannot read mesh (" + std::string(importer.GetErrorString()) + ")");
