@@ -37,12 +37,12 @@ std::string paged_path(const LayoutPreset& layout, const std::string& base, cons
 // 64-bit: pages and slices come from flags and files (--pages 1073741824 x 4 layers wrapped to 0
 // in int and divided by it); more layers than rows is refused before the remainder is taken.
 void check_divides(const std::string& path, int64_t rows, int64_t pages, int64_t slices, const std::string& source) {
-  // Each page is a conversion of its own (a fixed cost each): 2048 pages of 2x2 took 150 s.
-  if (pages > kMaxAtlasPages)
-    throw file_error(path, n_str(pages) + " atlas pages (" + source + "), at most " + n_str(kMaxAtlasPages) + " are read");
   if (pages <= 0 || slices <= 0 || pages * slices > rows || rows % (pages * slices) != 0)
     throw file_error(path, n_str(rows) + " rows do not divide into " + n_str(pages) + " page(s) x " + n_str(slices) +
                                " layers (" + source + ")");
+  // Each page is a conversion of its own (a fixed cost each): 2048 pages of 2x2 took 150 s.
+  if (pages > kMaxAtlasPages)
+    throw file_error(path, n_str(pages) + " atlas pages (" + source + "), at most " + n_str(kMaxAtlasPages) + " are read");
 }
 
 }  // namespace

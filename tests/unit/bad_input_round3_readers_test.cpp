@@ -604,6 +604,25 @@ TEST(BadInputRound3Readers, HostileInputsUnderFourGibStayUnderOneGib) {
     inputs.push_back({"mesh-sparse", {"convert", exr, "--layout", "godot4-packed", "--mesh", (d / "sparse.gltf").string(),
                                       "-o", (d / "o2.ktx2").string()}, (d / "sparse.gltf").string()});
   }
+  // The editor-export search: 3000 nodes each holding a mesh node, 8000 users (110 s, 3.1 GB before).
+  {
+    const fs::path p = d / "export";
+    fs::create_directories(p);
+    std::string nodes = "[{\"name\": \"Root\", \"children\": [";
+    for (int i = 1; i <= 3000; ++i) nodes += (i > 1 ? "," : "") + std::to_string(i);
+    nodes += "]}";
+    for (int i = 1; i <= 3000; ++i) nodes += ",{\"name\": \"c" + std::to_string(i) + "\", \"children\": [" + std::to_string(3000 + i) + "]}";
+    for (int i = 1; i <= 3000; ++i) nodes += ",{\"name\": \"m\", \"mesh\": 0}";
+    spit(p / "export.gltf", gltf_triangle({0, 1, 2}, nodes + "]"));
+    std::vector<std::string> strings = {"user_data", "..", "m"};
+    for (int i = 1; i <= 3000; ++i) strings.push_back("c" + std::to_string(i));
+    std::vector<User> users(8000);
+    for (size_t k = 0; k < users.size(); ++k) users[k].names = {1, uint32_t(3 + (k * 7919) % 3000), 2};
+    const std::string exr = godot_exr(p);
+    spit(p / "lm.lmbake", lmbake_bytes(strings, users));
+    inputs.push_back({"export-search", {"convert", exr, "--layout", "godot4-packed", "--godot-scene", (p / "export.gltf").string(),
+                                        "--allow-unplaced", "-o", (d / "o5.ktx2").string()}, "*"});
+  }
   // 2048 atlas pages of 2x2.
   {
     fs::create_directories(d / "pages");

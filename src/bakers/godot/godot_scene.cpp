@@ -116,7 +116,16 @@ struct Loader {
   // A path a project file (`file`) names, res:// or relative to its folder, kept inside the project:
   // "res://../x", an absolute path and a symlink leading out are refused with one error line
   // (docs/robustness-input.md "Reader input files").
+  // Resolved once per (path, folder): a scene instanced a million times asks a million times.
+  mutable std::map<std::pair<std::string, std::string>, std::string> resolved;
   std::string resolve(const std::string& res, const fs::path& from_dir, const std::string& file) const {
+    const auto key = std::make_pair(res, from_dir.string());
+    if (const auto it = resolved.find(key); it != resolved.end()) return it->second;
+    std::string r = resolve_once(res, from_dir, file);
+    resolved.emplace(key, r);
+    return r;
+  }
+  std::string resolve_once(const std::string& res, const fs::path& from_dir, const std::string& file) const {
     const bool is_res = res.rfind("res://", 0) == 0;
     if (!is_res && (fs::path(res).is_absolute() || res.find("://") != std::string::npos))
       throw file_error(file, "path '" + res + "' is outside the project (" + project.string() + ")");
@@ -170,6 +179,8 @@ struct Loader {
   }
   static constexpr size_t kMaxNodes = 1000000;
 
+  std::map<std::string, bool> exists_cache;  // instanced files, tested once each
+
   // Child-name comparisons made by find (the editor-export search is bounded by them).
   mutable uint64_t steps = 0;
 
@@ -219,7 +230,9 @@ struct Loader {
   int instance(const std::string& path, int parent, int depth) {
     std::string ext = fs::path(path).extension().string();
     for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-    if (!input_exists(path)) {
+    auto there = exists_cache.find(path);
+    if (there == exists_cache.end()) there = exists_cache.emplace(path, input_exists(path)).first;
+    if (!there->second) {
       missing.insert(path);
       const int id = add(fs::path(path).stem().string(), parent);
       nodes[size_t(id)].placeholder = true;
