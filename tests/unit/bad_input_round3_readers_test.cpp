@@ -672,3 +672,15 @@ TEST(BadInputRound3Readers, NearlyCollinearPrimariesAreNamedAsSuch) {
   const Matrix3 m = working_space_matrix(s, "x.exr");
   EXPECT_NEAR(m[0][0], 1.0, 1e-3);
 }
+
+// A symlink loop on a reader's path: std::filesystem threw past the readers ("internal error",
+// exit 2); now one line naming the file.
+TEST(BadInputRound3Readers, SymlinkLoopIsOneErrorLine) {
+  const fs::path d = ahd_test::temp_dir("r3r_loop");
+  fs::create_symlink(d / "b", d / "a");
+  fs::create_symlink(d / "a", d / "b");
+  const std::string mesh = (d / "a" / "m.gltf").string();
+  expect_file_error([&] { read_mesh_lightmap(mesh, 0); }, mesh, "symbolic links loop");
+  expect_file_error([&] { read_input_bytes(mesh, InputKind::kMesh); }, mesh, "cannot open");
+  fs::remove_all(d);
+}
