@@ -203,6 +203,9 @@ MeshTriangles godot_page_mesh(const BakeInput& a, int page, MeshReadInfo* mi, Pa
   note->placed = pm.placed.size();
   note->placed_of = " of " + std::to_string(g.users) + " lightmap users placed by " + g.lmbake;
   for (const std::string& o : pm.overlaps) a.notes += "placement: page " + std::to_string(page) + ": instances " + o + " overlap in the atlas\n";
+  if (pm.overlap_count > pm.overlaps.size())
+    a.notes += "placement: page " + std::to_string(page) + ": … and " + std::to_string(pm.overlap_count - pm.overlaps.size()) +
+               " more overlapping pair(s)\n";
   return std::move(pm.mesh);
 }
 
@@ -215,7 +218,7 @@ MeshTriangles page_mesh(const BakeInput& a, int page, MeshReadInfo* mi, PageMesh
     if (!a.allow_mismatch) {
       const PlacedMesh all = place_instances(scene, identity_placements(scene, page), page, a.mesh);
       if (!all.overlaps.empty())
-        throw file_error(a.mesh, std::to_string(all.overlaps.size()) + " pair(s) of instances overlap in UV set " +
+        throw file_error(a.mesh, std::to_string(all.overlap_count) + " pair(s) of instances overlap in UV set " +
                                      std::to_string(mi->uv_set) + " (first: " + all.overlaps.front() +
                                      ") and no placement was given: give --placement (JSON or the Unity scene), "
                                      "--godot-scene for a Godot project, or --allow-mismatch");
@@ -230,6 +233,11 @@ MeshTriangles page_mesh(const BakeInput& a, int page, MeshReadInfo* mi, PageMesh
   for (const std::string& o : pm.overlaps) {
     note->overlaps += ", overlap: " + o;
     a.notes += "placement: page " + std::to_string(page) + ": instances " + o + " overlap in the atlas\n";
+  }
+  if (pm.overlap_count > pm.overlaps.size()) {
+    const std::string more = std::to_string(pm.overlap_count - pm.overlaps.size()) + " more";
+    note->overlaps += ", overlap: … and " + more;
+    a.notes += "placement: page " + std::to_string(page) + ": … and " + more + " overlapping pair(s)\n";
   }
   return std::move(pm.mesh);
 }

@@ -11,6 +11,8 @@
 #include "core/error.h"
 #include "core/large_buffer.h"
 #include "core/parallel.h"
+#include "core/json_depth.h"
+#include "files/input_file.h"
 #include "files/input_record.h"
 #include "sh/sh.h"
 #include "core/json_number.h"
@@ -21,6 +23,10 @@
 
 namespace ahd {
 namespace fs = std::filesystem;
+
+// A preset's bounds: real ones list at most 9 files and nest 4 levels.
+constexpr size_t kMaxLayoutFiles = 64;
+constexpr size_t kMaxLayoutJsonDepth = 64;
 using nlohmann::json;
 
 // ---------------------------------------------------------------------------------------------
@@ -139,6 +145,9 @@ void parse_preset(const std::string& path, const json& j, LayoutPreset& p) {
   p.form = parse_form(path, j.value("form", "radiance"));
   if (p.form == LayoutForm::LinearOverPi && p.coeffs > 4) throw file_error(path, "linear_over_pi holds L0 and L1 only");
   for (const auto& jf : j.at("files")) p.files.push_back(parse_file(path, jf));
+  // Each entry is an image read whole: a preset cannot multiply one file into thousands of copies.
+  if (p.files.size() > kMaxLayoutFiles)
+    throw file_error(path, std::to_string(p.files.size()) + " files, at most " + std::to_string(kMaxLayoutFiles));
   const PresetParse pp{path, p};
   for (const auto& jc : j.at("coefficients")) p.coefficients.push_back(parse_coefficient(pp, jc));
   if (p.coefficients.empty() || int(p.coefficients.size()) > p.coeffs) throw file_error(path, "1..coeffs coefficients expected");
@@ -149,16 +158,18 @@ void parse_preset(const std::string& path, const json& j, LayoutPreset& p) {
 
 LayoutPreset load_layout(const std::string& name_or_path) {
   const std::string path = data_file_path("bakers", name_or_path);
-  std::ifstream f(path);
-  if (!f) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) {
     std::string known;
     for (const auto& n : list_layouts()) known += (known.empty() ? "" : ", ") + n;
     throw file_error(path, "unknown layout '" + name_or_path + "' (known: " + known + ")");
   }
-  note_input_file(path);
+  const std::string text = read_input_text(path, InputKind::kText);  // the opener (files/input_file.h)
+  if (json_nesting_depth(text.data(), text.size(), kMaxLayoutJsonDepth) > kMaxLayoutJsonDepth)
+    throw file_error(path, "malformed layout (JSON nested more than " + std::to_string(kMaxLayoutJsonDepth) + " levels deep)");
   LayoutPreset p;
   try {
-    const json j = json::parse(f);
+    const json j = json::parse(text);
     p.name = j.at("name").get<std::string>();
     p.description = j.value("description", "");
     p.canonical = j.value("reader", "") == "canonical";
@@ -209,7 +220,7 @@ int resolve_part(const LayoutFile& lf, const std::string& path, const ImageFileI
 SetImage open_image(const LayoutFile& lf, const std::string& base, const std::string& layout) {
   SetImage s;
   s.path = expand_pattern(lf.pattern, base);
-  if (!fs::exists(s.path)) throw file_error(s.path, "file not found (layout " + layout + " needs it)");
+  if (!input_exists(s.path)) throw file_error(s.path, "file not found (layout " + layout + " needs it)");
   ImageFileInfo info = read_image_info(s.path);
   s.part = resolve_part(lf, s.path, info);
   if (s.part != 0) info = read_image_info(s.path, s.part);
@@ -243,7 +254,15 @@ void check_channel(const std::vector<SetImage>& set, const LayoutSource& src, co
 // Every image of the set, checked from its header; no pixel is decoded yet.
 std::vector<SetImage> open_set(const LayoutPreset& layout, const std::string& base) {
   std::vector<SetImage> set;
-  for (const LayoutFile& lf : layout.files) set.push_back(open_image(lf, base, layout.name));
+  for (const LayoutFile& lf : layout.files) {
+    set.push_back(open_image(lf, base, layout.name));
+    // Each entry holds its decoded image: one file (and part) named twice would be held twice.
+    for (size_t k = 0; k + 1 < set.size(); ++k)
+      if (std::error_code ec; set[k].part == set.back().part &&
+                              (set[k].path == set.back().path || fs::equivalent(set[k].path, set.back().path, ec)))
+        throw file_error(set.back().path, "named twice by layout " + layout.name + " (files " + std::to_string(k) +
+                                              " and " + std::to_string(set.size() - 1) + "): each file is read once");
+  }
   check_sizes(set);
   for (const LayoutCoefficient& c : layout.coefficients) {
     for (const LayoutSource& src : c.source) check_channel(set, src, layout.name);

@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "core/error.h"
+#include "files/input_file.h"
 #include "bakers/godot/godot_import.h"
 #include "image/image_io.h"
 
@@ -39,6 +40,9 @@ void check_divides(const std::string& path, int64_t rows, int64_t pages, int64_t
   if (pages <= 0 || slices <= 0 || pages * slices > rows || rows % (pages * slices) != 0)
     throw file_error(path, n_str(rows) + " rows do not divide into " + n_str(pages) + " page(s) x " + n_str(slices) +
                                " layers (" + source + ")");
+  // Each page is a conversion of its own (a fixed cost each): 2048 pages of 2x2 took 150 s.
+  if (pages > kMaxAtlasPages)
+    throw file_error(path, n_str(pages) + " atlas pages (" + source + "), at most " + n_str(kMaxAtlasPages) + " are read");
 }
 
 }  // namespace
@@ -51,7 +55,7 @@ LayoutPages layout_pages(const LayoutPreset& layout, const std::string& input, i
   }
   const LayoutFile* lf = nullptr;
   const std::string path = paged_path(layout, layout_base(layout, input), &lf);
-  if (!fs::exists(path)) throw file_error(path, "file not found (layout " + layout.name + " needs it)");
+  if (!input_exists(path)) throw file_error(path, "file not found (layout " + layout.name + " needs it)");
   const ImageFileInfo info = read_image_info(path, lf->part);
   const int slices = lf->slices, rows = info.height;
   const GodotImport gi = read_godot_import(path);

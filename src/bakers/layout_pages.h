@@ -10,6 +10,10 @@
 
 namespace ahd {
 
+// The most atlas pages a set may hold (docs/robustness-input.md "Reader input files"): a real
+// bake has a handful; each page costs a conversion.
+constexpr int kMaxAtlasPages = 256;
+
 // Whether any file of the layout is per_page.
 bool layout_is_paged(const LayoutPreset& layout);
 

@@ -16,6 +16,7 @@
 
 #include "containers/sha256_stream.h"
 #include "core/error.h"
+#include "files/input_file.h"
 #include "files/input_record.h"
 
 namespace ahd {
@@ -33,21 +34,7 @@ std::string temp_path_for(const std::string& path) {
 }
 
 std::vector<uint8_t> read_file_bytes(const std::string& path, size_t max_bytes) {
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw file_error(path, "file not found");
-  // A device or pipe (/dev/zero) has no size to bound the read by: refused, not read forever.
-  if (!fs::is_regular_file(path, ec)) throw file_error(path, "not a regular file");
-  const auto size = fs::file_size(path, ec);
-  if (ec) throw file_error(path, "cannot read size (" + ec.message() + ")");
-  if (size > max_bytes)
-    throw file_error(path, "file too large (" + std::to_string(size) + " bytes, at most " + std::to_string(max_bytes) + " are read)");
-  std::ifstream f(path, std::ios::binary);
-  if (!f) throw file_error(path, "cannot open");
-  note_input_file(path);
-  std::vector<uint8_t> bytes(size);
-  f.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(size));
-  if (!f) throw file_error(path, "read failed");
-  return bytes;
+  return read_input_bytes(path, max_bytes);  // the one opener (files/input_file.h)
 }
 
 std::string read_text_file(const std::string& path, size_t max_bytes) {

@@ -135,6 +135,15 @@ M3 rgb_to_xyz(const float* c, const std::string& path) {
   if (!(c[7] > 1e-9f) || !(std::fabs(det(p)) > 1e-9))
     throw file_error(
         path, "declares degenerate chromaticities (collinear primaries or a white at y = 0): no matrix converts them");
+  // Nearly collinear primaries pass a determinant test yet give a matrix float arithmetic cannot
+  // apply (OpenColorIO's result then failed the 3x3 check with a misleading message): the gamut
+  // triangle must have some area in xy (Rec. 709's is 0.112; 1e-4 is 0.1 % of it).
+  const double area = 0.5 * std::fabs(double(c[0]) * (double(c[3]) - double(c[5])) +
+                                       double(c[2]) * (double(c[5]) - double(c[1])) +
+                                       double(c[4]) * (double(c[1]) - double(c[3])));
+  if (!(area >= 1e-4))
+    throw file_error(path, "declares nearly collinear primaries (gamut triangle area " + std::to_string(area) +
+                               " in xy): no matrix converts them; give the space with --input-space");
   const auto w = xyz_of(c[6], c[7]);
   const M3 inv = inverse(p);
   for (int i = 0; i < 3; ++i) {

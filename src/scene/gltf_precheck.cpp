@@ -2,6 +2,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cctype>
 #include <cstdint>
 #include <filesystem>
@@ -9,7 +10,8 @@
 
 #include "core/error.h"
 #include "core/json_depth.h"
-#include "files/file_io.h"
+#include "files/input_file.h"
+#include "scene/mesh_io.h"
 
 namespace ahd {
 namespace fs = std::filesystem;
@@ -34,7 +36,20 @@ void check_gltf_structure(const std::string& path) {
   std::string ext = fs::path(path).extension().string();
   for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
   if (ext != ".gltf" && ext != ".glb") return;
-  const std::vector<uint8_t> bytes = read_file_bytes(path, size_t(1) << 31);
+  const std::vector<uint8_t> bytes = read_input_bytes(path, InputKind::kMesh);
+  check_gltf_bytes(path, bytes, [](const std::string& f) -> int64_t {
+    std::error_code ec;
+    if (!fs::is_regular_file(f, ec)) return -1;
+    const auto n = fs::file_size(f, ec);
+    return ec ? -1 : int64_t(n);
+  });
+}
+
+void check_gltf_bytes(const std::string& path, const std::vector<uint8_t>& bytes,
+                      const std::function<int64_t(const std::string&)>& buffer_bytes) {
+  std::string ext = fs::path(path).extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  if (ext != ".gltf" && ext != ".glb") return;
   const char* json_text = reinterpret_cast<const char*>(bytes.data());
   size_t json_size = bytes.size();
   uint64_t bin_bytes = 0;
@@ -74,10 +89,9 @@ void check_gltf_structure(const std::string& path) {
         if (uri.rfind("data:", 0) == 0) {
           have = data_uri_bytes(uri);
         } else {
-          std::error_code ec;
-          const fs::path f = fs::path(path).parent_path() / uri;
-          have = fs::is_regular_file(f, ec) ? uint64_t(fs::file_size(f, ec)) : 0;
-          if (ec || !fs::is_regular_file(f, ec)) continue;  // missing: Assimp names it
+          const int64_t n = buffer_bytes((fs::path(path).parent_path() / uri).string());
+          if (n < 0) continue;  // missing: Assimp names it
+          have = uint64_t(n);
         }
       } else if (glb) {
         have = bin_bytes;
@@ -87,6 +101,74 @@ void check_gltf_structure(const std::string& path) {
       if (claimed > have)
         throw file_error(path, which + " claims " + std::to_string(claimed) + " bytes (byteLength) but its data has " +
                                    std::to_string(have));
+    }
+  }
+
+  // Accessors: elements bounded by the input's bytes (a sparse accessor needs no buffer view, so
+  // its count alone would size Assimp's allocation), sparse counts within the accessor.
+  uint64_t input_bytes = bytes.size();
+  if (j.contains("buffers") && j["buffers"].is_array())
+    for (const auto& b : j["buffers"])
+      if (b.is_object() && b.contains("byteLength") && b["byteLength"].is_number_unsigned())
+        input_bytes += std::min<uint64_t>(b["byteLength"].get<uint64_t>(), uint64_t(1) << 40);
+  const uint64_t max_accessor_bytes = 16 * input_bytes + (uint64_t(1) << 20);
+  std::vector<uint64_t> accessor_count;
+  if (j.contains("accessors") && j["accessors"].is_array()) {
+    size_t index = 0;
+    for (const auto& a : j["accessors"]) {
+      const std::string which = "accessor " + std::to_string(index++);
+      uint64_t count = 0;
+      if (a.is_object() && a.contains("count") && a["count"].is_number_unsigned()) count = a["count"].get<uint64_t>();
+      accessor_count.push_back(count);
+      if (!a.is_object()) continue;
+      uint64_t component = 4, components = 1;
+      if (a.contains("componentType") && a["componentType"].is_number_integer()) {
+        const int64_t t = a["componentType"].get<int64_t>();
+        component = t == 5120 || t == 5121 ? 1 : t == 5122 || t == 5123 ? 2 : 4;
+      }
+      if (a.contains("type") && a["type"].is_string()) {
+        const std::string t = a["type"].get<std::string>();
+        components = t == "VEC2" ? 2 : t == "VEC3" ? 3 : t == "VEC4" || t == "MAT2" ? 4 : t == "MAT3" ? 9 : t == "MAT4" ? 16 : 1;
+      }
+      if (count > max_accessor_bytes / (component * components))
+        throw file_error(path, which + " has " + std::to_string(count) + " elements, more than the file's " +
+                                   std::to_string(input_bytes) + " bytes can describe");
+      if (a.contains("sparse") && a["sparse"].is_object()) {
+        const auto& sp = a["sparse"];
+        const uint64_t n = sp.contains("count") && sp["count"].is_number_unsigned() ? sp["count"].get<uint64_t>() : 0;
+        if (n == 0 || n > count)
+          throw file_error(path, which + ": sparse count " + std::to_string(n) + " is not within its " +
+                                     std::to_string(count) + " elements");
+      }
+    }
+  }
+  // Instancing: every node holding a mesh is a copy of its primitives' vertices and indices.
+  if (j.contains("meshes") && j["meshes"].is_array() && j.contains("nodes") && j["nodes"].is_array()) {
+    std::vector<uint64_t> mesh_vertices, mesh_indices;
+    const auto count_of = [&](const nlohmann::json& ref) -> uint64_t {
+      if (!ref.is_number_unsigned() || ref.get<uint64_t>() >= accessor_count.size()) return 0;
+      return accessor_count[size_t(ref.get<uint64_t>())];
+    };
+    for (const auto& m : j["meshes"]) {
+      uint64_t v = 0, i = 0;
+      if (m.is_object() && m.contains("primitives") && m["primitives"].is_array())
+        for (const auto& p : m["primitives"]) {
+          if (!p.is_object()) continue;
+          if (p.contains("attributes") && p["attributes"].is_object() && p["attributes"].contains("POSITION"))
+            v += count_of(p["attributes"]["POSITION"]);
+          if (p.contains("indices")) i += count_of(p["indices"]);
+        }
+      mesh_vertices.push_back(v), mesh_indices.push_back(i);
+    }
+    uint64_t vertices = 0, indices = 0;
+    for (const auto& n : j["nodes"]) {
+      if (!n.is_object() || !n.contains("mesh") || !n["mesh"].is_number_unsigned()) continue;
+      const uint64_t m = n["mesh"].get<uint64_t>();
+      if (m >= mesh_vertices.size()) continue;  // Assimp names it
+      vertices += mesh_vertices[size_t(m)], indices += mesh_indices[size_t(m)];
+      if (vertices > kMaxSceneVertices || indices > kMaxSceneIndices)
+        throw file_error(path, "its nodes instance more than " + std::to_string(kMaxSceneVertices) + " vertices or " +
+                                   std::to_string(kMaxSceneIndices) + " indices in all (docs/robustness-input.md)");
     }
   }
 

@@ -4,7 +4,10 @@
 // nesting depth is known to be small, and the node graph is walked with an explicit stack.
 #pragma once
 #include <cstddef>
+#include <cstdint>
+#include <functional>
 #include <string>
+#include <vector>
 
 namespace ahd {
 
@@ -20,5 +23,15 @@ constexpr size_t kMaxGltfJsonDepth = 128;
 // file it names). Safe on untrusted input; reads the .gltf/.glb (bounded by read_file_bytes) and
 // only the sizes of external buffers. Other extensions: no check.
 void check_gltf_structure(const std::string& path);
+
+// The same checks on the file's bytes as read (`path` names it in messages and its extension picks
+// the check; other extensions: none). `buffer_bytes(p)` gives the size of the external buffer file
+// `p` (a path beside `path`), or −1 when it cannot be read (Assimp then names it). Also refuses an
+// accessor whose elements (count × element size) exceed 16 × the input's bytes + 1 MiB or whose
+// sparse count exceeds its count (a sparse accessor's count is otherwise unchecked: 1.4 KB asked
+// for 2.4 GB), and a scene whose nodes instance more than kMaxSceneVertices vertices or
+// kMaxSceneIndices indices in all (each node holding a mesh is a copy of it).
+void check_gltf_bytes(const std::string& path, const std::vector<uint8_t>& bytes,
+                      const std::function<int64_t(const std::string&)>& buffer_bytes);
 
 }  // namespace ahd

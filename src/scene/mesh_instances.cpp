@@ -15,6 +15,7 @@ struct Walk {
   const aiScene* scene;
   int set;
   MeshInstances* out;
+  const std::string* path;
 };
 
 void add_node(const Walk& w, const aiNode* node, const aiMatrix4x4& parent) {
@@ -30,7 +31,13 @@ void add_node(const Walk& w, const aiNode* node, const aiMatrix4x4& parent) {
     for (unsigned k = 0; k < node->mNumMeshes; ++k) {
       const aiMesh* mesh = w.scene->mMeshes[node->mMeshes[k]];
       if (!(mesh->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
+      // The merged read checked the file; this second read must see the same one.
+      if (!mesh->mTextureCoords[w.set]) throw file_error(*w.path, "changed while it was read (a UV set is gone)");
       const size_t base = t.positions.size() / 3;
+      // Each node is a copy of its meshes: the copies are bounded in all, not by the file's size.
+      if (base + mesh->mNumVertices > kMaxSceneVertices || t.indices.size() + size_t(mesh->mNumFaces) * 3 > kMaxSceneIndices)
+        throw file_error(*w.path, "its nodes instance more than " + std::to_string(kMaxSceneVertices) + " vertices or " +
+                                      std::to_string(kMaxSceneIndices) + " indices in all (docs/robustness-input.md)");
       for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
         const aiVector3D p = m * mesh->mVertices[v];
         t.positions.insert(t.positions.end(), {p.x, p.y, p.z});
@@ -46,7 +53,11 @@ void add_node(const Walk& w, const aiNode* node, const aiMatrix4x4& parent) {
       }
       for (unsigned f = 0; f < mesh->mNumFaces; ++f)
         if (mesh->mFaces[f].mNumIndices == 3)
-          for (unsigned c = 0; c < 3; ++c) t.indices.push_back(uint32_t(base + mesh->mFaces[f].mIndices[c]));
+          for (unsigned c = 0; c < 3; ++c) {
+            if (mesh->mFaces[f].mIndices[c] >= mesh->mNumVertices)
+              throw file_error(*w.path, "changed while it was read (a vertex index is out of range)");
+            t.indices.push_back(uint32_t(base + mesh->mFaces[f].mIndices[c]));
+          }
     }
     inst.vertices = t.positions.size() / 3 - inst.first_vertex;
     inst.indices = t.indices.size() - inst.first_index;
@@ -62,11 +73,9 @@ MeshInstances read_mesh_instances(const std::string& path, int uv_set, MeshReadI
   MeshReadInfo mi;
   read_mesh_lightmap(path, uv_set, &mi);
   Assimp::Importer importer;
-  record_assimp_reads(&importer);
-  const aiScene* scene = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_ValidateDataStructure);
-  if (!scene || !scene->mRootNode) throw file_error(path, "cannot read mesh nodes");
+  const aiScene* scene = import_mesh_file(&importer, path, aiProcess_Triangulate | aiProcess_ValidateDataStructure);
   MeshInstances out;
-  add_node({scene, mi.uv_set, &out}, scene->mRootNode, aiMatrix4x4());
+  add_node({scene, mi.uv_set, &out, &path}, scene->mRootNode, aiMatrix4x4());
   bool any_normals = false;
   for (unsigned m = 0; m < scene->mNumMeshes; ++m) any_normals = any_normals || scene->mMeshes[m]->HasNormals();
   if (!any_normals) out.mesh.normals.clear();

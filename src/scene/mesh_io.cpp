@@ -2,7 +2,8 @@
 
 #include <algorithm>
 #include <assimp/DefaultLogger.hpp>
-#include <assimp/DefaultIOSystem.h>
+#include <assimp/IOSystem.hpp>
+#include <assimp/MemoryIOWrapper.h>
 #include <assimp/Importer.hpp>
 #include <assimp/LogStream.hpp>
 #include <assimp/postprocess.h>
@@ -11,11 +12,13 @@
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
+#include <map>
 #include <mutex>
+#include <vector>
 
 #include "core/error.h"
 #include "scene/gltf_precheck.h"
-#include "files/input_record.h"
+#include "files/input_file.h"
 
 namespace ahd {
 namespace fs = std::filesystem;
@@ -42,28 +45,91 @@ struct DroppedFacesStream : Assimp::LogStream {
   }
 };
 
-// Assimp's logger is process-wide: one import at a time listens to it.
-std::mutex g_logger_mutex;
+// Assimp's logger is process-wide: every import holds this lock while it creates, uses and
+// destroys it (an import without the lock could log into a logger another thread just killed).
+std::mutex g_assimp_mutex;
 
 bool has_triangles(const aiMesh* m) { return (m->mPrimitiveTypes & aiPrimitiveType_TRIANGLE) != 0; }
 
-// Assimp's own file system with every file it opens noted (files/input_record.h): a .gltf pulls in its
-// .bin buffers, an .obj its .mtl, through here.
-class RecordingIOSystem : public Assimp::DefaultIOSystem {
+// Assimp's file system over the opener (files/input_file.h): each file it opens (the mesh, a
+// .gltf's .bin buffers, an .obj's .mtl) read once into memory, bounded, regular files only, noted
+// in the input record; Assimp parses those bytes.
+class BufferedIOSystem : public Assimp::IOSystem {
  public:
-  Assimp::IOStream* Open(const char* file, const char* mode) override {
-    Assimp::IOStream* s = DefaultIOSystem::Open(file, mode);
-    if (s && file) note_input_file(file);
-    return s;
+  // The bytes of `file`, read on first use. Throws ahd::Error.
+  const std::vector<uint8_t>& load(const std::string& file) {
+    auto it = files_.find(file);
+    if (it == files_.end()) it = files_.emplace(file, read_input_bytes(file, InputKind::kMesh)).first;
+    return it->second;
   }
+  bool Exists(const char* file) const override {
+    if (!file) return false;
+    if (files_.count(file)) return true;
+    std::error_code ec;
+    return fs::is_regular_file(file, ec);
+  }
+  char getOsSeparator() const override { return '/'; }
+  Assimp::IOStream* Open(const char* file, const char* mode) override {
+    if (!file || !mode || std::strchr(mode, 'w') || std::strchr(mode, 'a')) return nullptr;
+    try {
+      const std::vector<uint8_t>& b = load(file);
+      return new Assimp::MemoryIOStream(b.data(), b.size(), false);
+    } catch (const Error& e) {
+      if (error.empty()) error = e.what();
+      return nullptr;
+    }
+  }
+  void Close(Assimp::IOStream* stream) override { delete stream; }
+  std::string error;  // the first file that could not be read, for the message
+
+ private:
+  std::map<std::string, std::vector<uint8_t>> files_;
 };
 
 }  // namespace
 
-void record_assimp_reads(Assimp::Importer* importer) { importer->SetIOHandler(new RecordingIOSystem); }
+void record_assimp_reads(Assimp::Importer* importer) { importer->SetIOHandler(new BufferedIOSystem); }
+
+const std::vector<uint8_t>& imported_file_bytes(Assimp::Importer* importer, const std::string& path) {
+  auto* io = dynamic_cast<BufferedIOSystem*>(importer->GetIOHandler());
+  if (!io) throw file_error(path, "not imported through import_mesh_file");
+  return io->load(path);
+}
+
+const aiScene* import_mesh_file(Assimp::Importer* importer, const std::string& path, unsigned flags) {
+  auto* io = new BufferedIOSystem;
+  importer->SetIOHandler(io);  // owned by the importer
+  const std::vector<uint8_t>& bytes = io->load(path);
+  // Node depth, buffer sizes, accessor counts: refused before Assimp recurses through them (issue 26),
+  // from the bytes Assimp will parse.
+  check_gltf_bytes(path, bytes, [io](const std::string& f) -> int64_t {
+    try {
+      return int64_t(io->load(f).size());
+    } catch (const Error&) {
+      return -1;
+    }
+  });
+  const aiScene* scene = nullptr;
+  bool dropped_faces = false;
+  {
+    std::lock_guard<std::mutex> lock(g_assimp_mutex);
+    Assimp::DefaultLogger::create("", Assimp::Logger::NORMAL, 0);
+    auto* stream = new DroppedFacesStream;  // owned by the logger once attached
+    Assimp::DefaultLogger::get()->attachStream(stream, Assimp::Logger::Warn | Assimp::Logger::Err);
+    scene = importer->ReadFile(path, flags);
+    dropped_faces = stream->dropped;
+    Assimp::DefaultLogger::kill();
+  }
+  if (dropped_faces) throw file_error(path, "a vertex index is out of range (faces using it would be dropped)");
+  if (!scene || !scene->mRootNode) {
+    if (!io->error.empty()) throw Error(io->error);
+    throw file_error(path, "cannot read mesh (" + one_line(importer->GetErrorString()) + ")");
+  }
+  return scene;
+}
 
 MeshTriangles read_mesh_lightmap(const std::string& path, int uv_set, MeshReadInfo* info) {
-  if (!fs::exists(path)) throw file_error(path, "file not found");
+  if (!input_exists(path)) throw file_error(path, "file not found");
   std::string ext = fs::path(path).extension().string();
   for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
   // Only formats whose UV origin we know (the v-flip rule depends on it).
@@ -71,25 +137,11 @@ MeshTriangles read_mesh_lightmap(const std::string& path, int uv_set, MeshReadIn
     throw file_error(path, "unsupported mesh format '" + ext + "' (.gltf, .glb, .obj)");
   if (uv_set < -1) throw file_error(path, "UV set must be ≥ 0");
 
-  // Node depth, buffer sizes: refused before Assimp recurses through them (issue 26).
-  check_gltf_structure(path);
   Assimp::Importer importer;
-  record_assimp_reads(&importer);
   // No aiProcess_FlipUVs: Assimp already stores glTF's v as 1 − v, so both formats arrive v-up.
   // PreTransformVertices bakes node matrices into the vertices (normals by the inverse transpose).
-  const aiScene* scene = nullptr;
-  bool dropped_faces = false;
-  {
-    std::lock_guard<std::mutex> lock(g_logger_mutex);
-    Assimp::DefaultLogger::create("", Assimp::Logger::NORMAL, 0);
-    auto* stream = new DroppedFacesStream;  // owned by the logger once attached
-    Assimp::DefaultLogger::get()->attachStream(stream, Assimp::Logger::Warn | Assimp::Logger::Err);
-    scene = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_ValidateDataStructure);
-    dropped_faces = stream->dropped;
-    Assimp::DefaultLogger::kill();
-  }
-  if (dropped_faces) throw file_error(path, "a vertex index is out of range (faces using it would be dropped)");
-  if (!scene) throw file_error(path, "cannot read mesh (" + one_line(importer.GetErrorString()) + ")");
+  const aiScene* scene = import_mesh_file(
+      &importer, path, aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_ValidateDataStructure);
 
   // The scene's UV sets: the fewest and most any triangle mesh has.
   int fewest = AI_MAX_NUMBER_OF_TEXTURECOORDS + 1, most = 0, meshes = 0;

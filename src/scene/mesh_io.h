@@ -1,20 +1,41 @@
 // Meshes in (Assimp): the triangles, vertex normals and lightmap UVs a lightmap was baked on, for
 // mesh/lightmap_raster. The only place that touches mesh files.
 #pragma once
+#include <cstdint>
 #include <string>
 #include <vector>
 
 #include "scene/lightmap_raster.h"
 
+struct aiScene;
 namespace Assimp {
 class Importer;
 }
 
 namespace ahd {
 
-// Makes `importer` note every file it opens in the current input record (files/input_record.h); the
-// importer owns the handler. Every Assimp read of src/scene goes through an importer set up so.
+// The most vertices and indices a scene's instances hold in all (each placed copy of a mesh counts):
+// far above a real lightmapped scene, and about 0.5 GB of geometry in the copies made of them
+// (docs/robustness-input.md "Reader input files").
+constexpr size_t kMaxSceneVertices = size_t(1) << 22;
+constexpr size_t kMaxSceneIndices = size_t(1) << 24;
+
+// Makes `importer` read every file through the opener (files/input_file.h): the file and those it
+// pulls in (a .gltf's .bin, an .obj's .mtl) regular files only, bounded, read once into memory and
+// noted in the current input record (files/input_record.h). The importer owns the handler.
 void record_assimp_reads(Assimp::Importer* importer);
+
+// The one Assimp import of src/scene and src/bakers: `path` read once through the opener, a glTF
+// checked from those same bytes (scene/gltf_precheck.h: node depth, buffer sizes, accessor counts,
+// instanced geometry) and then parsed by Assimp from them, so a file swapped in between is never
+// seen. Assimp's process-wide logger is used under one lock for every import (it listens for the
+// glTF importer's dropped out-of-range faces, refused here as OBJ's are). Returns the scene, owned
+// by `importer`. Throws ahd::Error("<path>: <cause>"). Thread safe (imports are serialised).
+const aiScene* import_mesh_file(Assimp::Importer* importer, const std::string& path, unsigned flags);
+
+// The bytes import_mesh_file read for `path` into `importer` (no second read). Throws ahd::Error
+// when the importer was not set up by import_mesh_file or record_assimp_reads.
+const std::vector<uint8_t>& imported_file_bytes(Assimp::Importer* importer, const std::string& path);
 
 // What read_mesh_lightmap found, for messages and reports.
 struct MeshReadInfo {

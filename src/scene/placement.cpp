@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <set>
 
 #include "core/error.h"
 
@@ -38,11 +39,10 @@ PlacedMesh place_instances(const MeshInstances& scene, const std::vector<Placeme
         throw file_error(source, "placement of '" + p.node + "' needs a finite positive scale and a finite offset");
     by_node[p.node] = &p;
   }
-  for (const Placement& p : placements) {
-    const bool found = std::any_of(scene.instances.begin(), scene.instances.end(),
-                                   [&](const MeshInstance& i) { return i.node == p.node; });
-    if (!found) throw file_error(source, "places '" + p.node + "', which is no mesh instance (node) of the scene");
-  }
+  std::set<std::string> nodes;  // looked up once each, not placements × instances
+  for (const MeshInstance& i : scene.instances) nodes.insert(i.node);
+  for (const Placement& p : placements)
+    if (!nodes.count(p.node)) throw file_error(source, "places '" + p.node + "', which is no mesh instance (node) of the scene");
   PlacedMesh out;
   const MeshTriangles& m = scene.mesh;
   const bool normals = !m.normals.empty();
@@ -68,7 +68,8 @@ PlacedMesh place_instances(const MeshInstances& scene, const std::vector<Placeme
       out.mesh.indices.push_back(uint32_t(base + (m.indices[k] - inst.first_vertex)));
     const Rect r = uv_bounds(out.mesh, base, inst.vertices);
     for (size_t j = 0; j < rects.size(); ++j)
-      if (overlap(rects[j], r)) out.overlaps.push_back("'" + out.placed[j] + "' and '" + inst.node + "'");
+      if (overlap(rects[j], r) && out.overlap_count++ < kMaxListedOverlaps)
+        out.overlaps.push_back("'" + out.placed[j] + "' and '" + inst.node + "'");
     rects.push_back(r);
     out.placed.push_back(inst.node);
   }

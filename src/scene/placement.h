@@ -21,8 +21,12 @@ struct PlacedMesh {
   MeshTriangles mesh;                 // the page's instances, UVs in atlas space
   std::vector<std::string> placed;    // the instances on this page, in scene order
   std::vector<std::string> unplaced;  // instances no placement names (left out of every page)
-  std::vector<std::string> overlaps;  // "A and B" for instances whose rectangles overlap on this page
+  std::vector<std::string> overlaps;  // "A and B" for the first kMaxListedOverlaps overlapping pairs on this page
+  size_t overlap_count = 0;           // every overlapping pair, counted (pairs grow as instances²: not listed)
 };
+
+// The overlapping pairs place_instances names (the rest are counted).
+constexpr size_t kMaxListedOverlaps = 20;
 
 // The instances of `scene` that `placements` put on `page`, their UVs transformed. Throws
 // ahd::Error when a placement has a non-finite or non-positive scale, or names a node the scene

@@ -67,6 +67,7 @@ std::vector<Placement> read_unity(const std::string& path, std::istream& in) {
   std::vector<Renderer> renderers;
   std::string line, cls, id;
   while (std::getline(in, line)) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();  // CRLF line ends (a scene saved on Windows)
     if (line.rfind("--- !u!", 0) == 0) {
       std::istringstream h(line.substr(7));
       h >> cls >> id;

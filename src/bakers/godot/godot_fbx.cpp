@@ -12,6 +12,7 @@
 #include <set>
 
 #include "core/error.h"
+#include "scene/mesh_io.h"
 
 namespace ahd {
 
@@ -168,8 +169,8 @@ GodotFbxScene read_godot_fbx(const std::string& path) {
   // Pivots folded into each node's transform (Godot: ufbx's ADJUST_TO_PIVOT), no helper nodes.
   importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_PRESERVE_PIVOTS, false);
   // Faces kept as the file has them: they are triangulated as ufbx does (face_triangles).
-  const aiScene* sc = importer.ReadFile(path, aiProcess_ValidateDataStructure);
-  if (!sc || !sc->mRootNode) throw file_error(path, "cannot read FBX (" + std::string(importer.GetErrorString()) + ")");
+  // Through the one Assimp import (scene/mesh_io.h): read once, bounded, Assimp's logger locked.
+  const aiScene* sc = import_mesh_file(&importer, path, aiProcess_ValidateDataStructure);
   GodotFbxScene out;
   const Conversion c = conversion(sc, &out.mirrored);
   out.unit_scale = c.s;

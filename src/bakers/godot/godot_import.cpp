@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "files/input_file.h"
 #include "files/input_record.h"
 
 namespace ahd {
@@ -41,9 +42,7 @@ GodotImport read_godot_import(const std::string& exr_path) {
   GodotImport gi;
   const std::string path = exr_path + ".import";
   if (!probe_regular_file(path)) return gi;  // absent: a fact the conversion depends on, too
-  std::ifstream f(path);
-  if (!f) return gi;
-  note_input_file(path);
+  std::istringstream f(read_input_text(path, InputKind::kSceneText));  // the opener (files/input_file.h)
   gi.found = true;
   std::string line, section;
   while (std::getline(f, line)) {
@@ -68,8 +67,7 @@ std::string godot_project_version(const std::string& path, std::string* project_
   for (int up = 0; up < 32 && !dir.empty(); ++up) {
     const fs::path p = dir / "project.godot";
     if (probe_input_file(p.string())) {
-      std::ifstream f(p);
-      if (f) note_input_file(p.string());
+      std::istringstream f(read_input_text(p.string(), InputKind::kSceneText));
       std::string line;
       while (std::getline(f, line)) {
         // config/features=PackedStringArray("4.2", "Forward Plus")
@@ -97,10 +95,9 @@ int godot_version_packs_l1(const std::string& version) {
 std::vector<std::string> godot_resource_names(const std::string& path) {
   std::vector<std::string> names;
   if (!probe_regular_file(path)) return names;
-  std::ifstream f(path, std::ios::binary);
+  std::istringstream f(read_input_text(path, InputKind::kLmbake));
   char magic[4] = {};
-  if (f) note_input_file(path);
-  if (!f || !f.read(magic, 4) || std::string(magic, 4) != "RSRC") return names;
+  if (!f.read(magic, 4) || std::string(magic, 4) != "RSRC") return names;
   // Property names are stored as length-prefixed identifiers; collecting the printable runs of
   // identifier characters finds them without decoding the resource's values.
   std::string run;

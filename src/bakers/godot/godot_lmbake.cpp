@@ -1,10 +1,12 @@
 #include "bakers/godot/godot_lmbake.h"
 
+#include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <iterator>
 
 #include "core/error.h"
+#include "files/input_file.h"
 
 namespace ahd {
 
@@ -89,6 +91,9 @@ struct Parser {
   Reader& r;
   std::vector<std::string> strings;
   bool real64 = false;
+  // Bytes copied out of the string table: a 4-byte reference can name a long string, and a
+  // NodePath of 65 535 such references per user asked for 13 GB from 462 KB. Bounded by the file.
+  uint64_t copied = 0, budget = 0;
 
   // A string by its table index, or inline when the top bit is set (_get_string).
   std::string name() {
@@ -101,6 +106,9 @@ struct Parser {
       return s;
     }
     if (id >= strings.size()) r.fail("string index " + std::to_string(id) + " outside the table");
+    copied += strings[id].size() + 1;
+    if (copied > budget)
+      r.fail("its string references copy more than " + std::to_string(budget) + " bytes (16 × the file + 1 MiB)");
     return strings[id];
   }
 
@@ -213,6 +221,7 @@ GodotLightmapData parse_godot_lmbake(const uint8_t* data, size_t size, const std
   r.u64();  // import metadata offset
   const uint32_t flags = r.u32();
   Parser p{r, {}, real64_header || (flags & 4u)};
+  p.budget = 16 * uint64_t(size) + (uint64_t(1) << 20);
   r.u64();                           // uid: always stored, meaningful when flags has FORMAT_FLAG_UIDS (2)
   if (flags & 8u) r.str();           // script class
   r.take(11 * 4);                    // reserved fields
@@ -251,9 +260,13 @@ GodotLightmapData parse_godot_lmbake(const uint8_t* data, size_t size, const std
       GodotLightmapUser u;
       u.path = t[0].text;
       for (int c = 0; c < 4; ++c) u.rect[c] = t[1].num[c];
-      u.slice = int(t[2].num[0]);
-      u.sub_instance = int(t[3].num[0]);
-      if (u.slice < 0 || u.slice > 2047) throw file_error(source, "user '" + u.path + "' has slice " + std::to_string(u.slice));
+      // Range-checked as int64 before the cast (a 64-bit slice of 2^40 made the cast undefined).
+      if (t[2].i64 < 0 || t[2].i64 > 2047)
+        throw file_error(source, "user '" + u.path + "' has slice " + std::to_string(t[2].i64));
+      if (t[3].i64 < INT32_MIN || t[3].i64 > INT32_MAX)
+        throw file_error(source, "user '" + u.path + "' has sub-instance " + std::to_string(t[3].i64));
+      u.slice = int(t[2].i64);
+      u.sub_instance = int(t[3].i64);
       out.users.push_back(u);
     }
   }
@@ -282,6 +295,7 @@ GodotBinaryResource parse_godot_binary_resource(const uint8_t* data, size_t size
   // reserved zeros; Godot 4 writes the uid field whether or not the UID flag is set).
   const uint32_t flags = r.u32();
   Parser p{r, {}, real64_header || (flags & 4u)};
+  p.budget = 16 * uint64_t(size) + (uint64_t(1) << 20);
   r.u64();                  // uid
   if (flags & 8u) r.str();  // script class
   r.take(11 * 4);           // reserved fields
@@ -313,9 +327,7 @@ GodotBinaryResource parse_godot_binary_resource(const uint8_t* data, size_t size
 }
 
 GodotLightmapData read_godot_lmbake(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) throw file_error(path, "file not found");
-  const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  const std::vector<uint8_t> bytes = read_input_bytes(path, InputKind::kLmbake);
   return parse_godot_lmbake(bytes.data(), bytes.size(), path);
 }
 

@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <set>
 #include <sstream>
 
@@ -21,6 +22,7 @@
 #include "bakers/godot/godot_unwrap_key.h"
 #include "core/error.h"
 #include "bakers/godot/godot_lmbake.h"
+#include "files/input_file.h"
 #include "files/input_record.h"
 #include "scene/mesh_io.h"
 #include "bakers/godot/godot_tscn.h"
@@ -67,27 +69,22 @@ std::string godot_node_name(std::string s) {
   return s;
 }
 
-std::string read_text(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) throw file_error(path, "file not found");
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
+// Scene text (.tscn, .tres, project.godot, .import, .obj) through the opener (files/input_file.h).
+std::string read_text(const std::string& path) { return read_input_text(path, InputKind::kSceneText); }
 
-// Whether a .glb/.gltf declares the extension GODOT_single_root (Godot's own glTF export): its
-// JSON's "extensionsUsed". False for a file that cannot be read as such (Assimp reports those).
-bool gltf_single_root(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-  std::string json = bytes;
-  if (bytes.size() >= 20 && bytes.compare(0, 4, "glTF") == 0) {  // GLB: header, then the JSON chunk
+// Whether a .glb/.gltf (`bytes`, the file Assimp parsed) declares the extension GODOT_single_root
+// (Godot's own glTF export): its JSON's "extensionsUsed". False for a file that cannot be read as
+// such (Assimp reports those).
+bool gltf_single_root(const std::vector<uint8_t>& bytes) {
+  const char* json = reinterpret_cast<const char*>(bytes.data());
+  size_t json_size = bytes.size();
+  if (bytes.size() >= 20 && std::memcmp(json, "glTF", 4) == 0) {  // GLB: header, then the JSON chunk
     uint32_t len = 0;
     std::memcpy(&len, bytes.data() + 12, 4);
-    if (bytes.compare(16, 4, "JSON") != 0 || len > bytes.size() - 20) return false;
-    json = bytes.substr(20, len);
+    if (std::memcmp(json + 16, "JSON", 4) != 0 || len > bytes.size() - 20) return false;
+    json += 20, json_size = len;
   }
-  const nlohmann::json j = nlohmann::json::parse(json, nullptr, false);
+  const nlohmann::json j = nlohmann::json::parse(json, json + json_size, nullptr, false);
   if (j.is_discarded() || !j.is_object() || !j.contains("extensionsUsed") || !j["extensionsUsed"].is_array())
     return false;
   for (const auto& e : j["extensionsUsed"])
@@ -97,7 +94,9 @@ bool gltf_single_root(const std::string& path) {
 
 // [params] key of a Godot .import file, "" when absent.
 std::string import_param(const std::string& import_file, const std::string& key) {
-  std::ifstream f(import_file);
+  std::error_code ec;
+  if (!fs::exists(import_file, ec)) return "";
+  std::istringstream f(read_input_text(import_file, InputKind::kSceneText));
   std::string line;
   bool params = false;
   while (std::getline(f, line)) {
@@ -115,9 +114,76 @@ struct Loader {
   std::set<std::string> missing;
   std::vector<std::string> stack;  // scenes being instanced (cycles)
 
-  std::string resolve(const std::string& res, const fs::path& from_dir) const {
-    return shortest((res.rfind("res://", 0) == 0 ? project / res.substr(6) : from_dir / res).lexically_normal());
+  // A path a project file (`file`) names, res:// or relative to its folder, kept inside the project:
+  // "res://../x", an absolute path and a symlink leading out are refused with one error line
+  // (docs/robustness-input.md "Reader input files").
+  // Resolved once per (path, folder): a scene instanced a million times asks a million times.
+  mutable std::map<std::pair<std::string, std::string>, std::string> resolved;
+  std::string resolve(const std::string& res, const fs::path& from_dir, const std::string& file) const {
+    const auto key = std::make_pair(res, from_dir.string());
+    if (const auto it = resolved.find(key); it != resolved.end()) return it->second;
+    std::string r = resolve_once(res, from_dir, file);
+    resolved.emplace(key, r);
+    return r;
   }
+  std::string resolve_once(const std::string& res, const fs::path& from_dir, const std::string& file) const {
+    const bool is_res = res.rfind("res://", 0) == 0;
+    if (!is_res && (fs::path(res).is_absolute() || res.find("://") != std::string::npos))
+      throw file_error(file, "path '" + res + "' is outside the project (" + project.string() + ")");
+    const fs::path p = (is_res ? project / res.substr(6) : from_dir / res).lexically_normal();
+    std::error_code ec;
+    const fs::path root = fs::absolute(project, ec).lexically_normal();
+    const fs::path rel = fs::absolute(p, ec).lexically_normal().lexically_relative(root);
+    bool inside = !ec && !rel.empty() && *rel.begin() != "..";
+    if (inside && fs::exists(fs::symlink_status(p, ec)) && fs::exists(p, ec)) {  // symlinks resolved
+      const fs::path c = fs::canonical(p, ec), croot = fs::canonical(project, ec);
+      const fs::path crel = c.lexically_relative(croot);
+      inside = !ec && !crel.empty() && *crel.begin() != "..";
+    }
+    if (!inside) throw file_error(file, "path '" + res + "' leads outside the project (" + project.string() + ")");
+    return shortest(p);
+  }
+
+  // Each file once in `files`, in the order first read (a scene instanced 10 000 times is one file).
+  std::set<std::string> listed;
+  void add_file(const std::string& f) {
+    if (listed.insert(f).second) files.push_back(f);
+  }
+
+  // Each scene parsed once however often it is instanced.
+  std::map<std::string, std::shared_ptr<const GodotTscn>> parsed;
+  const GodotTscn& parsed_scene(const std::string& path) {
+    auto it = parsed.find(path);
+    if (it == parsed.end())
+      it = parsed.emplace(path, std::make_shared<const GodotTscn>(parse_godot_tscn(read_text(path), path))).first;
+    return *it->second;
+  }
+
+  // Each mesh file (.glb, .gltf, .fbx) imported once: the nodes its first instance made, replayed
+  // for later instances (their geometry shared by index, not copied).
+  std::map<std::string, std::vector<Node>> file_nodes;
+  void keep_nodes(const std::string& path, int root) {
+    std::vector<Node> t(nodes.begin() + root, nodes.end());
+    for (size_t k = 0; k < t.size(); ++k) t[k].parent = k == 0 ? -1 : t[k].parent - root, t[k].children.clear();
+    file_nodes.emplace(path, std::move(t));
+  }
+  int replay_nodes(const std::vector<Node>& t, int parent) {
+    if (nodes.size() + t.size() > kMaxNodes) throw Error("Godot scene: more than a million nodes");
+    const int base = int(nodes.size());
+    for (size_t k = 0; k < t.size(); ++k) {
+      Node n = t[k];
+      n.parent = k == 0 ? parent : base + n.parent;
+      nodes.push_back(std::move(n));
+      if (nodes.back().parent >= 0) nodes[size_t(nodes.back().parent)].children.push_back(int(nodes.size() - 1));
+    }
+    return base;
+  }
+  static constexpr size_t kMaxNodes = 1000000;
+
+  std::map<std::string, bool> exists_cache;  // instanced files, tested once each
+
+  // Child-name comparisons made by find (the editor-export search is bounded by them).
+  mutable uint64_t steps = 0;
 
   // A relative path that climbs out of the working folder ("../scenes/a.tscn" seen from scenes/)
   // spelt from the working folder ("a.tscn"); any other path as it is.
@@ -131,7 +197,7 @@ struct Loader {
   }
 
   int add(const std::string& name, int parent) {
-    if (nodes.size() > 1000000) throw Error("Godot scene: more than a million nodes");
+    if (nodes.size() > kMaxNodes) throw Error("Godot scene: more than a million nodes");
     Node n;
     n.name = name;
     n.parent = parent;
@@ -142,6 +208,7 @@ struct Loader {
   }
 
   int child(int parent, const std::string& name) const {
+    steps += nodes[size_t(parent)].children.size() + 1;
     for (int c : nodes[size_t(parent)].children)
       if (nodes[size_t(c)].name == name) return c;
     return -1;
@@ -164,15 +231,22 @@ struct Loader {
   int instance(const std::string& path, int parent, int depth) {
     std::string ext = fs::path(path).extension().string();
     for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-    if (!fs::exists(path)) {
+    auto there = exists_cache.find(path);
+    if (there == exists_cache.end()) there = exists_cache.emplace(path, input_exists(path)).first;
+    if (!there->second) {
       missing.insert(path);
       const int id = add(fs::path(path).stem().string(), parent);
       nodes[size_t(id)].placeholder = true;
       return id;
     }
     if (ext == ".tscn") return scene(path, parent, depth + 1);
-    if (ext == ".glb" || ext == ".gltf") return mesh_file(path, parent);
-    if (ext == ".fbx") return fbx_file(path, parent);
+    if (ext == ".glb" || ext == ".gltf" || ext == ".fbx") {
+      const auto it = file_nodes.find(path);
+      if (it != file_nodes.end()) return replay_nodes(it->second, parent);
+      const int root = ext == ".fbx" ? fbx_file(path, parent) : mesh_file(path, parent);
+      keep_nodes(path, root);
+      return root;
+    }
     notes.push_back(
         path + ": " + ext + " instances are not read (.tscn, .glb, .gltf, .fbx are): " +
         (ext == ".scn"
@@ -188,13 +262,13 @@ struct Loader {
     for (const std::string& s : stack)
       if (s == path) throw file_error(path, "instances itself (a cycle of scenes)");
     stack.push_back(path);
-    files.push_back(path);
-    const GodotTscn t = parse_godot_tscn(read_text(path), path);
+    add_file(path);
+    const GodotTscn& t = parsed_scene(path);
     const fs::path dir = fs::path(path).parent_path();
     const auto ext_path = [&](const std::string& id) {
       const GodotTscnExt* e = t.find_ext(id);
       if (!e) throw file_error(path, "instance of ExtResource(\"" + id + "\"), which the scene does not declare");
-      return resolve(e->path, dir);
+      return resolve(e->path, dir, path);
     };
     int root = -1;
     for (const GodotTscnNode& tn : t.nodes) {
@@ -234,7 +308,7 @@ struct Loader {
       sub = t.find_sub(tn.mesh_sub);
       key = path + "|" + tn.mesh_sub;
     } else if (const GodotTscnExt* e = t.find_ext(tn.mesh_ext)) {
-      file = resolve(e->path, dir);
+      file = resolve(e->path, dir, path);
       key = file;
     }
     auto it = resource_meshes.find(key);
@@ -251,12 +325,12 @@ struct Loader {
         if (sub) {
           m = godot_sub_resource_mesh(*sub, path, primitive_texel_size());
         } else {
-          if (!fs::exists(file)) throw file_error(file, "mesh resource not in the project");
+          if (!input_exists(file)) throw file_error(file, "mesh resource not in the project");
           std::string mext = fs::path(file).extension().string();
           for (char& c : mext) c = char(std::tolower(static_cast<unsigned char>(c)));
-          files.push_back(file);
+          add_file(file);
           if (mext == ".obj") r.first = obj_geometry(file);  // Godot's OBJ importer's mesh, UV2 from its cache
-          else m = godot_mesh_resource_bytes(read_text(file), file, primitive_texel_size());
+          else m = godot_mesh_resource_bytes(read_input_text(file, InputKind::kMesh), file, primitive_texel_size());
         }
         if (r.first < 0) {
           const size_t verts = m.positions.size() / 3;
@@ -283,7 +357,7 @@ struct Loader {
   // ahd::Error with the reason when there is none.
   int obj_geometry(const std::string& file) {
     const std::string import_file = file + ".import";
-    if (fs::exists(import_file)) files.push_back(import_file);
+    if (input_exists(import_file)) add_file(import_file);
     if (import_param(import_file, "generate_lightmap_uv2") != "true")
       throw file_error(file, "imported without Generate Lightmap UV2 (generate_lightmap_uv2 in " +
                                  fs::path(import_file).filename().string() + "): the mesh has no lightmap UVs");
@@ -302,9 +376,9 @@ struct Loader {
     const GodotObjMesh o = parse_godot_obj_mesh(read_text(file), file, scale, offset);
     UnwrapFile uf;
     uf.path = file, uf.cache_file = file + ".unwrap_cache", uf.gen_uv2 = true;
-    if (fs::exists(uf.cache_file)) {
+    if (input_exists(uf.cache_file)) {
       uf.cache = read_godot_unwrap_cache(uf.cache_file);
-      files.push_back(uf.cache_file);
+      add_file(uf.cache_file);
     }
     uf.texel = std::max(0.001f, import_float(import_file, "generate_lightmap_uv2_texel_size", 0.2f));
     MeshGroup g;
@@ -336,7 +410,7 @@ struct Loader {
     const fs::path settings = project / "project.godot";
     std::error_code ec;
     if (fs::is_regular_file(settings, ec)) {
-      files.push_back(settings.string());
+      add_file(settings.string());
       texel_size = godot_primitive_texel_size(read_text(settings.string()));
     }
     return texel_size;
@@ -366,19 +440,18 @@ struct Loader {
   // A .glb/.gltf as Godot imports it: a node named after the file holding the glTF root nodes;
   // meshes get their lightmap UVs from the unwrap cache (light_baking=2) or TEXCOORD_1.
   int mesh_file(const std::string& path, int parent) {
-    files.push_back(path);
+    add_file(path);
     Assimp::Importer importer;
-    record_assimp_reads(&importer);  // a .gltf's .bin buffers reach the depfile and the key (issue 44)
-    // No JoinIdenticalVertices: the unwrap cache indexes the accessor's vertices as stored.
-    const aiScene* sc = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_ValidateDataStructure);
-    if (!sc || !sc->mRootNode) throw file_error(path, "cannot read mesh (" + std::string(importer.GetErrorString()) + ")");
+    // No JoinIdenticalVertices: the unwrap cache indexes the accessor's vertices as stored. The
+    // import reads the file once, checks it as --mesh does (scene/mesh_io.h) and parses those bytes.
+    const aiScene* sc = import_mesh_file(&importer, path, aiProcess_Triangulate | aiProcess_ValidateDataStructure);
     const std::string import_file = path + ".import", cache_file = path + ".unwrap_cache";
     const bool gen_uv2 = import_param(import_file, "meshes/light_baking") == "2";
-    if (fs::exists(import_file)) files.push_back(import_file);
+    if (input_exists(import_file)) add_file(import_file);
     std::vector<GodotUnwrapEntry> cache;
-    if (gen_uv2 && fs::exists(cache_file)) {
+    if (gen_uv2 && input_exists(cache_file)) {
       cache = read_godot_unwrap_cache(cache_file);
-      files.push_back(cache_file);
+      add_file(cache_file);
     }
     const int root = add(fs::path(path).stem().string(), parent);
     // Assimp's root is the glTF scene's only root node, or a synthetic "ROOT" above several.
@@ -388,7 +461,7 @@ struct Loader {
     std::vector<std::pair<const aiNode*, int>> with_mesh;
     if (synthetic) {
       for (unsigned c = 0; c < top->mNumChildren; ++c) todo.push_back({top->mChildren[c], root});
-    } else if (gltf_single_root(path)) {
+    } else if (gltf_single_root(imported_file_bytes(&importer, path))) {
       // A file Godot exported (extension GODOT_single_root): its one root node is the scene's root
       // itself, not a child of a node named after the file (modules/gltf/gltf_document.cpp,
       // _generate_scene_node_tree; modules/gltf/structures/gltf_node.cpp leaves it out of paths).
@@ -437,9 +510,9 @@ struct Loader {
   // the file holding the file's root nodes; meshes get their lightmap UVs from the unwrap cache
   // (light_baking=2) or the file's second UV set.
   int fbx_file(const std::string& path, int parent) {
-    files.push_back(path);
+    add_file(path);
     const std::string import_file = path + ".import", cache_file = path + ".unwrap_cache";
-    if (fs::exists(import_file)) files.push_back(import_file);
+    if (input_exists(import_file)) add_file(import_file);
     const int root = add(fs::path(path).stem().string(), parent);
     // fbx/importer = 1 (editor/import/3d/resource_importer_scene.cpp, modules/fbx): the file went
     // through the external FBX2glTF converter, whose output is not reproduced here.
@@ -454,9 +527,9 @@ struct Loader {
     const bool gen_uv2 = import_param(import_file, "meshes/light_baking") == "2";
     UnwrapFile uf;
     uf.path = path, uf.cache_file = cache_file, uf.gen_uv2 = gen_uv2;
-    if (gen_uv2 && fs::exists(cache_file)) {
+    if (gen_uv2 && input_exists(cache_file)) {
       uf.cache = read_godot_unwrap_cache(cache_file);
-      files.push_back(cache_file);
+      add_file(cache_file);
     }
     uf.texel = std::max(0.001f, import_float(import_file, "meshes/lightmap_texel_size", 0.2f));
     const float root_scale = import_float(import_file, "nodes/root_scale", 1.0f);
@@ -785,7 +858,7 @@ GodotSceneMeshes place_users(Loader& L, const std::string& lmbake, const GodotLi
                              const Resolve& resolve) {
   GodotSceneMeshes out;
   out.lmbake = lmbake;
-  L.files.push_back(lmbake);
+  L.add_file(lmbake);
   out.users = int(data.users.size());
   int no_node = 0, no_mesh = 0, grid = 0;
   std::vector<std::string> left_out;  // instance by instance: which user and why
@@ -807,7 +880,9 @@ GodotSceneMeshes place_users(Loader& L, const std::string& lmbake, const GodotLi
       ++no_node;
       // The deepest node of the path that is there says why the rest is not (a missing or unread file).
       std::string why = "its node is not in the scene";
-      for (size_t cut = u.path.rfind('/'); cut != std::string::npos && cut > 0; cut = u.path.rfind('/', cut - 1)) {
+      int tries = 0;  // the 32 deepest parents: a path of thousands of steps costs no more
+      for (size_t cut = u.path.rfind('/'); cut != std::string::npos && cut > 0 && tries++ < 32;
+           cut = u.path.rfind('/', cut - 1)) {
         const int at = resolve(u.path.substr(0, cut));
         if (at < 0) continue;
         const Node& a = L.nodes[size_t(at)];
@@ -829,6 +904,12 @@ GodotSceneMeshes place_users(Loader& L, const std::string& lmbake, const GodotLi
       unplaced(u, u.path, why);
       continue;
     }
+    // Each user is a copy of its node's geometry: the copies are bounded in all (scene/mesh_io.h).
+    const MeshTriangles& g = L.geometry[size_t(n.geometry)].mesh;
+    if (out.scene.mesh.positions.size() / 3 + g.positions.size() / 3 > kMaxSceneVertices ||
+        out.scene.mesh.indices.size() + g.indices.size() > kMaxSceneIndices)
+      throw file_error(lmbake, "its users place more than " + std::to_string(kMaxSceneVertices) + " vertices or " +
+                                   std::to_string(kMaxSceneIndices) + " indices in all (docs/robustness-input.md)");
     MeshInstance inst;
     inst.node = u.path;
     inst.first_vertex = out.scene.mesh.positions.size() / 3;
@@ -871,17 +952,18 @@ GodotSceneMeshes place_users(Loader& L, const std::string& lmbake, const GodotLi
 GodotSceneMeshes load_godot_scene(const std::string& tscn, const std::string& lmbake_override) {
   Loader L;
   L.project = project_root(tscn);
-  const int root = L.scene(fs::path(tscn).lexically_normal().string(), -1, 0);
+  const std::string top_path = fs::path(tscn).lexically_normal().string();
+  const int root = L.scene(top_path, -1, 0);
 
   // The LightmapGI node of the top scene (its light_data names the .lmbake).
-  const GodotTscn top = parse_godot_tscn(read_text(tscn), tscn);
+  const GodotTscn& top = L.parsed_scene(top_path);
   int gi = -1;
   std::string lmbake = lmbake_override;
   for (const GodotTscnNode& tn : top.nodes) {
     if (tn.type != "LightmapGI") continue;
     gi = tn.has_parent ? L.find(root, tn.parent == "." ? tn.name : tn.parent + "/" + tn.name) : root;
     if (lmbake.empty() && !tn.light_data.empty())
-      if (const GodotTscnExt* e = top.find_ext(tn.light_data)) lmbake = L.resolve(e->path, fs::path(tscn).parent_path());
+      if (const GodotTscnExt* e = top.find_ext(tn.light_data)) lmbake = L.resolve(e->path, fs::path(tscn).parent_path(), tscn);
     break;
   }
   if (gi < 0) throw file_error(tscn, "no LightmapGI node: not the scene that was baked (give the scene holding the LightmapGI)");
@@ -889,6 +971,10 @@ GodotSceneMeshes load_godot_scene(const std::string& tscn, const std::string& lm
 
   return place_users(L, lmbake, read_godot_lmbake(lmbake), tscn, [&](const std::string& path) { return L.find(gi, path); });
 }
+
+// The node-name comparisons the editor-export search may make (about a second): the search tries
+// every node as the users' parent, so it grows as nodes × users × path steps.
+constexpr uint64_t kMaxPlacementSteps = 200000000;
 
 GodotSceneMeshes load_godot_export(const std::string& gltf, const std::string& lmbake) {
   Loader L;
@@ -904,13 +990,31 @@ GodotSceneMeshes load_godot_export(const std::string& gltf, const std::string& l
   if (double(L.nodes.size()) * double(data.users.size()) > 5e7)
     throw file_error(gltf, "too many nodes (" + std::to_string(L.nodes.size()) + ") for the .lmbake's " +
                                std::to_string(data.users.size()) + " users to be placed by name");
+  // Each user's path split once (the search below tries it from every node).
+  std::vector<std::vector<std::string>> user_steps(data.users.size());
+  for (size_t k = 0; k < data.users.size(); ++k) {
+    const std::string& path = data.users[k].path;
+    std::stringstream ss(path.rfind("../", 0) == 0 ? path.substr(3) : path);
+    for (std::string step; std::getline(ss, step, '/');)
+      if (step != "." && !step.empty()) user_steps[k].push_back(step);
+  }
+  const auto find_steps = [&L](int at, const std::vector<std::string>& steps) {
+    for (size_t k = 0; k < steps.size() && at >= 0; ++k) {
+      ++L.steps;
+      at = steps[k] == ".." ? L.nodes[size_t(at)].parent : L.child(at, steps[k]);
+    }
+    return at;
+  };
   int best = -1, best_found = 0;
   for (size_t at = 0; at < L.nodes.size(); ++at) {
     if (L.nodes[at].children.empty()) continue;
     int found = 0;
+    if (L.steps > kMaxPlacementSteps)
+      throw file_error(gltf, "too many nodes (" + std::to_string(L.nodes.size()) + ") and users (" +
+                                 std::to_string(data.users.size()) + ", " + lmbake + ") to place the users by name");
     for (const GodotLightmapUser& u : data.users) {
       if (u.sub_instance >= 0 || u.path.empty() || u.path[0] == '/') continue;
-      const int id = resolve_at(int(at), u.path);
+      const int id = find_steps(int(at), user_steps[size_t(&u - data.users.data())]);
       found += id >= 0 && L.nodes[size_t(id)].geometry >= 0;
     }
     if (found > best_found) best = int(at), best_found = found;
@@ -982,10 +1086,12 @@ std::string find_godot_scene(const std::string& exr) {
       continue;
     }
     if (e.path().extension() != ".tscn" || !e.is_regular_file(ec2) || name[0] == '.') continue;
-    std::ifstream f(e.path(), std::ios::binary);
-    std::stringstream ss;
-    ss << f.rdbuf();
-    const std::string text = ss.str();
+    std::string text;
+    try {
+      text = read_input_text(e.path().string(), InputKind::kSceneText);
+    } catch (const Error&) {
+      continue;  // swapped for a FIFO, grown past the bound: not a scene to consider
+    }
     const std::vector<std::string> ids = lmbake_ext_ids(text, project, e.path().parent_path(), want);
     if (ids.empty()) continue;
     try {  // the LightmapGI's light_data is one of them

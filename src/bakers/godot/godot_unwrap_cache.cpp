@@ -7,6 +7,7 @@
 #include <iterator>
 
 #include "core/error.h"
+#include "files/input_file.h"
 
 namespace ahd {
 
@@ -64,9 +65,7 @@ std::vector<GodotUnwrapEntry> parse_godot_unwrap_cache(const uint8_t* data, size
 }
 
 std::vector<GodotUnwrapEntry> read_godot_unwrap_cache(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) throw file_error(path, "file not found");
-  const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  const std::vector<uint8_t> bytes = read_input_bytes(path, InputKind::kUnwrapCache);
   return parse_godot_unwrap_cache(bytes.data(), bytes.size(), path);
 }
 

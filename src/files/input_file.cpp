@@ -1,0 +1,87 @@
+#include "files/input_file.h"
+
+#include <cerrno>
+#include <cstring>
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "core/error.h"
+#include "files/input_record.h"
+
+namespace ahd {
+
+size_t input_file_bound(InputKind kind) {
+  switch (kind) {
+    case InputKind::kImage: return size_t(1) << 34;        // 16 GiB: a 16k × 16k float RGBA EXR is 4 GiB
+    case InputKind::kText: return size_t(64) << 20;        // 64 MiB
+    case InputKind::kSceneText: return size_t(64) << 20;   // 64 MiB: a large level's .tscn is a few MB
+    case InputKind::kLmbake: return size_t(64) << 20;      // 64 MiB: 40 bytes and a path per user
+    case InputKind::kUnwrapCache: return size_t(1) << 30;  // 1 GiB: 16 bytes per vertex and 4 per index
+    case InputKind::kMesh: return size_t(1) << 31;         // 2 GiB
+  }
+  return size_t(64) << 20;
+}
+
+namespace {
+
+struct Fd {
+  int fd = -1;
+  ~Fd() {
+    if (fd >= 0) ::close(fd);
+  }
+};
+
+std::string errno_text(int e) { return std::strerror(e); }
+
+}  // namespace
+
+std::vector<uint8_t> read_input_bytes(const std::string& path, size_t max_bytes) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) {
+    const int e = errno;
+    if (e == ENOENT || e == ENOTDIR) throw file_error(path, "file not found");
+    throw file_error(path, "cannot open (" + errno_text(e) + ")");
+  }
+  // A device or pipe (/dev/zero, a FIFO) has no size to bound the read by: refused, not read forever.
+  if (!S_ISREG(st.st_mode)) throw file_error(path, "not a regular file");
+  // O_NONBLOCK: a FIFO put in the file's place after the stat would block this open for ever.
+  Fd f;
+  f.fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+  if (f.fd < 0) {
+    const int e = errno;
+    if (e == ENOENT) throw file_error(path, "file not found");
+    throw file_error(path, "cannot open (" + errno_text(e) + ")");
+  }
+  if (::fstat(f.fd, &st) != 0 || !S_ISREG(st.st_mode)) throw file_error(path, "not a regular file");
+  const uint64_t size = uint64_t(st.st_size);
+  if (size > max_bytes)
+    throw file_error(path, "file too large (" + std::to_string(size) + " bytes, at most " + std::to_string(max_bytes) +
+                               " are read)");
+  std::vector<uint8_t> bytes(static_cast<size_t>(size));
+  size_t got = 0;
+  while (got < bytes.size()) {
+    const ssize_t n = ::read(f.fd, bytes.data() + got, bytes.size() - got);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) throw file_error(path, "read failed (" + errno_text(errno) + ")");
+    if (n == 0) throw file_error(path, "read failed (shorter than its size said: changed while read)");
+    got += size_t(n);
+  }
+  note_input_file(path);
+  return bytes;
+}
+
+bool input_exists(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0) return true;
+  if (errno == ELOOP) throw file_error(path, "symbolic links loop (" + errno_text(ELOOP) + ")");
+  return false;
+}
+
+std::string read_input_text(const std::string& path, InputKind kind) {
+  const std::vector<uint8_t> b = read_input_bytes(path, kind);
+  return std::string(b.begin(), b.end());
+}
+
+}  // namespace ahd
