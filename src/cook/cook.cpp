@@ -130,12 +130,17 @@ CookResult cook_conversion(const CookRequest& request, const CookHooks& hooks) {
   std::string source;
   std::vector<ShImage> pages;
   size_t detection_notes = 0;
-  const double iz_scale = request.iz_scale;
+  double iz_scale = request.iz_scale;  // 0: the input's own scale (input_iz_scale), once its layout is known
   const auto t0 = std::chrono::steady_clock::now();
   {
     const RecordInputs recording(&record);
     resolve_auto_layout(&a);
     find_scene_for_input(&a);
+    if (iz_scale == 0) {
+      std::string why;
+      iz_scale = input_iz_scale(a, &why);
+      if (!why.empty()) a.notes += why + "\n";
+    }
     detection_notes = a.notes.size();  // why this path was taken: told even on failure
     std::string out_path = request.output;
     if (out_path.empty())

@@ -30,6 +30,7 @@ void add_node(const Walk& w, const aiNode* node, const aiMatrix4x4& parent) {
     for (unsigned k = 0; k < node->mNumMeshes; ++k) {
       const aiMesh* mesh = w.scene->mMeshes[node->mMeshes[k]];
       if (!(mesh->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
+      inst.meshes.push_back(mesh->mName.C_Str());
       const size_t base = t.positions.size() / 3;
       for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
         const aiVector3D p = m * mesh->mVertices[v];
