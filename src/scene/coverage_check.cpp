@@ -47,13 +47,14 @@ size_t fill_background(const ShImage& sh, std::vector<uint8_t>* is_fill) {
   return marked;
 }
 
-CoverageComparison compare_coverage(const std::vector<uint8_t>& covered, const ShImage& sh, int ring) {
+CoverageComparison compare_coverage(const std::vector<uint8_t>& covered, const ShImage& sh, int ring, bool find_fill) {
   CoverageComparison c;
   const int w = sh.width, h = sh.height;
   const size_t n = sh.texels(), per = size_t(sh.coeffs) * 3;
   if (covered.size() != n) return c;
   std::vector<uint8_t> lit(n, 0), fill;
-  c.fill = fill_background(sh, &fill);
+  if (find_fill) c.fill = fill_background(sh, &fill);
+  else fill.assign(n, 0);
   // With a fill, the background is the fill and whatever is no brighter (Bevy's unused space holds
   // values around it, 0.003–0.01 beside charts of 0.1–1): lit is brighter than the fill in L0.
   float fill_level = 0;
