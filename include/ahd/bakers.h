@@ -47,6 +47,12 @@ struct BakeSource {
   // Godot: convert even when some lightmap users cannot be placed (their lit texels kept, fitted
   // about their own L1 direction, and counted; docs/godot.md "Users that cannot be placed").
   bool allow_unplaced = false;
+  // Per-object lightmaps (Bevy): the one glTF node (or mesh) of `mesh` the lightmap belongs to,
+  // by its node name or its mesh name; "" = every node of the mesh file.
+  std::string node;
+  // The atlas page of a one-page file, for `placement` (−1 = from the file name: Unity
+  // `Lightmap-N_…`, Bakery `…_LMN_…`; else 0).
+  int page = -1;
 };
 
 // An existence test a reader's decision rested on (is NAME.exr.import beside it? which baker's

@@ -28,6 +28,10 @@ struct BakeInput : BakeSource {
   // What reading found (detection, pages, overlaps), printed once the input has been read, so that
   // a failure prints its one error line and nothing else.
   mutable std::string notes;
+  // The atlas page --placement selects for a one-page file: `page`, or the file name's
+  // (bakers/unity/lightmap_page.h), else 0. Set by read_bake_pages.
+  mutable int placement_page = 0;
+  mutable int page_count_of_input = 0;  // the pages read_bake_pages found (1: a one-page file)
 };
 
 // One command-line option of a BakeInput field: its flag, help, the field, and the least value an
@@ -39,7 +43,7 @@ struct BakeInputOption {
   int min_value = 0;  // integers: the least valid value
 };
 
-// --layout, --pages, --normals, --mesh, --uv-set, --placement, --godot-scene, --input-space,
+// --layout, --pages, --normals, --mesh, --node, --uv-set, --placement, --page, --godot-scene, --input-space,
 // --allow-mismatch, --allow-unplaced (the input itself is the caller's positional argument; the sample's options
 // are convert's).
 const std::vector<BakeInputOption>& bake_input_options();
@@ -60,6 +64,12 @@ void find_scene_for_input(BakeInput* a);
 // Throws ahd::Error for options that contradict each other (mesh with normals, …), before
 // anything is read.
 void check_bake_input(const BakeInput& a);
+
+// The scale at which the input's numbers are stored, for `convert --iz-scale` left to the input:
+// 1/π for a plain lightmap (its numbers are E/π, what engines multiply by albedo: the I_z plane then
+// holds them unchanged), 1 (irradiance) for everything else. Call after resolve_auto_layout.
+// *why (optional): one line for the notes when it is not 1.
+double input_iz_scale(const BakeInput& a, std::string* why = nullptr);
 
 // The input's atlas pages: one, unless a paged layout (Godot) holds several — then every page, in
 // order. *source describes what was read (for the summary and the report). `threads` bakes the

@@ -181,6 +181,34 @@ void detect_exr_contents(const std::string& input, Found* found) {
   }
 }
 
+// A lone image that only a plain lightmap explains, asked only when no baker's set matched: an
+// EXR whose channels are exactly R, G, B (and A), or a KTX2 texture (an engine's shipped lightmap,
+// Bevy's). Issue 42: a user's `convert lightmap.exr` converts without --layout plain, saying why.
+void detect_lone_image(const std::string& input, Found* found) {
+  if (!probe_regular_file(input)) return;
+  if (ends_with(input, ".ktx2")) {
+    const ImageFileInfo info = read_image_info(input);
+    found->push_back({"plain-ktx2", input.substr(0, input.size() - 5),
+                      {file_name(input) + ": a KTX2 texture of " + std::to_string(info.channel_names.size()) +
+                       " channels and no baker's files beside it: one plain (non-directional) lightmap"},
+                      {}});
+    return;
+  }
+  if (!ends_with(input, ".exr")) return;
+  const ImageFileInfo info = read_image_info(input);
+  std::vector<std::string> ch = info.channel_names;
+  std::sort(ch.begin(), ch.end());
+  if (ch != std::vector<std::string>{"B", "G", "R"} && ch != std::vector<std::string>{"A", "B", "G", "R"}) return;
+  // Rows a multiple of 4 × the columns: Godot's stacked L0 + L1 layers without their import file,
+  // which a plain read would mix (detect_layout's error says to keep NAME.exr.import).
+  if (info.width > 0 && info.height % (4 * info.width) == 0) return;
+  found->push_back({"plain", input.substr(0, input.size() - 4),
+                    {file_name(input) + ": channels " + (ch.size() == 4 ? "R, G, B, A" : "R, G, B") +
+                     " only and no baker's files beside it: one plain (non-directional) lightmap (E/pi); another "
+                     "layout: give --layout"},
+                    {}});
+}
+
 }  // namespace
 
 bool is_canonical_sh_file(const std::string& path) {
@@ -199,6 +227,7 @@ std::optional<LayoutDetection> try_detect_layout(const std::string& input) {
   detect_unity(input, &found);
   detect_per_file_sets(input, &found);
   detect_exr_contents(input, &found);
+  if (found.empty()) detect_lone_image(input, &found);
   if (found.empty()) return std::nullopt;
   if (found.size() > 1) {
     std::string list;
@@ -211,15 +240,14 @@ std::optional<LayoutDetection> try_detect_layout(const std::string& input) {
 LayoutDetection detect_layout(const std::string& input) {
   if (auto d = try_detect_layout(input)) return *d;
   if (!probe_input_file(input)) throw file_error(input, "file not found (and no baker's set named after it)");
-  // A lone RGB image could be a plain lightmap, a normal map or Godot's layers without their
-  // import file: no guess.
+  // An image of other channels (a lone RGB EXR is a plain lightmap, detect_lone_image).
   throw file_error(input, "no SH channels and no baker's files beside it that --layout auto recognises "
                           "(a plain lightmap: --layout plain; Godot: keep NAME.exr.import beside it)");
 }
 
 std::vector<std::string> auto_detected_layouts() {
   return {"bakery-monosh", "bakery-sh", "canonical", "exr-layers-l1", "exr-layers-l2", "exr-parts-l1", "exr-parts-l2",
-          "godot4-packed", "godot4-unpacked", "per-coefficient", "plain", "three-rgba", "unity-directional"};
+          "godot4-packed", "godot4-unpacked", "per-coefficient", "plain", "plain-ktx2", "three-rgba", "unity-directional"};
 }
 
 }  // namespace ahd

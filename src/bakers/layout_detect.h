@@ -15,8 +15,9 @@ struct LayoutDetection {
   std::vector<std::string> notes;    // files seen and ignored (e.g. a shadowmask)
 };
 
-// Detects the layout of the set holding `input` (any file of the set, or its base). Only positive
-// evidence counts (a lone RGB EXR is not guessed to be a plain lightmap). Throws
+// Detects the layout of the set holding `input` (any file of the set, or its base). When no
+// baker's set matches, a lone EXR of exactly R, G, B (A) channels is a plain lightmap and a lone
+// KTX2 texture plain-ktx2 (the reason says so). Throws
 // ahd::Error("<input>: <cause>") when nothing matches, or when several presets fit and the files
 // cannot tell them apart (the message lists the candidates and what would decide).
 LayoutDetection detect_layout(const std::string& input);

@@ -14,6 +14,7 @@
 #include "cli/commands.h"
 #include "cli/conversion_args.h"
 #include "bakers/bake_input.h"
+#include "bakers/bake_jobs.h"
 #include "cli/output.h"
 #include "cli/progress.h"
 #include "core/error.h"
@@ -30,17 +31,19 @@ namespace {
 
 struct ConvertArgs : BakeInput {
   std::string output;
-  std::string iz_scale = "E";  // --iz-scale: stored I_z = E, E/pi, or a factor times E (a conversion option)
+  std::string iz_scale;  // --iz-scale: stored I_z = E, E/pi, or a factor times E; "" = the input's own scale
   bool keep_intermediate = false;
   std::string depfile;        // --depfile: the Make/Ninja depfile of every file read
   std::string cache;          // --cache: the folder of finished conversions (cook/conversion_cache.h)
   std::string cache_max_size = "10G";
+  std::string jobs;           // --jobs: a batch job file (bakers/bake_jobs.h)
   bool print_key = false;     // --print-key: print the key, convert nothing
   ConversionArgs conv;
 };
 
-// --iz-scale: "E" (1), "E/pi" (1/π) or a positive factor.
+// --iz-scale: "E" (1), "E/pi" (1/π) or a positive factor; not given: 0, the input's scale (the cook decides).
 double iz_scale_factor(const std::string& s) {
+  if (s.empty()) return 0;
   if (s == "E" || s == "e") return 1.0;
   if (s == "E/pi" || s == "e/pi" || s == "E/π") return 1.0 / 3.14159265358979323846;
   char* end = nullptr;
@@ -119,7 +122,13 @@ std::vector<std::string> batch_files(const std::vector<std::string>& inputs) {
     }
     std::vector<std::string> found;
     for (const auto& e : fs::directory_iterator(in, ec))
-      if (e.is_regular_file() && e.path().extension() == ".exr") found.push_back(e.path().string());
+      if (e.is_regular_file() && e.path().extension() == ".exr") {
+        // Unity writes its reflection probes beside the lightmaps: not lightmaps, skipped saying so.
+        if (e.path().filename().string().rfind("ReflectionProbe-", 0) == 0)
+          std::printf("ahdpack: %s skipped: a Unity reflection probe, not a lightmap\n", e.path().string().c_str());
+        else
+          found.push_back(e.path().string());
+      }
     std::sort(found.begin(), found.end());
     if (found.empty()) throw file_error(in, "folder holds no .exr file to convert");
     files.insert(files.end(), found.begin(), found.end());
@@ -143,8 +152,13 @@ size_t header_texels(const std::string& file) {
 // with its own manifest, past failures; small files side by side with one thread each, large ones
 // one at a time with every thread (batch_schedule.h); the bytes of each output are those of the
 // file converted alone. One summary table in input order; exit 1 naming the failed files.
-void run_batch(const ConvertArgs& a, const std::vector<std::string>& inputs) {
-  const std::vector<std::string> files = batch_files(inputs);
+void run_batch(const ConvertArgs& a, const std::vector<std::string>& inputs, const std::vector<BakeJob>* jobs = nullptr) {
+  std::vector<std::string> files;
+  if (jobs)
+    for (const BakeJob& j : *jobs) files.push_back(j.input.input);
+  else
+    files = batch_files(inputs);
+  const auto out_name = [&](size_t i) { return jobs ? (*jobs)[i].output : fs::path(files[i]).stem().string(); };
   const fs::path dir = a.output.empty() ? fs::path("ahdpack-out") : fs::path(a.output);
   {
     // `-o out.ktx2` with several inputs is a mistake for `-o OUTDIR/`, not a folder to create.
@@ -168,7 +182,7 @@ void run_batch(const ConvertArgs& a, const std::vector<std::string>& inputs) {
   std::vector<size_t> texels(files.size());
   for (size_t i = 0; i < files.size(); ++i) {
     done[i].file = files[i];
-    done[i].same_name = !stems.insert(fs::path(files[i]).stem().string()).second;
+    done[i].same_name = !stems.insert(out_name(i)).second;
     texels[i] = header_texels(files[i]);
   }
   const BatchPlan plan = plan_batch(texels, resolve_threads(a.conv.options.threads));
@@ -182,8 +196,9 @@ void run_batch(const ConvertArgs& a, const std::vector<std::string>& inputs) {
     try {
       if (d.same_name) throw file_error(d.file, "another input has the same name: its outputs would collide");
       ConvertArgs one = a;
+      if (jobs) static_cast<BakeInput&>(one) = (*jobs)[i].input;  // the job's input options over the command's
       one.input = d.file;
-      one.output = (dir / (fs::path(d.file).stem().string() + ext)).string();
+      one.output = (dir / (out_name(i) + ext)).string();
       one.conv.quiet = true;
       one.conv.options.threads = threads;
       BatchJob job;
@@ -262,9 +277,14 @@ void add_convert_command(CLI::App& app) {
       ->check(CLI::IsMember({"ktx2", "dds"}));
   add_input_options(c, a.get());
   c->add_option("--iz-scale", a->iz_scale,
-                "What the iz plane stores: E (irradiance, the default), E/pi (what most engines' lightmaps hold: "
-                "multiply by albedo), or a factor times E; recorded in the manifest and the planes (iz_scale)");
+                "What the iz plane stores: E (irradiance), E/pi (what most engines' lightmaps hold: multiply by albedo), "
+                "or a factor times E; recorded in the manifest and the planes (iz_scale). Default: the input's own "
+                "scale, E/pi for a plain lightmap, E for SH");
   add_conversion_options(c, &a->conv, true);
+  c->add_option("--jobs", a->jobs,
+                "A batch job file: one conversion per lightmap with its own input options (JSON {\"jobs\": [{\"input\", "
+                "\"mesh\", \"node\", …, \"output\"}]}, paths relative to it; see docs/bakers.md), "
+                "every output into the folder -o names");
   c->add_option("--depfile", a->depfile,
                 "Also write OUT.d, a Make/Ninja depfile naming every file the conversion read (target: the manifest)");
   c->add_option("--cache", a->cache,
@@ -284,6 +304,13 @@ void add_convert_command(CLI::App& app) {
     std::error_code ec;
     const bool to_folder = !a->output.empty() && (a->output.back() == '/' || fs::is_directory(a->output, ec));
     const bool folder_in = inputs->size() == 1 && fs::is_directory((*inputs)[0], ec);
+    if (!a->jobs.empty()) {
+      if (!inputs->empty()) throw Error("--jobs names every input: give no other input");
+      if (!a->depfile.empty() || a->print_key)
+        throw Error(std::string(a->print_key ? "--print-key" : "--depfile") + " describes one conversion: not with --jobs");
+      const std::vector<BakeJob> jobs = read_bake_jobs(a->jobs, *a);
+      return run_batch(*a, {}, &jobs);
+    }
     if (inputs->size() > 1 || folder_in || (to_folder && !inputs->empty())) {
       if (!a->depfile.empty() || a->print_key)
         throw Error(std::string(a->print_key ? "--print-key" : "--depfile") + " describes one conversion: not with several inputs");

@@ -55,6 +55,8 @@ std::string conversion_options_text(const BakeInput& in, const ConversionOptions
   if (!in.scene.empty()) t += "godot_scene 1\n";
   if (in.allow_mismatch) t += "allow_mismatch 1\n";
   if (in.allow_unplaced) t += "allow_unplaced 1\n";
+  if (!in.node.empty()) t += "node " + in.node + "\n";
+  if (in.page >= 0) t += "page " + std::to_string(in.page) + "\n";
   if (!in.input_space.empty())
     t += "input_space " + in.input_space + "\n";  // the files' declarations are in their bytes
   if (iz_scale != 1.0) t += "iz_scale " + num(iz_scale) + "\n";

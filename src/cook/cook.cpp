@@ -191,7 +191,7 @@ CookResult cook_conversion(const CookRequest& request, const CookHooks& hooks) {
   std::string source;
   std::vector<ShImage> pages;
   size_t detection_notes = 0;
-  const double iz_scale = request.iz_scale;
+  double iz_scale = request.iz_scale;  // 0: the input's own scale (input_iz_scale), once its layout is known
   const auto t0 = std::chrono::steady_clock::now();
   {
     const RecordInputs recording(&record);
@@ -209,11 +209,16 @@ CookResult cook_conversion(const CookRequest& request, const CookHooks& hooks) {
     // Checked before anything is read or written: one clear line, no output.
     ro = co.profile_json.empty() ? resolve_options(co, out.name, load_profile(co.profile))
                                  : resolve_options(co, out.name);
-    if (!(iz_scale > 0) || !std::isfinite(iz_scale))
-      throw Error("iz_scale must be a positive factor, not " + std::to_string(iz_scale));
+    if (!(iz_scale >= 0) || !std::isfinite(iz_scale))
+      throw Error("iz_scale must be a positive factor (or 0: the input's own scale), not " + std::to_string(iz_scale));
     check_bake_input(a);
     try {
       pages = read_bake_pages(a, co.threads, &rs, &source);
+      if (iz_scale == 0) {  // the input's own scale, once its layout is read (its preset already recorded)
+        std::string why;
+        iz_scale = input_iz_scale(a, &why);
+        if (!why.empty()) a.notes += why + "\n";
+      }
     } catch (const std::exception&) {
       // What detection found says why the run took this path: told before the one error line.
       if (ev.notes && !request.key_only && detection_notes) ev.notes(a.notes.substr(0, detection_notes));

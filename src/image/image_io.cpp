@@ -11,6 +11,7 @@
 #include "containers/limits.h"
 #include "image/exr_read.h"
 #include "image/image_file.h"
+#include "image/texture_image.h"
 #include "core/error.h"
 #include "files/input_record.h"
 #include "files/file_io.h"
@@ -138,12 +139,14 @@ ImageFileInfo info_of(OpenedImage& f, int part) {
 ImageFileInfo read_image_info(const std::string& path, int part) {
   std::vector<uint8_t> bytes = read_image_bytes(path);
   if (auto exr = exr_reader_for(path, bytes, part)) return exr->info(part);
+  if (is_texture_container_bytes(bytes)) return read_texture_info(path, bytes, part);  // KTX2 / DDS: texture_image.h
   OpenedImage f = open_input(path, std::move(bytes));
   return info_of(f, part);
 }
 
 ImageF read_image(const std::string& path, ImageFileInfo* info_out, int part) {
   std::vector<uint8_t> bytes = read_image_bytes(path);
+  if (is_texture_container_bytes(bytes)) return read_texture_image(path, bytes, part, info_out);
   if (auto exr = exr_reader_for(path, bytes, part)) {
     const ImageFileInfo info = exr->info(part);
     if (info_out) *info_out = info;
@@ -197,6 +200,14 @@ void read_image_rows(const std::string& path, int part, ImageFileInfo* info_out,
     if (on_header) on_header(info);
     for_each_band(info.height, size_t(info.width) * info.channel_names.size(), exr->band_rows(part),
                   [&](int y0, int y1, float* buf) { exr->read_rows(part, y0, y1, buf); }, fn);
+    return;
+  }
+  if (is_texture_container_bytes(bytes)) {  // decoded whole (a texture's blocks are not banded by rows)
+    ImageFileInfo info;
+    const ImageF img = read_texture_image(path, bytes, part, &info);
+    if (info_out) *info_out = info;
+    if (on_header) on_header(info);
+    if (img.height > 0) fn(0, img.height, img.data.data());
     return;
   }
   OpenedImage f = open_input(path, std::move(bytes));

@@ -33,6 +33,7 @@ void add_node(const Walk& w, const aiNode* node, const aiMatrix4x4& parent) {
       if (!(mesh->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
       // The merged read checked the file; this second read must see the same one.
       if (!mesh->mTextureCoords[w.set]) throw file_error(*w.path, "changed while it was read (a UV set is gone)");
+      inst.meshes.push_back(mesh->mName.C_Str());
       const size_t base = t.positions.size() / 3;
       // Each node is a copy of its meshes: the copies are bounded in all, not by the file's size.
       if (base + mesh->mNumVertices > kMaxSceneVertices || t.indices.size() + size_t(mesh->mNumFaces) * 3 > kMaxSceneIndices)

@@ -68,6 +68,7 @@ namespace ahd {
 // inside MeshInstances::mesh, for per-instance lightmap placement (scene/placement.h).
 struct MeshInstance {
   std::string node;             // the node's name (glTF node name, Unity GameObject name on export)
+  std::vector<std::string> meshes;  // the names of its meshes (glTF mesh names: Bevy's GltfMeshName)
   size_t first_vertex = 0, vertices = 0;
   size_t first_index = 0, indices = 0;
 };

@@ -261,10 +261,19 @@ TEST(Atlas, AutoDetectionOfEachBakersSet) {
   EXPECT_EQ(det.preset, "godot4-packed");
   write_image((g / "lm_shadow.png").string(), ImageF(N, N, 3));
   EXPECT_EQ(detect_layout((g / "lm.exr").string()).notes.size(), 1u);
-  // A lone RGB EXR is not guessed.
+  // A lone RGB EXR is a plain lightmap (issue 42), saying why; two channels, or Godot's stacked
+  // shape without its import file (rows 4 × columns), are not guessed.
   write_image((d / "lone.exr").string(), ImageF(N, N, 3), true);
-  expect_error([&] { detect_layout((d / "lone.exr").string()); }, "--layout plain");
-  EXPECT_FALSE(try_detect_layout((d / "lone.exr").string()).has_value());
+  det = detect_layout((d / "lone.exr").string());
+  EXPECT_EQ(det.preset, "plain");
+  EXPECT_EQ(det.base, (d / "lone").string());
+  ASSERT_FALSE(det.reasons.empty());
+  EXPECT_NE(det.reasons[0].find("channels R, G, B only"), std::string::npos) << det.reasons[0];
+  write_image((d / "two.exr").string(), ImageF(N, N, 2), true);
+  expect_error([&] { detect_layout((d / "two.exr").string()); }, "--layout plain");
+  EXPECT_FALSE(try_detect_layout((d / "two.exr").string()).has_value());
+  write_image((d / "stack.exr").string(), ImageF(N, 4 * N, 3), true);
+  EXPECT_FALSE(try_detect_layout((d / "stack.exr").string()).has_value());
   // Both Bakery L1 kinds beside one L0: ambiguous, candidates listed.
   write_image((d / "Scene_LM0_L1.tga").string(), ImageF(N, N, 3));
   expect_error([&] { detect_layout((d / "Scene_LM0_L0.hdr").string()); }, "candidates: bakery-sh, bakery-monosh");

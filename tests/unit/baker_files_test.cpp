@@ -3,11 +3,14 @@
 // when given the base name — one test per preset, each file of the set tried in turn.
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <functional>
 
 #include <OpenImageIO/imageio.h>
 
+#include "containers/container.h"
 #include "image/colour_space.h"
+#include "pipeline/plane_codec.h"
 #include "image/sh_exr.h"
 #include "layout_test_scene.h"
 
@@ -42,6 +45,14 @@ void write_set(const std::string& preset, const WorldBake& b) {
     return;
   }
   if (preset == "plain") return write_image(base + ".exr", coefficient_image(b.w.tangent, 0));
+  if (preset == "plain-ktx2") {  // Bevy's form: B10G11R11, zstd-supercompressed
+    Texture tex;
+    tex.format = PixelFormat::B10G11R11_UFLOAT;
+    tex.levels.push_back(encode_plane(tex.format, coefficient_image(b.w.tangent, 0), {}));
+    const std::vector<uint8_t> bytes = encode_container(ContainerKind::KTX2, tex, /*zstd=*/true);
+    std::ofstream(base + ".ktx2", std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+    return;
+  }
   if (preset == "plain-rgbm") {
     ImageF img(N, N, 4);
     for (size_t i = 0; i < img.data.size(); ++i) img.data[i] = float((i * 7) % 256) / 255.0f;
@@ -91,6 +102,7 @@ TEST(BakerFiles, ExrPartsL1) { check_every_file_reads_the_set("exr-parts-l1", "r
 TEST(BakerFiles, ExrPartsL2) { check_every_file_reads_the_set("exr-parts-l2", "room"); }
 TEST(BakerFiles, PerCoefficient) { check_every_file_reads_the_set("per-coefficient", "room"); }
 TEST(BakerFiles, PlainCompLightExr) { check_every_file_reads_the_set("plain", "Lightmap-0_comp_light"); }
+TEST(BakerFiles, PlainKtx2) { check_every_file_reads_the_set("plain-ktx2", "CornellBox-Box.zstd"); }
 TEST(BakerFiles, PlainRgbm) { check_every_file_reads_the_set("plain-rgbm", "room"); }
 
 TEST(BakerFiles, CanonicalIsTheFileItself) {
@@ -106,7 +118,7 @@ TEST(BakerFiles, CanonicalIsTheFileItself) {
 TEST(BakerFiles, EveryPresetIsCovered) {
   const std::vector<std::string> tested = {"bakery-monosh", "bakery-sh", "canonical", "exr-layers-l1", "exr-layers-l2",
                                            "exr-parts-l1", "exr-parts-l2", "godot4-packed", "godot4-unpacked",
-                                           "per-coefficient", "plain", "plain-rgbm", "three-rgba", "unity-directional"};
+                                           "per-coefficient", "plain", "plain-ktx2", "plain-rgbm", "three-rgba", "unity-directional"};
   EXPECT_EQ(list_layouts(), tested);
 }
 

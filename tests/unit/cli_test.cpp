@@ -139,7 +139,7 @@ TEST(Cli, MissingInputFile) {
 
 TEST(Cli, WrongChannelSet) {
   const fs::path d = ahd_test::temp_dir("cli_channels");
-  ahd::ImageF img(8, 8, 3);
+  ahd::ImageF img(8, 8, 2);  // (a lone RGB EXR is a plain lightmap: BakerPlain.*)
   ahd::write_image((d / "rgb.exr").string(), img);
   expect_clean_failure({"convert", (d / "rgb.exr").string(), "-o", (d / "out" / "x.ktx2").string()}, "no SH channels", d / "out");
   // An L1 set missing one channel.

@@ -67,7 +67,8 @@ TEST(DirectionPlanes, PlainLightmapWritesOnlyIz) {
   for (const auto& [k, v] : t.metadata) found |= k == "ahd.directional" && v == "0";
   EXPECT_TRUE(found);
 
-  // Decoded for a tilted normal, the irradiance is still I_z = π·E/π of the input.
+  // Decoded for a tilted normal, the plane is still I_z, stored at the input's own scale (E/π,
+  // iz_scale 1/π: issue 42, a plain map dropped back into an engine is as bright as before).
   ImageF normals(8, 6, 3);
   for (size_t i = 0; i < normals.texels(); ++i) normals.data[i * 3] = 0.6f, normals.data[i * 3 + 2] = 0.8f;
   write_image((d / "n.exr").string(), normals);
@@ -77,7 +78,7 @@ TEST(DirectionPlanes, PlainLightmapWritesOnlyIz) {
   const ImageF e = read_image((d / "e.exr").string());
   for (size_t i = 0; i < e.texels(); ++i)
     for (int c = 0; c < 3; ++c) {
-      const double want = kPi * (0.2 + 0.05 * double((i * 3 + c) % 7));
+      const double want = 0.2 + 0.05 * double((i * 3 + c) % 7);
       EXPECT_NEAR(e.data[i * 3 + c], want, want * 2e-3) << i;  // RGBA16F I_z: half precision
     }
 }
