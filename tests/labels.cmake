@@ -17,11 +17,11 @@
 # The script tests (add_test in tests/CMakeLists.txt: Consumer.*, Python.*, Docs.*) are labelled
 # there, beside their add_test: ctest includes this file before it defines them.
 
-set(_judge "^(Bc6hJudge|PackedFloatMesa|RgtcMesa|Profiles/ShaderRender|KtxParse|PreviewChromium|ThreeRender|GodotAddon|DecodeVsRuntime)\\.|^Container\\.OpenImageIOReadsOurDds$")
+set(_judge "^(Bc6hJudge|PackedFloatMesa|RgtcMesa|Profiles/ShaderRender|KtxParse|PreviewChromium|ThreeRender|ThreeScene|GodotAddon|DecodeVsRuntime)\\.|^Container\\.OpenImageIOReadsOurDds$")
 set(_integration "^(Cli|Golden|Verify|Plot|Preview|Preview3d|BenchConvert|Consumer|OutputSet)\\.|^ColourSpace\\.(Numpy|Cli)|^Atlas\\.(RealGodot42|FourPageGodotAtlas|UnknownPageCount)|^BadInput\\.Cli|^Placement\\.ConvertWith|^MeshRaster\\.(BadMeshes|ConvertWithMesh|MeshAxes)|^DirectionPlanes\\.(PlainLightmapWritesOnlyIz|KeepAndDrop)|^Layout\\.GodotPackedMatchesSource|^(OutputFaults|Cook|GodotScene|IzScale|Projects/GodotCorpus|GodotCorpusWrongBake|GodotCorpusArrays)\\.|^GodotFbx\\.DroppedEntry|^BadInputRound2\\.(CatalogueUnderThreeGib|BadMaxSizeEnvironment|InputReplacedWhileRead)")
 set(_accuracy "^Truth\\.|^FitWindow\\.NoisyScene|^Bc6h\\.(SharedImagesBeatTheFastestPublicEncoder|MaxOnCropsOfTheSharedImages|FastBeatsTheRealTimePeerOnTheSharedImages)$|^Fit\\.(ClosedFormTMatchesBruteForceSearch|MillionRandomTexels)|^FitRefine\\.(ErrorRatiosAgainstUnconstrainedLeastSquares|IssueMeasureSampledDirections|NeverWorseThanTheLinearDirectionPerTexel|MillionRandomTexels|FilteredErrorOnTheAnalyticScene|PairGuardBounds|CoherencePass)|^ErrorEstimate\\.(AgreesWithFullMeasurement|ConversionEstimateAgrees)|^Bc4\\.EncoderIsCloseToExhaustiveSearch$")
 set(_slow "^(Consumer|BenchConvert|Truth|GodotAddon)\\.|^Atlas\\.FourPageGodotAtlas|^Cli\\.(BatchOfSmallFiles|EveryProfileAndContainer)|^Bc6h\\.MaxOnCrops|^OutputSet\\.KilledBeforeEachRename|^OutputFaults\\.(HundredPairs|SignalBetweenRenames|KilledAtEveryRename)|^Cook\\.KeyCoversEveryInput|^(Verify|Preview)\\.GodotProject")
-set(_nosan "^(Consumer|PreviewChromium|ThreeRender|GodotAddon|Truth)\\.|^OutputFaults\\.HundredPairsOfConcurrentConversions|^Bc6h\\.(MaxOnCropsOfTheSharedImages|SharedImagesBeatTheFastestPublicEncoder)$|^Fit\\.ClosedFormTMatchesBruteForceSearch$")
+set(_nosan "^(Consumer|PreviewChromium|ThreeRender|ThreeScene|GodotAddon|Truth)\\.|^OutputFaults\\.HundredPairsOfConcurrentConversions|^Bc6h\\.(MaxOnCropsOfTheSharedImages|SharedImagesBeatTheFastestPublicEncoder)$|^Fit\\.ClosedFormTMatchesBruteForceSearch$")
 
 # Every test of the Mesa judges' binary (tests/gl) is a judge by its folder, whatever its name.
 set(_gl_tests "${ahd_gl_tests_TESTS}")
