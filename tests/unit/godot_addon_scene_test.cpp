@@ -104,7 +104,7 @@ TEST(GodotAddonScene, VermilionInGodotMatchesThreeJs) {
   ASSERT_EQ(th, gh);
   // Over the pixels lit (mean > 8/255) in either image: the per-channel differences. Expected
   // sources: Godot's Compatibility renderer's approximate sRGB decode + encode around its 8-bit
-  // output (tests/tools/godot/README.md "Traps found"), and the two rasterisers' edges (a pixel
+  // output (tests/tools/godot/README.md, its traps), and the two rasterisers' edges (a pixel
   // whose centre falls on the other side of an edge: up to the full contrast there).
   std::vector<int> d;
   size_t lit_three = 0, lit_godot = 0;
@@ -127,7 +127,7 @@ TEST(GodotAddonScene, VermilionInGodotMatchesThreeJs) {
               tw, th, lit_godot, lit_three, mean, q(0.5), q(0.9), q(0.99), d.back());
   EXPECT_GT(double(lit_godot), 0.15 * tw * th);
   // Fewer pixels pass 8/255 in Godot: its output crushes the darkest values (k/255 for k < 8 reads
-  // back 0; README "Traps found"), so near-black pixels fall under the threshold (measured 6.9 % fewer).
+  // back 0; tests/tools/godot/README.md), so near-black pixels fall under the threshold (measured 6.9 % fewer).
   EXPECT_NEAR(double(lit_godot), double(lit_three), 0.10 * double(lit_three));
   EXPECT_LE(mean, 3.0);
   EXPECT_LE(q(0.9), 8);
