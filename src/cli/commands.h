@@ -14,6 +14,7 @@ void add_sample_command(CLI::App& app);      // cmd_sample.cpp
 void add_transcode_command(CLI::App& app);   // cmd_transcode.cpp
 void add_preview_command(CLI::App& app);     // cmd_preview.cpp: HTML page of a conversion
 void add_verify_command(CLI::App& app);      // cmd_verify.cpp: a conversion within bounds (users' CI)
+void add_scene_command(CLI::App& app);       // cmd_scene.cpp: the placed scene as glTF
 
 // The lab (src/cli/lab/, linking ahd_lab): measurements of the codecs and the fit, not needed to
 // convert. Listed under their own heading in `ahdpack --help`.

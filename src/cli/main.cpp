@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   ahd::cli::add_transcode_command(app);
   ahd::cli::add_preview_command(app);
   ahd::cli::add_verify_command(app);
+  ahd::cli::add_scene_command(app);
   ahd::cli::add_lab_commands(app);
   try {
     ahd::cli::apply_size_limit_from_environment();

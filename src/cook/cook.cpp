@@ -12,6 +12,7 @@
 
 #include "api/options.h"
 #include "bakers/bake_input.h"
+#include "bakers/scene_export.h"
 #include "cook/conversion_cache.h"
 #include "cook/conversion_key.h"
 #include "containers/sha256.h"
@@ -275,6 +276,7 @@ CookResult cook_conversion(const CookRequest& request, const CookHooks& hooks) {
   PackageOptions pkg = ro.package;
   pkg.world_frame = !pages[0].normals.empty();
   pkg.iz_scale = iz_scale;
+  pkg.instances = bake_instances(a);  // the placed scene's instances, when the input has one
   if (pkg.iz_scale != 1.0)  // the SH is linear in the light: scaling it scales I_z and keeps d and the ratio
     for (ShImage& p : pages)
       for (float& v : p.data) v = float(double(v) * pkg.iz_scale);

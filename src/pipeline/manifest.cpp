@@ -61,6 +61,17 @@ std::string manifest_to_json(const Manifest& m) {
       {"iz_scale", m.iz_scale},
   };
   if (!m.directional) j["decode"]["without_direction"] = "no dir/ratio planes: d = (0,0,1), ratio = 1, so I(n) = Iz";
+  if (!m.instances.empty()) {  // additive: manifests without a placed scene keep their bytes
+    json inst = json::array();
+    for (const ManifestInstance& i : m.instances)
+      inst.push_back({{"node", i.node},
+                      {"page", i.page},
+                      {"uv_scale", {i.scale[0], i.scale[1]}},
+                      {"uv_offset", {i.offset[0], i.offset[1]}},
+                      {"direction_frame", m.direction_frame}});
+    j["instances"] = inst;
+    j["instance_uv"] = "atlas_uv = uv2 * uv_scale + uv_offset; glTF UV convention (v down, v = 0 is row 0)";
+  }
   return j.dump(2) + "\n";
 }
 
@@ -149,6 +160,22 @@ Manifest manifest_from_json(const std::string& text, const std::string& path) {
     m.direction_frame = d.at("direction_frame").get<std::string>();
     m.iz_scale = d.value("iz_scale", 1.0);
     if (!(m.iz_scale > 0 && std::isfinite(m.iz_scale))) throw file_error(path, "iz_scale must be a finite positive number");
+    if (j.contains("instances")) {
+      const auto& inst = j.at("instances");
+      if (!inst.is_array() || inst.size() > 1000000) throw file_error(path, "instances must be a list");
+      for (const auto& e : inst) {
+        ManifestInstance mi;
+        mi.node = e.at("node").get<std::string>();
+        mi.page = int(json_whole(e.at("page"), 0, int64_t(m.layers) - 1, path, "instance page"));
+        for (int k = 0; k < 2; ++k) {
+          mi.scale[k] = e.at("uv_scale").at(size_t(k)).get<double>();
+          mi.offset[k] = e.at("uv_offset").at(size_t(k)).get<double>();
+          if (!std::isfinite(mi.scale[k]) || !std::isfinite(mi.offset[k]))
+            throw file_error(path, "instance " + mi.node + " has a non-finite uv_scale or uv_offset");
+        }
+        m.instances.push_back(std::move(mi));
+      }
+    }
   } catch (const json::exception& e) {
     throw file_error(path, std::string("malformed manifest (") + e.what() + ")");
   }

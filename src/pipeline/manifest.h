@@ -22,6 +22,16 @@ struct ManifestPlane {
   uint32_t layers = 1;  // array layers (atlas pages); written only when > 1
 };
 
+// A lightmapped instance of the scene the conversion was read with (a Godot project, --mesh with
+// --placement): where its lightmap UVs land in the atlas. atlas_uv = uv2 · scale + offset, both in
+// glTF's UV convention (origin top-left, v down: row 0 of the plane is v = 0; Godot's uv_scale
+// rectangle is scale = (w, h), offset = (x, y)). docs/container-format.md "Instances".
+struct ManifestInstance {
+  std::string node;  // the node path (Godot, as the .lmbake names it) or the renderer / node name
+  int page = 0;      // atlas page = array layer of every plane
+  double scale[2] = {1, 1}, offset[2] = {0, 0};
+};
+
 struct Manifest {
   int version = kManifestVersion;
   std::string profile;
@@ -38,6 +48,8 @@ struct Manifest {
   double iz_scale = 1.0;
   // false: only the iz plane exists; decoders use d = (0, 0, 1), ratio = 1, so I(n) = I_z.
   bool directional = true;
+  // The scene's lightmapped instances (empty = not known: no placement in the input; not written).
+  std::vector<ManifestInstance> instances;
 };
 
 std::string manifest_to_json(const Manifest& m);

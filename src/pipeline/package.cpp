@@ -41,6 +41,7 @@ PackagedConversion package_conversion(PipelineResult& r, const Profile& profile,
   m.direction_frame = opt.world_frame ? "normal-frame" : "tangent";
   m.iz_scale = opt.iz_scale;
   m.directional = r.directional;
+  m.instances = opt.instances;
   for (const Plane& p : r.planes)  // before any plane is encoded
     if (!container_holds(opt.container, p.texture.format))
       throw Error("profile " + profile.name + ": " + (opt.container == ContainerKind::DDS ? "DDS" : "KTX2") +

@@ -19,6 +19,7 @@ struct PackageOptions {
   bool plane_metadata = true;  // ahd.* key/values in each plane (ConversionOptions::plane_metadata)
   bool world_frame = false;    // the SH was world space + normals: d is in each texel's normal frame
   double iz_scale = 1.0;       // recorded: the SH was scaled by it before the fit (stored I_z = iz_scale × E)
+  std::vector<ManifestInstance> instances;  // the scene's lightmapped instances (manifest "instances")
   nlohmann::json report_extra = nlohmann::json::object();  // merged into the report (e.g. "source")
 };
 

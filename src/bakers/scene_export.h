@@ -1,0 +1,34 @@
+// What a conversion's input knows of its scene, for engines: the lightmapped instances with their
+// atlas page and rectangle (the manifest's "instances"), and the placed scene as glTF (`ahdpack
+// scene`): every instance's mesh in world space, its lightmap UVs in atlas space. From a Godot
+// project (--godot-scene, or the scene found beside the EXR) or --mesh with --placement.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "bakers/bake_input.h"
+#include "pipeline/manifest.h"
+
+namespace ahd {
+
+// The instances of the scene `a` was read with (call after read_bake_pages: a.godot is loaded
+// then), in the scene's order, atlas rectangles in glTF's UV convention (v down). Empty when the
+// input has no placement (the canonical EXR, a mesh without --placement, the sample). Throws
+// ahd::Error("<file>: <cause>") for an unreadable placement file.
+std::vector<ManifestInstance> bake_instances(const BakeInput& a);
+
+struct SceneGltf {
+  std::vector<uint8_t> glb;
+  size_t instances = 0, triangles = 0;
+  int pages = 1;
+};
+
+// The placed scene of `a` (read as read_bake_input reads it) as glTF binary: one node per
+// lightmapped instance named by its node path, world-space POSITION and NORMAL (glTF axes, as the
+// meshes are read), TEXCOORD_0 = its own lightmap UVs, TEXCOORD_1 = the same in atlas space (where
+// the planes are sampled), node extras {"ahd_page": page, "ahd_uv_scale", "ahd_uv_offset"}.
+// Deterministic bytes. Throws ahd::Error when the input has no placed scene.
+SceneGltf bake_scene_gltf(const BakeInput& a);
+
+}  // namespace ahd
