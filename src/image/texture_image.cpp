@@ -4,7 +4,7 @@
 
 #include "containers/container.h"
 #include "core/error.h"
-#include "core/pixel_format_table.h"
+#include "codecs/pixel_format_table.h"
 #include "pipeline/plane_codec.h"
 
 namespace ahd {
