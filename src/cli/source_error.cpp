@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "core/parallel.h"
+#include "fit/covered_slots.h"
 #include "fit/hemisphere_error.h"
 #include "sh/sh.h"
 
@@ -36,10 +37,8 @@ SourceErrorFigures measure_against_source(const ShImage& sh, const DecodedPlanes
   const std::vector<double> dirs = hemisphere_directions(nd);
   const std::vector<AhdLobe> lobes = lobes_from_planes(level0, dz_min);
   const size_t n = sh.texels();
-  std::vector<size_t> slot(n, 0);
   size_t covered = 0;
-  for (size_t i = 0; i < n; ++i)
-    if (sh.coverage[i]) slot[i] = covered++;
+  const std::vector<size_t> slot = covered_slots(sh, &covered);
   std::vector<SourceTexel> t(covered);
   parallel_for(n, 0, 512, [&](size_t i) {
     if (!sh.coverage[i]) return;

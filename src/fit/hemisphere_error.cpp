@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "core/parallel.h"
+#include "fit/covered_slots.h"
 
 namespace ahd {
 namespace {
@@ -130,10 +131,8 @@ ErrorReport measure_error(const ShImage& sh, const LobeAt& lobe, int threads, in
   const std::vector<double> dirs = hemisphere_directions(directions);
   const size_t n = sh.texels();
   // Covered texels only, in raster order (their rank is their slot).
-  std::vector<size_t> slot(n, 0);
   size_t covered = 0;
-  for (size_t i = 0; i < n; ++i)
-    if (sh.coverage[i]) slot[i] = covered++;
+  const std::vector<size_t> slot = covered_slots(sh, &covered);
   std::vector<TexelError> e(covered);
   parallel_for(n, threads, 512, [&](size_t i) {
     if (sh.coverage[i]) e[slot[i]] = texel_error(sh, i, lobe(i), dirs.data(), directions);

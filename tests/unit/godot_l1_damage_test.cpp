@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_runner.h"
+#include "godot_turned_bake.h"
 #include "test_data.h"
 #include "bakers/baker_layout.h"
 #include "bakers/godot/godot_scene.h"
@@ -36,19 +37,7 @@ bool contains(const std::string& s, const std::string& what) { return s.find(wha
 
 // The real bake read as convert reads it (the scene's normals), the normals turned about x by
 // `degrees`.
-ShImage real_bake(double degrees) {
-  const GodotSceneMeshes g = load_godot_scene((kScenes / "world.tscn").string());
-  const PlacedMesh pm = place_instances(g.scene, g.placements, 0, g.lmbake);
-  RasterisedNormals rn = rasterise_lightmap_normals(pm.mesh, 512, 512);
-  const double c = std::cos(degrees * M_PI / 180), s = std::sin(degrees * M_PI / 180);
-  for (size_t i = 0; i < rn.coverage.size(); ++i) {
-    float* n = &rn.normals[i * 3];
-    const double y = n[1], z = n[2];
-    n[1] = float(c * y - s * z), n[2] = float(s * y + c * z);
-  }
-  const LayoutNormals ln{"world.tscn", 512, 512, std::move(rn.normals), std::move(rn.coverage)};
-  return read_layout(load_layout("godot4-unpacked"), (kScenes / "world").string(), &ln);
-}
+ShImage real_bake(double degrees) { return ahd_test::read_turned_bake(kScenes, degrees).sh; }
 
 // Negative L1 set to 0, as the denoiser left it.
 void clamp_l1(ShImage* sh) {

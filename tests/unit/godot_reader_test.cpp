@@ -50,6 +50,33 @@ struct Rsrc {
   }
 };
 
+// world.tscn: a LightmapGI with res://world.lmbake and one node `node` of the resource `res` of type
+// `type` (a PackedScene instanced, or a Mesh in a MeshInstance3D).
+std::string lit_scene(const std::string& type, const std::string& res, const std::string& node) {
+  return "[gd_scene load_steps=3 format=3]\n"
+         "[ext_resource type=\"LightmapGIData\" path=\"res://world.lmbake\" id=\"1_lm\"]\n"
+         "[ext_resource type=\"" +
+         type + "\" path=\"res://" + res +
+         "\" id=\"2_res\"]\n"
+         "[node name=\"World\" type=\"Node3D\"]\n"
+         "[node name=\"LightmapGI\" type=\"LightmapGI\" parent=\".\"]\nlight_data = ExtResource(\"1_lm\")\n" +
+         (type == "Mesh"
+              ? "[node name=\"" + node + "\" type=\"MeshInstance3D\" parent=\".\"]\nmesh = ExtResource(\"2_res\")\n"
+              : "[node name=\"" + node + "\" parent=\".\" instance=ExtResource(\"2_res\")]\n");
+}
+
+// One unwrap-cache entry as godot_unwrap_cache.cpp reads it: the key, the size hint, four vertices
+// (source vertices 0..3) with their UV2 (`uv2`: u, v pairs), the indices.
+void unwrap_entry(Rsrc& c, const GodotUnwrapKey& key, uint32_t hint_w, uint32_t hint_h, const float* uv2,
+                  const std::vector<uint32_t>& idx) {
+  c.b.insert(c.b.end(), key.begin(), key.end());
+  c.u32(hint_w), c.u32(hint_h), c.u32(4);
+  for (uint32_t v = 0; v < 4; ++v) c.u32(v);
+  for (int k = 0; k < 8; ++k) c.f32(uv2[k]);
+  c.u32(uint32_t(idx.size()));
+  for (uint32_t i : idx) c.u32(i);
+}
+
 // A LightmapGIData whose users are `users` (node paths by name; default one, "../Box"), each
 // with the rectangle 0.25, 0.5, 0.5, 0.25 and slice 1, after a PackedVector4Array and a Callable
 // property, written as format `format`. `uid_flag` false: flags without FORMAT_FLAG_UIDS (the uid
@@ -369,13 +396,7 @@ TEST(GodotReader, RotatedScaledNodeFindsItsEntryByKey) {
   for (const char* f : {"bedframe.glb", "bedframe.glb.import", "bedframe.glb.unwrap_cache"})
     fs::copy_file(models / f, dir / "bed" / f);
   write(dir / "world.lmbake", lmbake_bytes(5, true, {{"..", "Bed", "Cube_002"}}));
-  write(dir / "world.tscn",
-        "[gd_scene load_steps=3 format=3]\n"
-        "[ext_resource type=\"LightmapGIData\" path=\"res://world.lmbake\" id=\"1_lm\"]\n"
-        "[ext_resource type=\"PackedScene\" path=\"res://bed/bedframe.glb\" id=\"2_bed\"]\n"
-        "[node name=\"World\" type=\"Node3D\"]\n"
-        "[node name=\"LightmapGI\" type=\"LightmapGI\" parent=\".\"]\nlight_data = ExtResource(\"1_lm\")\n"
-        "[node name=\"Bed\" parent=\".\" instance=ExtResource(\"2_bed\")]\n");
+  write(dir / "world.tscn", lit_scene("PackedScene", "bed/bedframe.glb", "Bed"));
   const GodotSceneMeshes g = load_godot_scene((dir / "world.tscn").string());
   ASSERT_EQ(g.scene.instances.size(), 1u) << testing::PrintToString(g.notes);
   for (const std::string& n : g.notes) EXPECT_FALSE(contains(n, "by its triangles")) << n;
@@ -423,24 +444,14 @@ TEST(GodotReader, MeshesOfEqualVertexCountTakeTheirOwnEntries) {
   c.u32(2);
   for (int m : {1, 0}) {
     const std::vector<float> p(pos[m], pos[m] + 12), n(nrm, nrm + 12);
-    const GodotUnwrapKey key = godot_unwrap_key(p, n, winding, one, 0.2f);
-    c.b.insert(c.b.end(), key.begin(), key.end());
-    c.u32(8), c.u32(8), c.u32(4);
-    for (uint32_t v = 0; v < 4; ++v) c.u32(v);
+    float uv2[8];
     for (uint32_t v = 0; v < 4; ++v)
-      c.f32(0.5f * float(m) + 0.5f * pos[m][v * 3] / float(m + 1)), c.f32(pos[m][v * 3 + 1]);
-    c.u32(6);
-    for (uint32_t i : winding) c.u32(i);
+      uv2[v * 2] = 0.5f * float(m) + 0.5f * pos[m][v * 3] / float(m + 1), uv2[v * 2 + 1] = pos[m][v * 3 + 1];
+    unwrap_entry(c, godot_unwrap_key(p, n, winding, one, 0.2f), 8, 8, uv2, winding);
   }
   write(dir / "m/twins.gltf.unwrap_cache", c.b);
   write(dir / "world.lmbake", lmbake_bytes(5, true, {{"..", "Twins", "Top", "A"}, {"..", "Twins", "Top", "B"}}));
-  write(dir / "world.tscn",
-        "[gd_scene load_steps=3 format=3]\n"
-        "[ext_resource type=\"LightmapGIData\" path=\"res://world.lmbake\" id=\"1_lm\"]\n"
-        "[ext_resource type=\"PackedScene\" path=\"res://m/twins.gltf\" id=\"2_tw\"]\n"
-        "[node name=\"World\" type=\"Node3D\"]\n"
-        "[node name=\"LightmapGI\" type=\"LightmapGI\" parent=\".\"]\nlight_data = ExtResource(\"1_lm\")\n"
-        "[node name=\"Twins\" parent=\".\" instance=ExtResource(\"2_tw\")]\n");
+  write(dir / "world.tscn", lit_scene("PackedScene", "m/twins.gltf", "Twins"));
   const GodotSceneMeshes g = load_godot_scene((dir / "world.tscn").string());
   ASSERT_EQ(g.scene.instances.size(), 2u) << testing::PrintToString(g.notes);
   for (const std::string& n : g.notes) EXPECT_FALSE(contains(n, "by its triangles")) << n;
@@ -471,13 +482,7 @@ fs::path fbx_project(const std::string& name, const std::vector<uint8_t>& cache,
             import_extra);
   write(dir / "m/room.fbx.unwrap_cache", cache);
   write(dir / "world.lmbake", lmbake_bytes(6, true, {{"..", "Room", "Floor"}}));
-  write(dir / "world.tscn",
-        "[gd_scene load_steps=3 format=3]\n"
-        "[ext_resource type=\"LightmapGIData\" path=\"res://world.lmbake\" id=\"1_lm\"]\n"
-        "[ext_resource type=\"PackedScene\" path=\"res://m/room.fbx\" id=\"2_room\"]\n"
-        "[node name=\"World\" type=\"Node3D\"]\n"
-        "[node name=\"LightmapGI\" type=\"LightmapGI\" parent=\".\"]\nlight_data = ExtResource(\"1_lm\")\n"
-        "[node name=\"Room\" parent=\".\" instance=ExtResource(\"2_room\")]\n");
+  write(dir / "world.tscn", lit_scene("PackedScene", "m/room.fbx", "Room"));
   return dir;
 }
 
@@ -495,12 +500,7 @@ std::vector<uint8_t> room_cache(bool damage_key) {
   if (damage_key) key[0] ^= 0xff;
   Rsrc c;
   c.u32(1);
-  for (uint8_t k : key) c.b.push_back(k);
-  c.u32(16), c.u32(8), c.u32(4);
-  for (uint32_t v = 0; v < 4; ++v) c.u32(v);
-  for (float f : kFbxUv2) c.f32(f);
-  c.u32(6);
-  for (uint32_t i : idx) c.u32(i);
+  unwrap_entry(c, key, 16, 8, kFbxUv2, idx);
   return c.b;
 }
 
@@ -664,21 +664,10 @@ TEST(GodotObj, MeshResourceTakesItsUv2FromTheUnwrapCacheByKey) {
   const float uv2[8] = {0.8f, 0.2f, 0.2f, 0.2f, 0.8f, 0.7f, 0.2f, 0.7f};
   Rsrc c;
   c.u32(1);
-  for (uint8_t k : key) c.b.push_back(k);
-  c.u32(16), c.u32(8), c.u32(4);
-  for (uint32_t v = 0; v < 4; ++v) c.u32(v);
-  for (float f : uv2) c.f32(f);
-  c.u32(6);
-  for (uint32_t i : idx) c.u32(i);
+  unwrap_entry(c, key, 16, 8, uv2, idx);
   write(dir / "m/tile.obj.unwrap_cache", c.b);
   write(dir / "world.lmbake", lmbake_bytes(6, true, {{"..", "Tile"}}));
-  write(dir / "world.tscn",
-        "[gd_scene load_steps=3 format=3]\n"
-        "[ext_resource type=\"LightmapGIData\" path=\"res://world.lmbake\" id=\"1_lm\"]\n"
-        "[ext_resource type=\"Mesh\" path=\"res://m/tile.obj\" id=\"2_obj\"]\n"
-        "[node name=\"World\" type=\"Node3D\"]\n"
-        "[node name=\"LightmapGI\" type=\"LightmapGI\" parent=\".\"]\nlight_data = ExtResource(\"1_lm\")\n"
-        "[node name=\"Tile\" type=\"MeshInstance3D\" parent=\".\"]\nmesh = ExtResource(\"2_obj\")\n");
+  write(dir / "world.tscn", lit_scene("Mesh", "m/tile.obj", "Tile"));
   const GodotSceneMeshes g = load_godot_scene((dir / "world.tscn").string());
   ASSERT_EQ(g.scene.instances.size(), 1u) << testing::PrintToString(g.notes);
   for (const std::string& n : g.notes) EXPECT_FALSE(contains(n, "by its triangles")) << n;

@@ -16,6 +16,7 @@
 
 #include "cli_runner.h"
 #include "file_bytes.h"
+#include "godot_turned_bake.h"
 #include "test_data.h"
 #include "core/error.h"
 #include "fit/fit_image.h"
@@ -50,23 +51,10 @@ std::vector<uint8_t> bytes_of(const fs::path& p) {
 
 // The rules the fit fires with the scene's normals, rotated about x by `degrees`.
 FitStats fit_with_normals(double degrees, CoverageComparison* cc) {
-  const GodotSceneMeshes g = load_godot_scene((kScenes / "world.tscn").string());
-  const PlacedMesh pm = place_instances(g.scene, g.placements, 0, g.lmbake);
-  RasterisedNormals rn = rasterise_lightmap_normals(pm.mesh, 512, 512);
-  const double c = std::cos(degrees * M_PI / 180), s = std::sin(degrees * M_PI / 180);
-  for (size_t i = 0; i < rn.coverage.size(); ++i) {
-    float* n = &rn.normals[i * 3];
-    if (!rn.coverage[i]) continue;
-    const double y = n[1], z = n[2];
-    n[1] = float(c * y - s * z), n[2] = float(s * y + c * z);
-  }
-  const std::vector<uint8_t> coverage = rn.coverage;
-  const LayoutPreset layout = load_layout("godot4-unpacked");
-  const LayoutNormals ln{"world.tscn", 512, 512, std::move(rn.normals), std::move(rn.coverage)};
-  const ShImage sh = read_layout(layout, (kScenes / "world").string(), &ln);
-  if (cc) *cc = compare_coverage(coverage, sh);
+  const ahd_test::TurnedBake b = ahd_test::read_turned_bake(kScenes, degrees);
+  if (cc) *cc = compare_coverage(b.coverage, b.sh);
   FitStats st;
-  fit_image(sh, FitOptions{}, 1, &st);
+  fit_image(b.sh, FitOptions{}, 1, &st);
   return st;
 }
 

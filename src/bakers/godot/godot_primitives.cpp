@@ -178,6 +178,21 @@ class Props {
     out = V2{v[0], v[1]};
     return true;
   }
+  // A float property through its setter, which returns early on an equal_approx value: true when
+  // `field` took the new value. equal_approx's tolerance scales with its first argument, so the
+  // order is the setter's: new value first, or the old one where `old_first`.
+  bool set_float(const std::string& name, float& field, bool old_first = false) const {
+    float v;
+    if (!get_float(name, v) || (old_first ? equal_approx(field, v) : equal_approx(v, field))) return false;
+    field = v;
+    return true;
+  }
+  bool set_v3(const std::string& name, V3& field) const {
+    V3 v;
+    if (!get_v3(name, v) || equal_approx(v, field)) return false;
+    field = v;
+    return true;
+  }
 
  private:
   const std::map<std::string, std::string>& m_;
@@ -228,6 +243,84 @@ void ring_dir(int i, int segments, float u, float& s, float& c) {
   }
 }
 
+// i / (n + 1.0) rounded to float: a grid line's UV along n subdivisions.
+inline float frac(int i, int n) { return f(double(i) / (n + 1.0)); }
+// Godot's accumulated grid coordinate, x += length / (n + 1.0) in a float: the sum in double, rounded.
+inline float step(float x, float length, int n) { return f(x + double(length) / (n + 1.0)); }
+
+// How a grid's cells become triangles: one face per row (quad_single), two interleaved faces
+// (quad_pair), or two whose first row is a ridge of coincident points (PrismMesh's front and back:
+// one triangle per face in the first band).
+enum class Cells { single, pair, ridge_pair };
+
+// Godot's grid loops: rows j = 0..rows, columns i = 0..cols. `row(j)` starts each row, `column(i)`
+// writes the column's vertices (one, or two for the paired cells); the cells' triangles follow.
+// `point` counts the vertices written so far: each grid starts a fresh thisrow = point, prevrow = 0.
+template <class Row, class Column>
+void grid(Arrays& a, int& point, int rows, int cols, Cells cells, Row row, Column column) {
+  int thisrow = point, prevrow = 0;
+  for (int j = 0; j <= rows; ++j) {
+    row(j);
+    for (int i = 0; i <= cols; ++i) {
+      column(i);
+      point += cells == Cells::single ? 1 : 2;
+      if (i == 0 || j == 0) continue;
+      const int i2 = i * 2;
+      if (cells == Cells::single) {
+        quad_single(a, prevrow, thisrow, i);
+      } else if (cells == Cells::ridge_pair && j == 1) {
+        a.tri(prevrow + i2, thisrow + i2, thisrow + i2 - 2);
+        a.tri(prevrow + i2 + 1, thisrow + i2 + 1, thisrow + i2 - 1);
+      } else {
+        quad_pair(a, prevrow, thisrow, i2, 0);
+        quad_pair(a, prevrow, thisrow, i2, 1);
+      }
+    }
+    prevrow = thisrow;
+    thisrow = point;
+  }
+}
+
+// An axis a face grid walks in a float: from `start`, step(…, length, n) per grid line, n the
+// subdivisions.
+struct Walk {
+  float start, length;
+  int n;
+};
+
+// The face grids (BoxMesh, PlaneMesh, PrismMesh): the rows walk `down`, each row's columns walk
+// `across` from its start again, and `column(x, y, u2, v2)` writes a column's vertices with
+// u2 = frac(i, across.n), v2 = frac(j, v_n) (v_n is down.n but on BoxMesh's front, see there).
+template <class Column>
+void face_grid(Arrays& a, int& point, Cells cells, Walk down, Walk across, int v_n, Column column) {
+  float x = 0, y = 0, v2 = 0;
+  grid(
+      a, point, down.n + 1, across.n + 1, cells,
+      [&](int j) {
+        y = j == 0 ? down.start : step(y, down.length, down.n);
+        v2 = frac(j, v_n);
+        x = across.start;
+      },
+      [&](int i) {
+        column(x, y, frac(i, across.n), v2);
+        x = step(x, across.length, across.n);
+      });
+}
+
+// The ring grids (CapsuleMesh, CylinderMesh, SphereMesh): `row(j, v)` with v = j / rows, then
+// `column(u, s, c)` round the ring, u = i / segments and (s, c) its ring_dir.
+template <class Row, class Column>
+void ring_grid(Arrays& a, int& point, int rows, int segments, Row row, Column column) {
+  grid(
+      a, point, rows, segments, Cells::single, [&](int j) { row(j, float(j) / float(rows)); },
+      [&](int i) {
+        const float u = float(i) / float(segments);
+        float s, c;
+        ring_dir(i, segments, u, s, c);
+        column(u, s, c);
+      });
+}
+
 struct Common {
   bool flip_faces = false;
   bool add_uv2 = false;
@@ -253,15 +346,12 @@ struct Capsule {
     c.hint[1] = c.hint_int(std::max(1.0, double(vertical_length / c.texel_size)) + padding);
   }
   void set(const Props& p, Common& c) {
-    float v;
     int n;
-    if (p.get_float("radius", v) && !equal_approx(radius, v)) {
-      radius = v;
+    if (p.set_float("radius", radius, true)) {
       if (radius > double(height) * 0.5) height = f(double(radius) * 2.0);
       update_hint(c);
     }
-    if (p.get_float("height", v) && !equal_approx(height, v)) {
-      height = v;
+    if (p.set_float("height", height, true)) {
       if (radius > double(height) * 0.5) radius = f(double(height) * 0.5);
       update_hint(c);
     }
@@ -277,105 +367,71 @@ struct Capsule {
     const float vertical_length = f(double(radial_length * 2) + (double(height) - 2.0 * radius) + pad);
     const float radial_v = radial_length / vertical_length;
     const float height_v = f((double(height) - 2.0 * radius) / vertical_length);
-    int point = 0, thisrow = 0, prevrow = 0;
+    int point = 0;
+    float v = 0, w = 0, y = 0;
 
-    // Top hemisphere.
-    for (int j = 0; j <= rings + 1; ++j) {
-      const float v = float(j) / float(rings + 1);
-      float w, y;
-      if (j == rings + 1) {
-        w = 1.0f;
-        y = 0.0f;
-      } else {
-        w = f(std::sin(0.5 * kPi * v));
-        y = f(std::cos(0.5 * kPi * v));
-      }
-      const float oy = f(0.5 * height - radius);
-      for (int i = 0; i <= radial_segments; ++i) {
-        const float u = float(i) / float(radial_segments);
-        float s, co;
-        ring_dir(i, radial_segments, u, s, co);
-        const float x = -s, z = co;
-        const V3 q{x * w, y, -z * w};
-        a.add(V3{q.x * radius + 0.0f, q.y * radius + oy, q.z * radius + 0.0f}, q, V2{u * radial_h, v * radial_v});
-        ++point;
-        if (i > 0 && j > 0) quad_single(a, prevrow, thisrow, i);
-      }
-      prevrow = thisrow;
-      thisrow = point;
-    }
+    // The hemispheres: the top one from the pole down, the bottom one from the rim down.
+    auto hemisphere = [&](bool top) {
+      const float oy = top ? f(0.5 * height - radius) : f(-0.5 * height + radius);
+      ring_grid(
+          a, point, rings + 1, radial_segments,
+          [&](int j, float vj) {
+            v = vj;
+            const bool last = j == rings + 1;
+            if (top) {
+              w = last ? 1.0f : f(std::sin(0.5 * kPi * v));
+              y = last ? 0.0f : f(std::cos(0.5 * kPi * v));
+            } else {
+              w = last ? 0.0f : f(std::cos(0.5 * kPi * v));
+              y = last ? -1.0f : f(-std::sin(0.5 * kPi * v));
+            }
+          },
+          [&](float u, float s, float co) {
+            const float x = -s, z = co;
+            const V3 q{x * w, y, -z * w};
+            a.add(V3{q.x * radius + 0.0f, q.y * radius + oy, q.z * radius + 0.0f}, q,
+                  V2{u * radial_h, top ? v * radial_v : radial_v + height_v + v * radial_v});
+          });
+    };
+    hemisphere(true);
     // Cylinder.
-    thisrow = point;
-    prevrow = 0;
-    for (int j = 0; j <= rings + 1; ++j) {
-      const float v = float(j) / float(rings + 1);
-      float y = f((double(height) - 2.0 * radius) * v);
-      y = f((0.5 * height - radius) - y);
-      for (int i = 0; i <= radial_segments; ++i) {
-        const float u = float(i) / float(radial_segments);
-        float s, co;
-        ring_dir(i, radial_segments, u, s, co);
-        const float x = -s, z = co;
-        a.add(V3{x * radius, y, -z * radius}, V3{x, 0.0f, -z}, V2{u * radial_h, radial_v + (v * height_v)});
-        ++point;
-        if (i > 0 && j > 0) quad_single(a, prevrow, thisrow, i);
-      }
-      prevrow = thisrow;
-      thisrow = point;
-    }
-    // Bottom hemisphere.
-    thisrow = point;
-    prevrow = 0;
-    for (int j = 0; j <= rings + 1; ++j) {
-      const float v = float(j) / float(rings + 1);
-      float w, y;
-      if (j == rings + 1) {
-        w = 0.0f;
-        y = -1.0f;
-      } else {
-        w = f(std::cos(0.5 * kPi * v));
-        y = f(-std::sin(0.5 * kPi * v));
-      }
-      const float oy = f(-0.5 * height + radius);
-      for (int i = 0; i <= radial_segments; ++i) {
-        const float u = float(i) / float(radial_segments);
-        float s, co;
-        ring_dir(i, radial_segments, u, s, co);
-        const float x = -s, z = co;
-        const V3 q{x * w, y, -z * w};
-        a.add(V3{q.x * radius + 0.0f, q.y * radius + oy, q.z * radius + 0.0f}, q,
-              V2{u * radial_h, radial_v + height_v + v * radial_v});
-        ++point;
-        if (i > 0 && j > 0) quad_single(a, prevrow, thisrow, i);
-      }
-      prevrow = thisrow;
-      thisrow = point;
-    }
+    ring_grid(
+        a, point, rings + 1, radial_segments,
+        [&](int, float vj) {
+          v = vj;
+          y = f((double(height) - 2.0 * radius) * v);
+          y = f((0.5 * height - radius) - y);
+        },
+        [&](float u, float s, float co) {
+          const float x = -s, z = co;
+          a.add(V3{x * radius, y, -z * radius}, V3{x, 0.0f, -z}, V2{u * radial_h, radial_v + (v * height_v)});
+        });
+    hemisphere(false);
     a.has_uv2 = true;
   }
 };
 
 // ---- BoxMesh -----------------------------------------------------------------------------------
 
+// BoxMesh's and PrismMesh's hint: charts in two columns (width, depth) and three rows (the height
+// twice, then `bottom`), padded between.
+void box_hint(Common& c, V3 size, float bottom) {
+  if (!c.add_uv2) return;
+  const float padding = c.uv2_padding;
+  const float width = (size.x + size.z) / c.texel_size;
+  const float length = (size.y + size.y + bottom) / c.texel_size;
+  c.hint[0] = c.hint_int(std::max(1.0, double(width)) + 2.0 * padding);
+  c.hint[1] = c.hint_int(std::max(1.0, double(length)) + 3.0 * padding);
+}
+
 struct Box {
   V3 size{1, 1, 1};
   int sw = 0, sh = 0, sd = 0;
 
-  void update_hint(Common& c) const {
-    if (!c.add_uv2) return;
-    const float padding = c.uv2_padding;
-    const float width = (size.x + size.z) / c.texel_size;
-    const float length = (size.y + size.y + std::max(size.x, size.z)) / c.texel_size;
-    c.hint[0] = c.hint_int(std::max(1.0, double(width)) + 2.0 * padding);
-    c.hint[1] = c.hint_int(std::max(1.0, double(length)) + 3.0 * padding);
-  }
+  void update_hint(Common& c) const { box_hint(c, size, std::max(size.x, size.z)); }
   void set(const Props& p, Common& c) {
-    V3 v;
     int n;
-    if (p.get_v3("size", v) && !equal_approx(v, size)) {
-      size = v;
-      update_hint(c);
-    }
+    if (p.set_v3("size", size)) update_hint(c);
     if (p.get_int("subdivide_width", n) && n != sw) sw = n > 0 ? n : 0;
     if (p.get_int("subdivide_height", n) && n != sh) sh = n > 0 ? n : 0;
     if (p.get_int("subdivide_depth", n) && n != sd) sd = n > 0 ? n : 0;
@@ -395,75 +451,27 @@ struct Box {
     const float height_v = size.y / total_v;
     const float depth_v = size.z / total_v;
     const V3 start{size.x * -0.5f, size.y * -0.5f, size.z * -0.5f};
-    int point = 0, thisrow = 0, prevrow = 0;
+    const Walk across_x{start.x, size.x, sw}, down_y{start.y, size.y, sh}, z_walk{start.z, size.z, sd};
+    int point = 0;
 
     // Front + back. (Godot divides the rows' v2 by subdivide_width + 1 here, not by
     // subdivide_height + 1: kept, so its charts are reproduced as they are.)
-    float y = start.y;
-    for (int j = 0; j <= sh + 1; ++j) {
-      const float v2 = f(double(j) / (sw + 1.0));
-      float x = start.x;
-      for (int i = 0; i <= sw + 1; ++i) {
-        const float u2 = f(double(i) / (sw + 1.0));
-        a.add(V3{x, -y, -start.z}, V3{0, 0, 1}, V2{u2 * width_h, v2 * height_v});
-        a.add(V3{-x, -y, start.z}, V3{0, 0, -1}, V2{u2 * width_h, height_v + padding_v + (v2 * height_v)});
-        point += 2;
-        if (i > 0 && j > 0) {
-          quad_pair(a, prevrow, thisrow, i * 2, 0);
-          quad_pair(a, prevrow, thisrow, i * 2, 1);
-        }
-        x = f(x + double(size.x) / (sw + 1.0));
-      }
-      y = f(y + double(size.y) / (sh + 1.0));
-      prevrow = thisrow;
-      thisrow = point;
-    }
+    face_grid(a, point, Cells::pair, down_y, across_x, sw, [&](float x, float y, float u2, float v2) {
+      a.add(V3{x, -y, -start.z}, V3{0, 0, 1}, V2{u2 * width_h, v2 * height_v});
+      a.add(V3{-x, -y, start.z}, V3{0, 0, -1}, V2{u2 * width_h, height_v + padding_v + (v2 * height_v)});
+    });
     // Right + left.
-    y = start.y;
-    thisrow = point;
-    prevrow = 0;
-    for (int j = 0; j <= sh + 1; ++j) {
-      const float v2 = f(double(j) / (sh + 1.0));
-      float z = start.z;
-      for (int i = 0; i <= sd + 1; ++i) {
-        const float u2 = f(double(i) / (sd + 1.0));
-        a.add(V3{-start.x, -y, -z}, V3{1, 0, 0}, V2{width_h + padding_h + (u2 * depth_h), v2 * height_v});
-        a.add(V3{start.x, -y, z}, V3{-1, 0, 0},
-              V2{width_h + padding_h + (u2 * depth_h), height_v + padding_v + (v2 * height_v)});
-        point += 2;
-        if (i > 0 && j > 0) {
-          quad_pair(a, prevrow, thisrow, i * 2, 0);
-          quad_pair(a, prevrow, thisrow, i * 2, 1);
-        }
-        z = f(z + double(size.z) / (sd + 1.0));
-      }
-      y = f(y + double(size.y) / (sh + 1.0));
-      prevrow = thisrow;
-      thisrow = point;
-    }
+    face_grid(a, point, Cells::pair, down_y, z_walk, sh, [&](float z, float y, float u2, float v2) {
+      a.add(V3{-start.x, -y, -z}, V3{1, 0, 0}, V2{width_h + padding_h + (u2 * depth_h), v2 * height_v});
+      a.add(V3{start.x, -y, z}, V3{-1, 0, 0},
+            V2{width_h + padding_h + (u2 * depth_h), height_v + padding_v + (v2 * height_v)});
+    });
     // Top + bottom.
-    float z = start.z;
-    thisrow = point;
-    prevrow = 0;
-    for (int j = 0; j <= sd + 1; ++j) {
-      const float v2 = f(double(j) / (sd + 1.0));
-      float x = start.x;
-      for (int i = 0; i <= sw + 1; ++i) {
-        const float u2 = f(double(i) / (sw + 1.0));
-        const double row = double(height_v + padding_v) * 2.0;
-        a.add(V3{-x, -start.y, -z}, V3{0, 1, 0}, V2{u2 * width_h, f(row + (v2 * depth_v))});
-        a.add(V3{x, start.y, -z}, V3{0, -1, 0}, V2{width_h + padding_h + (u2 * depth_h), f(row + (v2 * width_v))});
-        point += 2;
-        if (i > 0 && j > 0) {
-          quad_pair(a, prevrow, thisrow, i * 2, 0);
-          quad_pair(a, prevrow, thisrow, i * 2, 1);
-        }
-        x = f(x + double(size.x) / (sw + 1.0));
-      }
-      z = f(z + double(size.z) / (sd + 1.0));
-      prevrow = thisrow;
-      thisrow = point;
-    }
+    const double row = double(height_v + padding_v) * 2.0;
+    face_grid(a, point, Cells::pair, z_walk, across_x, sd, [&](float x, float z, float u2, float v2) {
+      a.add(V3{-x, -start.y, -z}, V3{0, 1, 0}, V2{u2 * width_h, f(row + (v2 * depth_v))});
+      a.add(V3{x, start.y, -z}, V3{0, -1, 0}, V2{width_h + padding_h + (u2 * depth_h), f(row + (v2 * width_v))});
+    });
     a.has_uv2 = true;
   }
 };
@@ -488,21 +496,11 @@ struct Cylinder {
     c.hint[1] = c.hint_int(std::max(1.0, double(hgt)));
   }
   void set(const Props& p, Common& c) {
-    float v;
     int n;
     bool b;
-    if (p.get_float("top_radius", v) && !equal_approx(v, top_radius)) {
-      top_radius = v;
-      update_hint(c);
-    }
-    if (p.get_float("bottom_radius", v) && !equal_approx(v, bottom_radius)) {
-      bottom_radius = v;
-      update_hint(c);
-    }
-    if (p.get_float("height", v) && !equal_approx(v, height)) {
-      height = v;
-      update_hint(c);
-    }
+    if (p.set_float("top_radius", top_radius)) update_hint(c);
+    if (p.set_float("bottom_radius", bottom_radius)) update_hint(c);
+    if (p.set_float("height", height)) update_hint(c);
     if (p.get_int("radial_segments", n) && n != radial_segments) radial_segments = n > 4 ? n : 4;
     if (p.get_int("rings", n) && n != rings && n >= 0) rings = n;
     if (p.get_bool("cap_top", b)) cap_top = b;
@@ -524,26 +522,22 @@ struct Cylinder {
     float bottom_h = bottom_circumference / horizontal_length;
     const float padding_h = pad / horizontal_length;
     const float side_normal_y = (bottom_radius - top_radius) / height;
-    int point = 0, thisrow = 0, prevrow = 0;
+    int point = 0;
 
-    for (int j = 0; j <= rings + 1; ++j) {
-      const float v = float(j) / float(rings + 1);
-      const float radius = top_radius + ((bottom_radius - top_radius) * v);
-      const float radius_h = top_h + ((bottom_h - top_h) * v);
-      float y = height * v;
-      y = f((double(height) * 0.5) - y);
-      for (int i = 0; i <= radial_segments; ++i) {
-        const float u = float(i) / float(radial_segments);
-        float x, z;
-        ring_dir(i, radial_segments, u, x, z);
-        a.add(V3{x * radius, y, z * radius}, normalized(V3{x, side_normal_y, z}),
-              V2{f(center_h + (double(u) - 0.5) * radius_h), v * height_v});
-        ++point;
-        if (i > 0 && j > 0) quad_single(a, prevrow, thisrow, i);
-      }
-      prevrow = thisrow;
-      thisrow = point;
-    }
+    float v = 0, radius = 0, radius_h = 0, y = 0;
+    ring_grid(
+        a, point, rings + 1, radial_segments,
+        [&](int, float vj) {
+          v = vj;
+          radius = top_radius + ((bottom_radius - top_radius) * v);
+          radius_h = top_h + ((bottom_h - top_h) * v);
+          y = height * v;
+          y = f((double(height) * 0.5) - y);
+        },
+        [&](float u, float x, float z) {
+          a.add(V3{x * radius, y, z * radius}, normalized(V3{x, side_normal_y, z}),
+                V2{f(center_h + (double(u) - 0.5) * radius_h), v * height_v});
+        });
 
     top_h = top_radius / horizontal_length;
     const float top_v = top_radius / vertical_length;
@@ -551,36 +545,27 @@ struct Cylinder {
     const float bottom_v = bottom_radius / vertical_length;
     const float cap_v = height_v + padding_v + std::max(top_v, bottom_v);
 
-    if (cap_top && top_radius > 0.0f) {
-      const float y = f(double(height) * 0.5);
-      thisrow = point;
-      a.add(V3{0, y, 0}, V3{0, 1, 0}, V2{top_h, cap_v});
+    // A cap: its centre, then a fan round the rim (the bottom one wound the other way, its chart
+    // mirrored in v).
+    auto cap = [&](bool top, float cap_radius, float cy, float cx, float cap_h, float cap_uv_v) {
+      const V3 normal{0, top ? 1.0f : -1.0f, 0};
+      const int centre = point;
+      a.add(V3{0, cy, 0}, normal, V2{cx, cap_v});
       ++point;
       for (int i = 0; i <= radial_segments; ++i) {
         const float r = float(i) / float(radial_segments);
         float x, z;
         ring_dir(i, radial_segments, r, x, z);
-        a.add(V3{x * top_radius, y, z * top_radius}, V3{0, 1, 0}, V2{top_h + (x * top_h), cap_v + (z * top_v)});
+        a.add(V3{x * cap_radius, cy, z * cap_radius}, normal,
+              V2{cx + (x * cap_h), top ? cap_v + (z * cap_uv_v) : cap_v - (z * cap_uv_v)});
         ++point;
-        if (i > 0) a.tri(thisrow, point - 1, point - 2);
+        if (i > 0 && top) a.tri(centre, point - 1, point - 2);
+        if (i > 0 && !top) a.tri(centre, point - 2, point - 1);
       }
-    }
-    if (cap_bottom && bottom_radius > 0.0f) {
-      const float y = f(double(height) * -0.5);
-      const float cx = top_h + top_h + padding_h + bottom_h;
-      thisrow = point;
-      a.add(V3{0, y, 0}, V3{0, -1, 0}, V2{cx, cap_v});
-      ++point;
-      for (int i = 0; i <= radial_segments; ++i) {
-        const float r = float(i) / float(radial_segments);
-        float x, z;
-        ring_dir(i, radial_segments, r, x, z);
-        a.add(V3{x * bottom_radius, y, z * bottom_radius}, V3{0, -1, 0},
-              V2{cx + (x * bottom_h), cap_v - (z * bottom_v)});
-        ++point;
-        if (i > 0) a.tri(thisrow, point - 2, point - 1);
-      }
-    }
+    };
+    if (cap_top && top_radius > 0.0f) cap(true, top_radius, f(double(height) * 0.5), top_h, top_h, top_v);
+    if (cap_bottom && bottom_radius > 0.0f)
+      cap(false, bottom_radius, f(double(height) * -0.5), top_h + top_h + padding_h + bottom_h, bottom_h, bottom_v);
     a.has_uv2 = true;
   }
 };
@@ -601,7 +586,6 @@ struct Plane {
   }
   void set(const Props& p, Common& c) {
     V2 s;
-    V3 o;
     int n;
     if (p.get_v2("size", s) && !(s.x == size.x && s.y == size.y)) {
       size = s;
@@ -609,7 +593,7 @@ struct Plane {
     }
     if (p.get_int("subdivide_width", n) && !(n == sw || (sw == 0 && n < 0))) sw = n > 0 ? n : 0;
     if (p.get_int("subdivide_depth", n) && !(n == sd || (sd == 0 && n < 0))) sd = n > 0 ? n : 0;
-    if (p.get_v3("center_offset", o) && !equal_approx(o, center_offset)) center_offset = o;
+    p.set_v3("center_offset", center_offset);
     if (p.get_int("orientation", n)) {
       if (n < 0 || n > 2) p.fail("orientation", std::to_string(n) + " is not 0 (Face X), 1 (Face Y) or 2 (Face Z)");
       orientation = n;
@@ -623,32 +607,21 @@ struct Plane {
     if (orientation == 0) normal = V3{1, 0, 0};
     if (orientation == 2) normal = V3{0, 0, 1};
     const V3& co = center_offset;
-    int point = 0, thisrow = 0, prevrow = 0;
-    float z = start.y;
-    for (int j = 0; j <= sd + 1; ++j) {
-      float x = start.x;
-      for (int i = 0; i <= sw + 1; ++i) {
-        const float u = f(double(i) / (sw + 1.0));
-        const float v = f(double(j) / (sd + 1.0));
-        V3 pt;
-        if (orientation == 0) {
-          pt = V3{0.0f + co.x, z + co.y, x + co.z};
-        } else if (orientation == 1) {
-          pt = V3{-x + co.x, 0.0f + co.y, -z + co.z};
-        } else {
-          pt = V3{-x + co.x, z + co.y, 0.0f + co.z};
-        }
-        a.points.push_back(pt);
-        a.normals.push_back(normal);
-        a.uv.push_back(V2{f(1.0 - u), f(1.0 - v)});
-        ++point;
-        if (i > 0 && j > 0) quad_single(a, prevrow, thisrow, i);
-        x = f(x + double(size.x) / (sw + 1.0));
-      }
-      z = f(z + double(size.y) / (sd + 1.0));
-      prevrow = thisrow;
-      thisrow = point;
-    }
+    int point = 0;
+    face_grid(a, point, Cells::single, Walk{start.y, size.y, sd}, Walk{start.x, size.x, sw}, sd,
+              [&](float x, float z, float u, float v) {
+                V3 pt;
+                if (orientation == 0) {
+                  pt = V3{0.0f + co.x, z + co.y, x + co.z};
+                } else if (orientation == 1) {
+                  pt = V3{-x + co.x, 0.0f + co.y, -z + co.z};
+                } else {
+                  pt = V3{-x + co.x, z + co.y, 0.0f + co.z};
+                }
+                a.points.push_back(pt);
+                a.normals.push_back(normal);
+                a.uv.push_back(V2{f(1.0 - u), f(1.0 - v)});
+              });
     a.has_uv2 = false;
   }
 };
@@ -660,23 +633,11 @@ struct Prism {
   V3 size{1, 1, 1};
   int sw = 0, sh = 0, sd = 0;
 
-  void update_hint(Common& c) const {
-    if (!c.add_uv2) return;
-    const float padding = c.uv2_padding;
-    const float width = (size.x + size.z) / c.texel_size;
-    const float length = (size.y + size.y + size.z) / c.texel_size;
-    c.hint[0] = c.hint_int(std::max(1.0, double(width)) + 2.0 * padding);
-    c.hint[1] = c.hint_int(std::max(1.0, double(length)) + 3.0 * padding);
-  }
+  void update_hint(Common& c) const { box_hint(c, size, size.z); }
   void set(const Props& p, Common& c) {
-    float v;
-    V3 s;
     int n;
-    if (p.get_float("left_to_right", v) && !equal_approx(v, left_to_right)) left_to_right = v;
-    if (p.get_v3("size", s) && !equal_approx(s, size)) {
-      size = s;
-      update_hint(c);
-    }
+    p.set_float("left_to_right", left_to_right);
+    if (p.set_v3("size", size)) update_hint(c);
     if (p.get_int("subdivide_width", n) && !(n == sw || (n < 0 && sw == 0))) sw = n > 0 ? n : 0;
     if (p.get_int("subdivide_height", n) && !(n == sh || (n < 0 && sh == 0))) sh = n > 0 ? n : 0;
     if (p.get_int("subdivide_depth", n) && !(n == sd || (n < 0 && sd == 0))) sd = n > 0 ? n : 0;
@@ -696,84 +657,45 @@ struct Prism {
     const float padding_v = pad / vertical_total;
     const V3 start{size.x * -0.5f, size.y * -0.5f, size.z * -0.5f};
     const double ltr = left_to_right;
-    int point = 0, thisrow = 0, prevrow = 0;
+    int point = 0;
+    float x = 0, y = 0, scale = 0, v2 = 0;
 
     // Front + back: row 0 is the ridge, every column's points there coincide.
-    float y = start.y;
-    for (int j = 0; j <= sh + 1; ++j) {
-      const float scale = f(j / (sh + 1.0));
-      const float scaled_size_x = size.x * scale;
-      const float start_x = f(start.x + (1.0 - scale) * size.x * ltr);
-      const float v2 = scale;
-      float x = 0.0f;
-      for (int i = 0; i <= sw + 1; ++i) {
-        const float u2 = f(i / (sw + 1.0));
-        a.add(V3{start_x + x, -y, -start.z}, V3{0, 0, 1}, V2{u2 * scale * width_h, v2 * height_v});
-        a.add(V3{start_x + scaled_size_x - x, -y, start.z}, V3{0, 0, -1},
-              V2{u2 * scale * width_h, height_v + padding_v + v2 * height_v});
-        point += 2;
-        const int i2 = i * 2;
-        if (i > 0 && j == 1) {
-          a.tri(prevrow + i2, thisrow + i2, thisrow + i2 - 2);
-          a.tri(prevrow + i2 + 1, thisrow + i2 + 1, thisrow + i2 - 1);
-        } else if (i > 0 && j > 0) {
-          quad_pair(a, prevrow, thisrow, i2, 0);
-          quad_pair(a, prevrow, thisrow, i2, 1);
-        }
-        x = f(x + double(scale * size.x) / (sw + 1.0));
-      }
-      y = f(y + double(size.y) / (sh + 1.0));
-      prevrow = thisrow;
-      thisrow = point;
-    }
+    float scaled_size_x = 0, start_x = 0;
+    grid(
+        a, point, sh + 1, sw + 1, Cells::ridge_pair,
+        [&](int j) {
+          y = j == 0 ? start.y : step(y, size.y, sh);
+          scale = frac(j, sh);
+          scaled_size_x = size.x * scale;
+          start_x = f(start.x + (1.0 - scale) * size.x * ltr);
+          v2 = scale;
+          x = 0.0f;
+        },
+        [&](int i) {
+          const float u2 = frac(i, sw);
+          a.add(V3{start_x + x, -y, -start.z}, V3{0, 0, 1}, V2{u2 * scale * width_h, v2 * height_v});
+          a.add(V3{start_x + scaled_size_x - x, -y, start.z}, V3{0, 0, -1},
+                V2{u2 * scale * width_h, height_v + padding_v + v2 * height_v});
+          x = step(x, scale * size.x, sw);
+        });
 
     // Right + left: the slanted sides.
     const V3 normal_left = normalized(V3{-size.y, f(double(size.x) * ltr), 0.0f});
     const V3 normal_right = normalized(V3{size.y, f(double(size.x) * (1.0 - ltr)), 0.0f});
-    y = start.y;
-    thisrow = point;
-    prevrow = 0;
-    for (int j = 0; j <= sh + 1; ++j) {
-      const float scale = f(j / (sh + 1.0));
-      const float left = f(start.x + (double(size.x) * (1.0 - scale) * ltr));
-      const float right = left + (size.x * scale);
-      const float v2 = scale;
-      float z = start.z;
-      for (int i = 0; i <= sd + 1; ++i) {
-        const float u2 = f(double(i) / (sd + 1.0));
-        a.add(V3{right, -y, -z}, normal_right, V2{width_h + padding_h + u2 * depth_h, v2 * height_v});
-        a.add(V3{left, -y, z}, normal_left,
-              V2{width_h + padding_h + u2 * depth_h, height_v + padding_v + v2 * height_v});
-        point += 2;
-        if (i > 0 && j > 0) {
-          quad_pair(a, prevrow, thisrow, i * 2, 0);
-          quad_pair(a, prevrow, thisrow, i * 2, 1);
-        }
-        z = f(z + double(size.z) / (sd + 1.0));
-      }
-      y = f(y + double(size.y) / (sh + 1.0));
-      prevrow = thisrow;
-      thisrow = point;
-    }
+    const Walk z_walk{start.z, size.z, sd};
+    face_grid(a, point, Cells::pair, Walk{start.y, size.y, sh}, z_walk, sh, [&](float z, float y, float u2, float v2) {
+      const float left = f(start.x + (double(size.x) * (1.0 - v2) * ltr));  // v2 is the row's scale
+      const float right = left + (size.x * v2);
+      a.add(V3{right, -y, -z}, normal_right, V2{width_h + padding_h + u2 * depth_h, v2 * height_v});
+      a.add(V3{left, -y, z}, normal_left, V2{width_h + padding_h + u2 * depth_h, height_v + padding_v + v2 * height_v});
+    });
 
     // Bottom.
-    float z = start.z;
-    thisrow = point;
-    prevrow = 0;
-    for (int j = 0; j <= sd + 1; ++j) {
-      const float v2 = f(double(j) / (sd + 1.0));
-      float x = start.x;
-      for (int i = 0; i <= sw + 1; ++i) {
-        const float u2 = f(double(i) / (sw + 1.0));
-        a.add(V3{x, start.y, -z}, V3{0, -1, 0}, V2{u2 * width_h, f(2.0 * (height_v + padding_v) + v2 * depth_v)});
-        ++point;
-        if (i > 0 && j > 0) quad_single(a, prevrow, thisrow, i);
-        x = f(x + double(size.x) / (sw + 1.0));
-      }
-      z = f(z + double(size.z) / (sd + 1.0));
-      prevrow = thisrow;
-      thisrow = point;
-    }
+    face_grid(
+        a, point, Cells::single, z_walk, Walk{start.x, size.x, sw}, sd, [&](float x, float z, float u2, float v2) {
+          a.add(V3{x, start.y, -z}, V3{0, -1, 0}, V2{u2 * width_h, f(2.0 * (height_v + padding_v) + v2 * depth_v)});
+        });
     a.has_uv2 = true;
   }
 };
@@ -794,17 +716,10 @@ struct Sphere {
     c.hint[1] = c.hint_int(std::max(1.0, double((hgt / c.texel_size) + padding)));
   }
   void set(const Props& p, Common& c) {
-    float v;
     int n;
     bool b;
-    if (p.get_float("radius", v) && !equal_approx(v, radius)) {
-      radius = v;
-      update_hint(c);
-    }
-    if (p.get_float("height", v) && !equal_approx(height, v)) {
-      height = v;
-      update_hint(c);
-    }
+    if (p.set_float("radius", radius)) update_hint(c);
+    if (p.set_float("height", height, true)) update_hint(c);
     if (p.get_int("radial_segments", n) && !(n == radial_segments || (radial_segments == 4 && n < 4)))
       radial_segments = n > 4 ? n : 4;
     if (p.get_int("rings", n) && n != rings && n >= 1) rings = n;
@@ -821,38 +736,28 @@ struct Sphere {
     const float horizontal_length = circumference + pad;
     const float center_h = f(0.5 * circumference / horizontal_length);
     const float height_v = f(scale * kPi / ((scale * kPi) + double(pad / radius)));
-    int point = 0, thisrow = 0, prevrow = 0;
-    for (int j = 0; j <= rings + 1; ++j) {
-      const float v = float(j) / float(rings + 1);
-      float w, y;
-      if (j == rings + 1) {
-        w = 0.0f;
-        y = -1.0f;
-      } else {
-        w = f(std::sin(kPi * v));
-        y = f(std::cos(kPi * v));
-      }
-      for (int i = 0; i <= radial_segments; ++i) {
-        const float u = float(i) / float(radial_segments);
-        float x, z;
-        ring_dir(i, radial_segments, u, x, z);
-        V3 pt, n;
-        if (is_hemisphere && y < 0.0f) {
-          pt = V3{x * radius * w, 0.0f, z * radius * w};
-          n = V3{0, -1, 0};
-        } else {
-          const V3 q{x * w, y * scale, z * w};
-          pt = V3{q.x * radius, q.y * radius, q.z * radius};
-          n = normalized(V3{x * w * scale, y, z * w * scale});
-        }
-        const float w_h = f(double(w) * 2.0 * center_h);
-        a.add(pt, n, V2{f(center_h + ((double(u) - 0.5) * w_h)), v * height_v});
-        ++point;
-        if (i > 0 && j > 0) quad_single(a, prevrow, thisrow, i);
-      }
-      prevrow = thisrow;
-      thisrow = point;
-    }
+    int point = 0;
+    float v = 0, w = 0, y = 0;
+    ring_grid(
+        a, point, rings + 1, radial_segments,
+        [&](int j, float vj) {
+          v = vj;
+          w = j == rings + 1 ? 0.0f : f(std::sin(kPi * v));
+          y = j == rings + 1 ? -1.0f : f(std::cos(kPi * v));
+        },
+        [&](float u, float x, float z) {
+          V3 pt, n;
+          if (is_hemisphere && y < 0.0f) {
+            pt = V3{x * radius * w, 0.0f, z * radius * w};
+            n = V3{0, -1, 0};
+          } else {
+            const V3 q{x * w, y * scale, z * w};
+            pt = V3{q.x * radius, q.y * radius, q.z * radius};
+            n = normalized(V3{x * w * scale, y, z * w * scale});
+          }
+          const float w_h = f(double(w) * 2.0 * center_h);
+          a.add(pt, n, V2{f(center_h + ((double(u) - 0.5) * w_h)), v * height_v});
+        });
     a.has_uv2 = true;
   }
 };
@@ -863,12 +768,18 @@ struct Torus {
   float inner_radius = 0.5f, outer_radius = 1.0f;
   int rings = 64, ring_segments = 32;
 
+  // The radii in order, and the tube's radius.
+  void radii(float& min_radius, float& max_radius, float& radius) const {
+    min_radius = inner_radius;
+    max_radius = outer_radius;
+    if (min_radius > max_radius) std::swap(min_radius, max_radius);
+    radius = f((max_radius - min_radius) * 0.5);
+  }
   void update_hint(Common& c) const {
     if (!c.add_uv2) return;
     const float padding = c.uv2_padding;
-    float min_radius = inner_radius, max_radius = outer_radius;
-    if (min_radius > max_radius) std::swap(min_radius, max_radius);
-    const float radius = f((max_radius - min_radius) * 0.5);
+    float min_radius, max_radius, radius;
+    radii(min_radius, max_radius, radius);
     const float width = f(double(max_radius) * kTau);
     c.hint[0] = c.hint_int(std::max(1.0, double((width / c.texel_size) + padding)));
     const float hgt = f(double(radius) * kTau);
@@ -877,10 +788,9 @@ struct Torus {
   // Godot's radius setters do not call _update_lightmap_size: the hint keeps the radii of the last
   // add_uv2 / uv2_padding change.
   void set(const Props& p, Common&) {
-    float v;
     int n;
-    if (p.get_float("inner_radius", v) && !equal_approx(v, inner_radius)) inner_radius = v;
-    if (p.get_float("outer_radius", v) && !equal_approx(v, outer_radius)) outer_radius = v;
+    p.set_float("inner_radius", inner_radius);
+    p.set_float("outer_radius", outer_radius);
     if (p.get_int("rings", n) && n != rings && n >= 3) rings = n;
     if (p.get_int("ring_segments", n) && n != ring_segments && n >= 3) ring_segments = n;
   }
@@ -888,9 +798,8 @@ struct Torus {
 
   void build(Arrays& a, float pad, const Props& p) const {
     if (inner_radius == outer_radius) p.fail("inner_radius", "equals outer_radius: Godot builds no mesh");
-    float min_radius = inner_radius, max_radius = outer_radius;
-    if (min_radius > max_radius) std::swap(min_radius, max_radius);
-    const float radius = f((max_radius - min_radius) * 0.5);
+    float min_radius, max_radius, radius;
+    radii(min_radius, max_radius, radius);
     const float horizontal_total = f(double(max_radius) * kTau + pad);
     const float max_h = f(double(max_radius) * kTau / horizontal_total);
     const float delta_h = f(double(max_radius - min_radius) * kTau / horizontal_total);
@@ -963,16 +872,12 @@ V3 stored_normal(V3 n) {
 template <class Shape>
 void apply(Shape& shape, Common& c, const Props& p) {
   bool b;
-  float v;
   if (p.get_bool("flip_faces", b)) c.flip_faces = b;
   if (p.get_bool("add_uv2", b) && b != c.add_uv2) {
     c.add_uv2 = b;
     shape.update_hint(c);
   }
-  if (p.get_float("uv2_padding", v) && !equal_approx(v, c.uv2_padding)) {
-    c.uv2_padding = v;
-    shape.update_hint(c);
-  }
+  if (p.set_float("uv2_padding", c.uv2_padding)) shape.update_hint(c);
   shape.set(p, c);
 }
 

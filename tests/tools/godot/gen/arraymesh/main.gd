@@ -100,17 +100,7 @@ func _grid_mesh(indexed: bool, tangents: bool, offset: Vector3) -> ArrayMesh:
 		for i in nx:
 			var a := j * (nx + 1) + i
 			idx.append_array([a, a + 1, a + nx + 1, a + 1, a + nx + 2, a + nx + 1])
-	var arrays := []
-	arrays.resize(Mesh.ARRAY_MAX)
-	if indexed:
-		arrays[Mesh.ARRAY_VERTEX] = verts
-		arrays[Mesh.ARRAY_NORMAL] = normals
-		if tangents:
-			arrays[Mesh.ARRAY_TANGENT] = tans
-		arrays[Mesh.ARRAY_TEX_UV] = uvs
-		arrays[Mesh.ARRAY_TEX_UV2] = uv2s
-		arrays[Mesh.ARRAY_INDEX] = idx
-	else:
+	if not indexed:  # the plain triangle list: each index's vertex written out
 		var fv := PackedVector3Array()
 		var fn := PackedVector3Array()
 		var ft := PackedFloat32Array()
@@ -122,12 +112,21 @@ func _grid_mesh(indexed: bool, tangents: bool, offset: Vector3) -> ArrayMesh:
 			ft.append_array(tans.slice(k * 4, k * 4 + 4))
 			fu.append(uvs[k])
 			fu2.append(uv2s[k])
-		arrays[Mesh.ARRAY_VERTEX] = fv
-		arrays[Mesh.ARRAY_NORMAL] = fn
-		if tangents:
-			arrays[Mesh.ARRAY_TANGENT] = ft
-		arrays[Mesh.ARRAY_TEX_UV] = fu
-		arrays[Mesh.ARRAY_TEX_UV2] = fu2
+		verts = fv
+		normals = fn
+		tans = ft
+		uvs = fu
+		uv2s = fu2
+	var arrays := []
+	arrays.resize(Mesh.ARRAY_MAX)
+	arrays[Mesh.ARRAY_VERTEX] = verts
+	arrays[Mesh.ARRAY_NORMAL] = normals
+	if tangents:
+		arrays[Mesh.ARRAY_TANGENT] = tans
+	arrays[Mesh.ARRAY_TEX_UV] = uvs
+	arrays[Mesh.ARRAY_TEX_UV2] = uv2s
+	if indexed:
+		arrays[Mesh.ARRAY_INDEX] = idx
 	var mesh := ArrayMesh.new()
 	mesh.add_surface_from_arrays(Mesh.PRIMITIVE_TRIANGLES, arrays)
 	return mesh
