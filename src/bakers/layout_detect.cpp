@@ -250,4 +250,10 @@ std::vector<std::string> auto_detected_layouts() {
           "godot4-packed", "godot4-unpacked", "per-coefficient", "plain", "plain-ktx2", "three-rgba", "unity-directional"};
 }
 
+std::string not_a_lightmap_reason(const std::string& path) {
+  if (std::filesystem::path(path).filename().string().rfind("ReflectionProbe-", 0) == 0)
+    return "a Unity reflection probe, not a lightmap";
+  return "";
+}
+
 }  // namespace ahd

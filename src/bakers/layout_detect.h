@@ -31,4 +31,8 @@ std::vector<std::string> auto_detected_layouts();
 // Whether `path` is the tool's canonical EXR (an existing image with an sh0.R channel).
 bool is_canonical_sh_file(const std::string& path);
 
+// Why a file found in a batch folder is not a lightmap, from its name ("" when it may be one):
+// Unity writes its reflection probes (`ReflectionProbe-N.exr`) beside the lightmaps. Pure.
+std::string not_a_lightmap_reason(const std::string& path);
+
 }  // namespace ahd

@@ -123,9 +123,9 @@ std::vector<std::string> batch_files(const std::vector<std::string>& inputs) {
     std::vector<std::string> found;
     for (const auto& e : fs::directory_iterator(in, ec))
       if (e.is_regular_file() && e.path().extension() == ".exr") {
-        // Unity writes its reflection probes beside the lightmaps: not lightmaps, skipped saying so.
-        if (e.path().filename().string().rfind("ReflectionProbe-", 0) == 0)
-          std::printf("ahdpack: %s skipped: a Unity reflection probe, not a lightmap\n", e.path().string().c_str());
+        // A baker's other files beside its lightmaps (bakers/unity/lightmap_page.h): skipped saying so.
+        if (const std::string why = not_a_lightmap_reason(e.path().string()); !why.empty())
+          std::printf("ahdpack: %s skipped: %s\n", e.path().string().c_str(), why.c_str());
         else
           found.push_back(e.path().string());
       }

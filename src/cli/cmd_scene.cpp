@@ -14,7 +14,7 @@ void add_scene_command(CLI::App& app) {
   auto in = std::make_shared<BakeInput>();
   auto out = std::make_shared<std::string>();
   CLI::App* c = app.add_subcommand(
-      "scene", "Write the placed scene of a lightmap's input (a Godot project, or --mesh with --placement) as glTF: "
+      "scene", "Write the placed scene of a lightmap's input (a project whose scene places it, or --mesh with --placement) as glTF: "
                "world-space meshes, lightmap UVs in atlas space (TEXCOORD_1), each instance's page");
   c->add_option("input", in->input, "The lightmap as convert reads it (any file of a baker's set)")->required();
   add_input_options(c, in.get());
