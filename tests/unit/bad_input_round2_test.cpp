@@ -25,6 +25,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "fixture_writers.h"
 #include "cli_runner.h"
 #include "file_bytes.h"
 #include "sanitized.h"
@@ -55,6 +56,7 @@ namespace {
 
 using ahd_test::slurp;
 using ahd_test::spit;
+using ahd_test::gltf_triangle;
 using ahd_test::rd64;
 using ahd_test::wr64;
 
@@ -188,40 +190,6 @@ int channel_of(const OIIO::ImageSpec& spec, const std::string& name) {
   return -1;
 }
 
-// A glTF of one triangle (3 vertices, POSITION + TEXCOORD_0, indices `i0 i1 i2` as uint16) in a
-// data: URI; `nodes_json` replaces the node list, `extra` is appended to the buffer's byteLength.
-std::string gltf_triangle(const std::array<uint16_t, 3>& idx, const std::string& nodes_json = "[{\"mesh\": 0}]",
-                          int extra = 0) {
-  std::vector<uint8_t> buf;
-  auto f32 = [&](float v) {
-    uint8_t b[4];
-    std::memcpy(b, &v, 4);
-    buf.insert(buf.end(), b, b + 4);
-  };
-  for (float v : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) f32(v);  // 36 bytes positions
-  for (float v : {0.f, 0.f, 1.f, 0.f, 0.f, 1.f}) f32(v);                 // 24 bytes UVs
-  for (uint16_t i : idx) buf.push_back(uint8_t(i)), buf.push_back(uint8_t(i >> 8));
-  buf.push_back(0), buf.push_back(0);  // pad to 4
-  static const char* b64 = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string enc;
-  for (size_t i = 0; i < buf.size(); i += 3) {
-    const uint32_t n = uint32_t(buf[i]) << 16 | uint32_t(i + 1 < buf.size() ? buf[i + 1] : 0) << 8 |
-                       uint32_t(i + 2 < buf.size() ? buf[i + 2] : 0);
-    enc += b64[(n >> 18) & 63];
-    enc += b64[(n >> 12) & 63];
-    enc += i + 1 < buf.size() ? b64[(n >> 6) & 63] : '=';
-    enc += i + 2 < buf.size() ? b64[n & 63] : '=';
-  }
-  return R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": )" + nodes_json +
-         R"(, "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "indices": 2}]}],
-  "buffers": [{"byteLength": )" + std::to_string(buf.size() + size_t(extra)) +
-         R"(, "uri": "data:application/octet-stream;base64,)" + enc + R"("}],
-  "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 24},
-                  {"buffer": 0, "byteOffset": 60, "byteLength": 6}],
-  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0,0,0], "max": [1,1,0]},
-                {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC2"},
-                {"bufferView": 2, "componentType": 5123, "count": 3, "type": "SCALAR"}]})";
-}
 
 // A Godot LightmapGI set: base.exr (RGB, w x h) and base.exr.import with slices/vertical.
 fs::path godot_set(const fs::path& d, int w, int h, int slices) {

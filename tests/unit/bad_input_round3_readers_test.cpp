@@ -21,6 +21,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "fixture_writers.h"
 #include "bakers/baker_layout.h"
 #include "bakers/godot/godot_import.h"
 #include "bakers/godot/godot_lmbake.h"
@@ -61,25 +62,7 @@ void expect_file_error(const std::function<void()>& call, const std::string& fil
   }
 }
 
-// A little-endian writer of Godot's binary resource (RSRC) format.
-struct Rsrc {
-  std::vector<uint8_t> b;
-  void u32(uint32_t v) {
-    for (int i = 0; i < 4; ++i) b.push_back(uint8_t(v >> (8 * i)));
-  }
-  void u16(uint16_t v) { b.push_back(uint8_t(v)), b.push_back(uint8_t(v >> 8)); }
-  void u64(uint64_t v) { u32(uint32_t(v)), u32(uint32_t(v >> 32)); }
-  void f32(float f) {
-    uint32_t w;
-    std::memcpy(&w, &f, 4);
-    u32(w);
-  }
-  void str(const std::string& s) {  // length counts a trailing NUL
-    u32(uint32_t(s.size() + 1));
-    b.insert(b.end(), s.begin(), s.end());
-    b.push_back(0);
-  }
-};
+using ahd_test::Rsrc;
 
 struct User {
   std::vector<uint32_t> names;  // string-table indices of the NodePath's names
@@ -123,38 +106,9 @@ std::vector<uint8_t> lmbake_bytes(const std::vector<std::string>& strings, const
   return r.b;
 }
 
-// A glTF of one triangle (POSITION, TEXCOORD_0 and TEXCOORD_1 the same, indices `idx`) in a data:
-// URI; `nodes_json` replaces the node list.
-std::string gltf_triangle(const std::array<uint16_t, 3>& idx, const std::string& nodes_json = "[{\"mesh\": 0}]") {
-  std::vector<uint8_t> buf;
-  auto f32 = [&](float v) {
-    uint8_t b[4];
-    std::memcpy(b, &v, 4);
-    buf.insert(buf.end(), b, b + 4);
-  };
-  for (float v : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) f32(v);  // 36 bytes positions
-  for (float v : {0.f, 0.f, 1.f, 0.f, 0.f, 1.f}) f32(v);                 // 24 bytes UVs
-  for (uint16_t i : idx) buf.push_back(uint8_t(i)), buf.push_back(uint8_t(i >> 8));
-  buf.push_back(0), buf.push_back(0);  // pad to 4
-  static const char* b64 = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string enc;
-  for (size_t i = 0; i < buf.size(); i += 3) {
-    const uint32_t n = uint32_t(buf[i]) << 16 | uint32_t(i + 1 < buf.size() ? buf[i + 1] : 0) << 8 |
-                       uint32_t(i + 2 < buf.size() ? buf[i + 2] : 0);
-    enc += b64[(n >> 18) & 63];
-    enc += b64[(n >> 12) & 63];
-    enc += i + 1 < buf.size() ? b64[(n >> 6) & 63] : '=';
-    enc += i + 2 < buf.size() ? b64[n & 63] : '=';
-  }
-  return R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": )" + nodes_json +
-         R"(, "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1, "TEXCOORD_1": 1}, "indices": 2}]}],
-  "buffers": [{"byteLength": )" + std::to_string(buf.size()) +
-         R"(, "uri": "data:application/octet-stream;base64,)" + enc + R"("}],
-  "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 24},
-                  {"buffer": 0, "byteOffset": 60, "byteLength": 6}],
-  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0,0,0], "max": [1,1,0]},
-                {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC2"},
-                {"bufferView": 2, "componentType": 5123, "count": 3, "type": "SCALAR"}]})";
+// The one-triangle glTF with TEXCOORD_1 (the Godot route reads UV2).
+std::string gltf_uv2_triangle(const std::array<uint16_t, 3>& idx, const std::string& nodes_json = "[{\"mesh\": 0}]") {
+  return ahd_test::gltf_triangle(idx, nodes_json, 0, true);
 }
 
 // A Godot scene whose LightmapGI bakes res://s.lmbake, with `ext` extra ext_resource lines and
@@ -322,12 +276,12 @@ TEST(BadInputRound3Readers, GodotSceneMeshesAreCheckedLikeMeshOption) {
                                 "[node name=\"M\" parent=\".\" instance=ExtResource(\"m\")]\n"));
   std::string nodes = "[{\"name\": \"Node\", \"mesh\": 0, \"children\": [1]}";
   for (int i = 1; i < 20000; ++i) nodes += i + 1 < 20000 ? ",{\"children\": [" + std::to_string(i + 1) + "]}" : ",{}";
-  spit(d / "m.gltf", gltf_triangle({0, 1, 2}, nodes + "]"));
+  spit(d / "m.gltf", gltf_uv2_triangle({0, 1, 2}, nodes + "]"));
   expect_file_error([&] { load_godot_scene((d / "s.tscn").string()); }, (d / "m.gltf").string(),
                     "deeper than 1024 levels");
-  spit(d / "m.gltf", gltf_triangle({0, 1, 7}, "[{\"name\": \"Node\", \"mesh\": 0}]"));
+  spit(d / "m.gltf", gltf_uv2_triangle({0, 1, 7}, "[{\"name\": \"Node\", \"mesh\": 0}]"));
   expect_file_error([&] { load_godot_scene((d / "s.tscn").string()); }, (d / "m.gltf").string(), "out of range");
-  spit(d / "m.gltf", gltf_triangle({0, 1, 2}, "[{\"name\": \"Node\", \"mesh\": 0}]"));
+  spit(d / "m.gltf", gltf_uv2_triangle({0, 1, 2}, "[{\"name\": \"Node\", \"mesh\": 0}]"));
   EXPECT_EQ(load_godot_scene((d / "s.tscn").string()).scene.instances.size(), 1u);
   fs::remove_all(d);
 }
@@ -336,7 +290,7 @@ TEST(BadInputRound3Readers, GodotSceneMeshesAreCheckedLikeMeshOption) {
 // without bound (1.9 MB asked 10 GB).
 TEST(BadInputRound3Readers, GltfAccessorCountsAndInstancedGeometryAreBounded) {
   const fs::path d = ahd_test::temp_dir("r3r_sparse");
-  std::string g = gltf_triangle({0, 1, 2});
+  std::string g = gltf_uv2_triangle({0, 1, 2});
   // A fourth accessor: 30 million VEC3 with one sparse value, no buffer view, as a morph target.
   const std::string sparse =
       R"(, {"componentType": 5126, "count": 30000000, "type": "VEC3", "sparse": {"count": 1,
@@ -356,7 +310,7 @@ TEST(BadInputRound3Readers, GltfAccessorCountsAndInstancedGeometryAreBounded) {
                     "sparse count 9");
   // A mesh whose POSITION accessor claims 4096 vertices (checked against nothing else here),
   // instanced by 1100 nodes: 4.5 million vertices in the copies.
-  std::string inst = gltf_triangle({0, 1, 2});
+  std::string inst = gltf_uv2_triangle({0, 1, 2});
   inst.replace(inst.find(R"("count": 3, "type": "VEC3")"), std::string(R"("count": 3, "type": "VEC3")").size(),
                R"("count": 4096, "type": "VEC3")");
   std::string nodes = "[{\"children\": [";
@@ -430,8 +384,8 @@ TEST(BadInputRound3Readers, LayoutPresetCannotMultiplyAFile) {
 // unlocked by another: a batch with --mesh crashed in 8 of 60 runs. 8 threads, several rounds.
 TEST(BadInputRound3Readers, AssimpImportsInManyThreadsShareTheLoggerSafely) {
   const fs::path d = ahd_test::temp_dir("r3r_threads");
-  spit(d / "ok.gltf", gltf_triangle({0, 1, 2}));
-  spit(d / "bad.gltf", gltf_triangle({0, 1, 7}));
+  spit(d / "ok.gltf", gltf_uv2_triangle({0, 1, 2}));
+  spit(d / "bad.gltf", gltf_uv2_triangle({0, 1, 7}));
   const int rounds = ahd_test::kSanitized ? 2 : 6;
   for (int round = 0; round < rounds; ++round) {
     std::vector<std::thread> threads;
@@ -581,7 +535,7 @@ TEST(BadInputRound3Readers, HostileInputsUnderFourGibStayUnderOneGib) {
                                   "[node name=\"M\" parent=\".\" instance=ExtResource(\"m\")]\n"));
     std::string nodes = "[{\"name\": \"Node\", \"mesh\": 0, \"children\": [1]}";
     for (int i = 1; i < 20000; ++i) nodes += i + 1 < 20000 ? ",{\"children\": [" + std::to_string(i + 1) + "]}" : ",{}";
-    spit(p / "m.gltf", gltf_triangle({0, 1, 2}, nodes + "]"));
+    spit(p / "m.gltf", gltf_uv2_triangle({0, 1, 2}, nodes + "]"));
     godot_run("scene-deep-gltf", p, (p / "m.gltf").string());
   }
   // --mesh: 15 000 overlapping instances (no placement), a sparse accessor of 30 M elements.
@@ -590,11 +544,11 @@ TEST(BadInputRound3Readers, HostileInputsUnderFourGibStayUnderOneGib) {
     for (int i = 1; i <= 15000; ++i) nodes += (i > 1 ? "," : "") + std::to_string(i);
     nodes += "]}";
     for (int i = 1; i <= 15000; ++i) nodes += ",{\"name\": \"n" + std::to_string(i) + "\", \"mesh\": 0}";
-    spit(d / "overlap.gltf", gltf_triangle({0, 1, 2}, nodes + "]"));
+    spit(d / "overlap.gltf", gltf_uv2_triangle({0, 1, 2}, nodes + "]"));
     const std::string exr = godot_exr(d);
     inputs.push_back({"mesh-overlaps", {"convert", exr, "--layout", "godot4-packed", "--mesh", (d / "overlap.gltf").string(),
                                         "-o", (d / "o1.ktx2").string()}, (d / "overlap.gltf").string()});
-    std::string g = gltf_triangle({0, 1, 2});
+    std::string g = gltf_uv2_triangle({0, 1, 2});
     std::string big = g.substr(0, g.rfind("]}")) +
                       R"(, {"componentType": 5126, "count": 200000000, "type": "VEC3", "sparse": {"count": 1,
          "indices": {"bufferView": 2, "componentType": 5123}, "values": {"bufferView": 0}}}]})";
@@ -613,7 +567,7 @@ TEST(BadInputRound3Readers, HostileInputsUnderFourGibStayUnderOneGib) {
     nodes += "]}";
     for (int i = 1; i <= 3000; ++i) nodes += ",{\"name\": \"c" + std::to_string(i) + "\", \"children\": [" + std::to_string(3000 + i) + "]}";
     for (int i = 1; i <= 3000; ++i) nodes += ",{\"name\": \"m\", \"mesh\": 0}";
-    spit(p / "export.gltf", gltf_triangle({0, 1, 2}, nodes + "]"));
+    spit(p / "export.gltf", gltf_uv2_triangle({0, 1, 2}, nodes + "]"));
     std::vector<std::string> strings = {"user_data", "..", "m"};
     for (int i = 1; i <= 3000; ++i) strings.push_back("c" + std::to_string(i));
     std::vector<User> users(8000);

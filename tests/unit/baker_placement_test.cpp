@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "fixture_writers.h"
 #include "files/file_io.h"
 #include "scene/mesh_io.h"
 #include "scene/placement_io.h"
@@ -20,19 +21,6 @@ using namespace layout_test;
 namespace {
 
 constexpr int kAtlas = 32;
-
-std::string placement_base64(const std::vector<uint8_t>& d) {
-  static const char* t = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string s;
-  for (size_t i = 0; i < d.size(); i += 3) {
-    const uint32_t n = uint32_t(d[i]) << 16 | (i + 1 < d.size() ? uint32_t(d[i + 1]) << 8 : 0) | (i + 2 < d.size() ? d[i + 2] : 0);
-    s += t[n >> 18 & 63];
-    s += t[n >> 12 & 63];
-    s += i + 1 < d.size() ? t[n >> 6 & 63] : '=';
-    s += i + 2 < d.size() ? t[n & 63] : '=';
-  }
-  return s;
-}
 
 // A tilted quad, normal (0, 0.6, 0.8), lightmap UVs (glTF, v down) inside [1/16, 15/16].
 struct Quad {
@@ -77,7 +65,7 @@ void write_scene(const std::string& path, const std::vector<std::vector<float>>&
   j << "],\"meshes\":[";
   for (size_t m = 0; m < uvs.size(); ++m)
     j << (m ? "," : "") << R"({"primitives":[{"attributes":{"POSITION":0,"NORMAL":1,"TEXCOORD_0":)" << 3 + m << R"(},"indices":2}]})";
-  j << R"(],"buffers":[{"byteLength":)" << buf.size() << R"(,"uri":"data:application/octet-stream;base64,)" << placement_base64(buf)
+  j << R"(],"buffers":[{"byteLength":)" << buf.size() << R"(,"uri":"data:application/octet-stream;base64,)" << ahd_test::base64(buf)
     << R"("}],"bufferViews":[)";
   for (size_t i = 0; i < views.size(); ++i)
     j << (i ? "," : "") << R"({"buffer":0,"byteOffset":)" << views[i].first << R"(,"byteLength":)" << views[i].second << "}";

@@ -18,6 +18,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "fixture_writers.h"
 #include "cli_runner.h"
 #include "test_data.h"
 #include "files/file_io.h"
@@ -58,19 +59,6 @@ ahd_test::CliResult run_in(const fs::path& dir, const std::string& command) {
   return r;
 }
 
-std::string base64(const std::vector<uint8_t>& d) {
-  static const char* t = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string s;
-  for (size_t i = 0; i < d.size(); i += 3) {
-    const uint32_t n = uint32_t(d[i]) << 16 | (i + 1 < d.size() ? uint32_t(d[i + 1]) << 8 : 0) | (i + 2 < d.size() ? d[i + 2] : 0);
-    s += t[n >> 18 & 63];
-    s += t[n >> 12 & 63];
-    s += i + 1 < d.size() ? t[n >> 6 & 63] : '=';
-    s += i + 2 < d.size() ? t[n & 63] : '=';
-  }
-  return s;
-}
-
 // One quad per node in world space (as the editor script writes: vertices already transformed,
 // x negated), its lightmap UVs (TEXCOORD_1; TEXCOORD_0 the same) filling the unit square, as
 // Unity's per-renderer UV2 does before lightmapScaleOffset moves it into the atlas.
@@ -104,7 +92,7 @@ void write_quads_gltf(const std::string& path, const std::vector<std::pair<std::
   f << R"({"asset":{"version":"2.0","generator":"ahdpack AhdpackLightmapExport.cs"},"scene":0,"scenes":[{"nodes":[)";
   for (size_t k = 0; k < nodes.size(); ++k) f << (k ? "," : "") << k;
   f << R"(]}],"nodes":[)" << jnodes.str() << R"(],"meshes":[)" << meshes.str() << R"(],"buffers":[{"byteLength":)"
-    << buf.size() << R"(,"uri":"data:application/octet-stream;base64,)" << base64(buf) << R"("}],"bufferViews":[)"
+    << buf.size() << R"(,"uri":"data:application/octet-stream;base64,)" << ahd_test::base64(buf) << R"("}],"bufferViews":[)"
     << views.str() << R"(],"accessors":[)" << accessors.str() << "]}";
 }
 

@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "fixture_writers.h"
 #include "bakers/godot/godot_fbx.h"
 #include "bakers/godot/godot_unwrap_key.h"
 #include "cli_runner.h"
@@ -30,25 +31,7 @@ namespace {
 
 bool contains(const std::string& s, const std::string& what) { return s.find(what) != std::string::npos; }
 
-// A little-endian writer of Godot's binary resource (RSRC) format.
-struct Rsrc {
-  std::vector<uint8_t> b;
-  void u32(uint32_t v) {
-    for (int i = 0; i < 4; ++i) b.push_back(uint8_t(v >> (8 * i)));
-  }
-  void u16(uint16_t v) { b.push_back(uint8_t(v)), b.push_back(uint8_t(v >> 8)); }
-  void u64(uint64_t v) { u32(uint32_t(v)), u32(uint32_t(v >> 32)); }
-  void f32(float f) {
-    uint32_t w;
-    std::memcpy(&w, &f, 4);
-    u32(w);
-  }
-  void str(const std::string& s) {  // length counts a trailing NUL
-    u32(uint32_t(s.size() + 1));
-    b.insert(b.end(), s.begin(), s.end());
-    b.push_back(0);
-  }
-};
+using ahd_test::Rsrc;
 
 // world.tscn: a LightmapGI with res://world.lmbake and one node `node` of the resource `res` of type
 // `type` (a PackedScene instanced, or a Mesh in a MeshInstance3D).
