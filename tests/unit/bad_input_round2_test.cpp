@@ -25,6 +25,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "expect_error.h"
 #include "fixture_writers.h"
 #include "cli_runner.h"
 #include "file_bytes.h"
@@ -61,20 +62,7 @@ using ahd_test::rd64;
 using ahd_test::wr64;
 
 
-// `call` must throw one ahd::Error of one line starting with "<file>: " and containing `cause`.
-void expect_file_error(const std::function<void()>& call, const std::string& file, const std::string& cause) {
-  try {
-    call();
-    ADD_FAILURE() << "accepted; expected '" << cause << "'";
-  } catch (const Error& e) {
-    const std::string m = e.what();
-    EXPECT_EQ(m.rfind(file + ": ", 0), 0u) << "does not start with the file: " << m;
-    EXPECT_NE(m.find(cause), std::string::npos) << "expected '" << cause << "' in: " << m;
-    EXPECT_EQ(m.find('\n'), std::string::npos) << m;
-  } catch (const std::exception& e) {
-    ADD_FAILURE() << "not an ahd::Error: " << e.what();
-  }
-}
+using ahd_test::expect_file_error;
 
 // An EXR of w x h with the given channels (value `v` everywhere), zip, scanline.
 void write_exr(const fs::path& p, int w, int h, const std::vector<std::string>& names, float v = 0.5f,

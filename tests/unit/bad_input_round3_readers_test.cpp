@@ -21,6 +21,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "expect_error.h"
 #include "fixture_writers.h"
 #include "bakers/baker_layout.h"
 #include "bakers/godot/godot_import.h"
@@ -47,20 +48,7 @@ namespace {
 
 using ahd_test::spit;
 
-// `call` must throw one ahd::Error of one line starting with "<file>: " and containing `cause`.
-void expect_file_error(const std::function<void()>& call, const std::string& file, const std::string& cause) {
-  try {
-    call();
-    ADD_FAILURE() << "accepted; expected '" << cause << "'";
-  } catch (const Error& e) {
-    const std::string m = e.what();
-    EXPECT_EQ(m.rfind(file + ": ", 0), 0u) << "does not start with the file: " << m;
-    EXPECT_NE(m.find(cause), std::string::npos) << "expected '" << cause << "' in: " << m;
-    EXPECT_EQ(m.find('\n'), std::string::npos) << m;
-  } catch (const std::exception& e) {
-    ADD_FAILURE() << "not an ahd::Error: " << e.what();
-  }
-}
+using ahd_test::expect_file_error;
 
 using ahd_test::Rsrc;
 
