@@ -26,6 +26,7 @@
 #include <unistd.h>
 
 #include "expect_error.h"
+#include "limited_run.h"
 #include "fixture_writers.h"
 #include "cli_runner.h"
 #include "file_bytes.h"
@@ -456,40 +457,8 @@ namespace {
 
 using ahd_test::kSanitized;
 
-struct LimitedRun {
-  int exit_code = -1;
-  long peak_rss_kb = 0;
-  std::string output;
-};
-
-// Runs the CLI in a child under RLIMIT_AS = `as_bytes` (what `ulimit -v` sets), stdout and
-// stderr to a file; the peak RSS is the child's own (wait4).
-LimitedRun run_cli_limited(const std::vector<std::string>& args, const fs::path& log, rlim_t as_bytes) {
-  std::vector<std::string> argv_s = {AHD_CLI_PATH};
-  argv_s.insert(argv_s.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (auto& a : argv_s) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  const pid_t pid = fork();
-  if (pid == 0) {
-    const rlimit lim{as_bytes, as_bytes};
-    setrlimit(RLIMIT_AS, &lim);
-    const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    dup2(fd, 1);
-    dup2(fd, 2);
-    execv(argv[0], argv.data());
-    _exit(127);
-  }
-  LimitedRun r;
-  int status = 0;
-  rusage ru{};
-  wait4(pid, &status, 0, &ru);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  r.peak_rss_kb = ru.ru_maxrss;
-  const std::vector<uint8_t> b = slurp(log);
-  r.output.assign(b.begin(), b.end());
-  return r;
-}
+using ahd_test::LimitedRun;
+using ahd_test::run_cli_limited;
 
 }  // namespace
 
