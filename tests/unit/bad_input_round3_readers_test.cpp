@@ -71,16 +71,7 @@ std::vector<uint8_t> lmbake_bytes(const std::vector<std::string>& strings, const
   r.u32(1);  // flags
   r.u64(0);  // uid
   for (int i = 0; i < 11; ++i) r.u32(0);
-  r.u32(uint32_t(strings.size()));
-  for (const std::string& s : strings) r.str(s);
-  r.u32(0);  // external resources
-  r.u32(1);  // internal resources
-  r.str("local://LightmapGIData_1");
-  const size_t offset_at = r.b.size();
-  r.u64(0);
-  const uint64_t main = r.b.size();
-  for (int i = 0; i < 8; ++i) r.b[offset_at + size_t(i)] = uint8_t(main >> (8 * i));
-  r.str("LightmapGIData");
+  r.one_resource(strings, "LightmapGIData");
   r.u32(1);                                                 // properties
   r.u32(0), r.u32(30), r.u32(uint32_t(4 * users.size()));  // user_data: Array of 4 per user
   for (const User& u : users) {

@@ -69,6 +69,21 @@ struct Rsrc {
     b.insert(b.end(), s.begin(), s.end());
     b.push_back(0);
   }
+  // After the header: the string table, no external and one internal resource (local://TYPE_1)
+  // whose offset points just past the table, and that resource's type; its property count and
+  // properties come next.
+  void one_resource(const std::vector<std::string>& strings, const std::string& type) {
+    u32(uint32_t(strings.size()));
+    for (const std::string& s : strings) str(s);
+    u32(0);  // external resources
+    u32(1);  // internal resources
+    str("local://" + type + "_1");
+    const size_t offset_at = b.size();
+    u64(0);
+    const uint64_t main = b.size();
+    for (int i = 0; i < 8; ++i) b[offset_at + size_t(i)] = uint8_t(main >> (8 * i));
+    str(type);
+  }
 };
 
 }  // namespace ahd_test

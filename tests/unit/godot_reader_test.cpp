@@ -84,16 +84,7 @@ std::vector<uint8_t> lmbake_bytes(uint32_t format, bool uid_flag = true,
       if (at == strings.end()) strings.push_back(name);
     }
   }
-  r.u32(uint32_t(strings.size()));
-  for (const std::string& s : strings) r.str(s);
-  r.u32(0);  // external resources
-  r.u32(1);  // internal resources
-  r.str("local://LightmapGIData_1");
-  const size_t offset_at = r.b.size();
-  r.u64(0);
-  const uint64_t main = r.b.size();
-  for (int i = 0; i < 8; ++i) r.b[offset_at + size_t(i)] = uint8_t(main >> (8 * i));
-  r.str("LightmapGIData");
+  r.one_resource(strings, "LightmapGIData");
   r.u32(4);                       // properties
   r.u32(0), r.u32(53), r.u32(2);  // extra: PackedVector4Array of 2
   for (int i = 0; i < 8; ++i) r.f32(float(i));
