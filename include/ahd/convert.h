@@ -48,6 +48,11 @@ struct ConversionOptions {
   // false for files that pass strict validation.
   bool plane_metadata = true;
   Measure measure = Measure::Off;  // error diagnostics in the report (they cost time)
+  // Stored I_z = iz_scale × E (E: the irradiance the SH gives; 1/π stores E/π, what most engines'
+  // lightmaps hold). The SH is scaled before the fit: d and the ratio do not change. Recorded in the
+  // manifest and the planes (`iz_scale`), which decoders divide by. > 0; the cook (<ahd/cook.h>) also
+  // takes 0: the input's own scale (a plain lightmap's E/π: 1/π; else 1).
+  double iz_scale = 1.0;
   // Called on the calling thread between steps with a stage name ("fit", "encode", "write"; the
   // error measures report no progress of their own) and the fraction of that stage done, in [0, 1].
   std::function<void(const char* stage, double fraction)> progress;

@@ -100,10 +100,9 @@ struct CookRequest {
   // OUT.json, OUT.report.json. "" = ahdpack-out/<input stem, or "sample">.ktx2.
   std::string output;
   // The conversion's options; `profile` is a profile's name (formats/profiles) or a .json file,
-  // read from disk (and then part of the key); `container` is set from `output`.
+  // read from disk (and then part of the key); `container` is set from `output`; `iz_scale` may be
+  // 0 here: the input's own scale (a plain lightmap's E/π: 1/π; else 1).
   ConversionOptions options;
-  double iz_scale = 1.0;           // stored I_z = iz_scale × E (1/π: what most engines' lightmaps hold);
-                                   // 0 = the input's own scale (a plain lightmap's E/π: 1/π; else 1)
   bool keep_intermediate = false;  // also OUT.ahd.exr, the lossless fitted planes (one page; not with a cache)
   std::string depfile;             // "" = none; else every file read, target OUT.json
   std::shared_ptr<const CacheBackend> cache;  // null = no cache

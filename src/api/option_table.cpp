@@ -290,6 +290,12 @@ std::vector<OptionRow> make_table() {
        .cli_default = "estimate",  // the command prints an error estimate; the library measures nothing unless asked
        .doc = "error diagnostics in the report: none, a fixed sample of texels, or every texel and level with "
               "the baselines (the command's default is `estimate`)"}));
+  t.push_back(double_option("iz_scale", &CO::iz_scale, &ahd_options::iz_scale,
+                            {// The command's --iz-scale also takes E, E/pi and the input's own scale (cook).
+                             .key = KeyForm::ValueIfSet,
+                             .doc = "stored I_z = `iz_scale` × E (1/π: E/π, what most engines store); recorded in "
+                                    "the manifest and the planes; the cook also takes 0, the input's own scale "
+                                    "([godot.md](godot.md) \"Irradiance scale\")"}));
   return t;
 }
 
@@ -312,6 +318,11 @@ std::string docs_default(const OptionRow& r) {
 }
 
 }  // namespace
+
+bool option_in_key(const OptionRow& r, const ConversionOptions& o) {
+  if (r.spec.key == KeyForm::None) return false;
+  return r.spec.key != KeyForm::ValueIfSet || r.text(o) != r.text(defaults());
+}
 
 const std::vector<OptionRow>& option_table() {
   static const std::vector<OptionRow> t = make_table();

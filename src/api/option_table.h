@@ -27,6 +27,9 @@ enum class KeyForm {
   Value,  // "name value": numbers as %.17g, booleans 0/1, enumerations by index, text as given
   Name,   // enumerations by name (the unset value of an optional one by its `unset` word)
   Hash,   // text by its SHA-256 (a whole profile definition)
+  // "name value" as Value, only when the value is not the default: an option added after keys were
+  // in use leaves the keys of the conversions that do not set it as they were.
+  ValueIfSet,
 };
 
 // One value of an enumerated option: the CLI's / key's name and the C++ enumerator.
@@ -75,6 +78,9 @@ struct OptionRow {
   // Moves the member away from its current value (tests: every keyed option changes the key).
   std::function<void(ConversionOptions&)> change;
 };
+
+// Whether row `r` writes a line in the key of options `o` (KeyForm).
+bool option_in_key(const OptionRow& r, const ConversionOptions& o);
 
 // Every conversion option, in key order; new rows go at the end (as new ahd_options members do).
 const std::vector<OptionRow>& option_table();

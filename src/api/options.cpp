@@ -17,6 +17,8 @@ ResolvedOptions resolve_options(const ConversionOptions& o, const std::string& n
   if (!(o.eps > 0 && o.eps < 1)) throw Error("eps (--eps) must be in (0, 1)");
   if (o.levels < 0) throw Error("levels must be ≥ 0");
   if (!(o.ambient_threshold >= 0)) throw Error("the ambient threshold must be ≥ 0");
+  if (!(o.iz_scale > 0) || !std::isfinite(o.iz_scale))
+    throw Error("iz_scale must be a finite positive factor (stored I_z = iz_scale × E), not " + std::to_string(o.iz_scale));
   if (name.empty() || name.find_first_of("/\\") != std::string::npos)
     throw Error("the output name must be a file stem without folders (got '" + name + "')");
   const std::string problem = set_name_problem(name);  // the CLI's rule (cook/publish.h output_paths)
@@ -43,6 +45,7 @@ ResolvedOptions resolve_options(const ConversionOptions& o, const std::string& n
   p.container = o.container;
   p.zstd = o.zstd;
   p.plane_metadata = o.plane_metadata;
+  p.iz_scale = o.iz_scale;
   return r;
 }
 

@@ -74,7 +74,7 @@ BatchRow run_convert(ConvertArgs a, const BatchJob* job = nullptr) {
   r.options = conversion_options(a.conv);
   if (job) r.options.cancel = interrupt_flag(), r.options.progress = job->progress;  // the batch installed the handler
   else attach_terminal_progress(&r.options, a.conv.quiet);
-  r.iz_scale = iz_scale_factor(a.iz_scale);
+  r.options.iz_scale = iz_scale_factor(a.iz_scale);
   r.keep_intermediate = a.keep_intermediate;
   r.depfile = a.depfile;
   r.key_only = a.print_key;

@@ -29,16 +29,15 @@ std::string num(double v) {
 
 }  // namespace
 
-std::string conversion_options_text(const BakeInput& in, const ConversionOptions& o, const std::string& out_name,
-                                    double iz_scale) {
+std::string conversion_options_text(const BakeInput& in, const ConversionOptions& o, const std::string& out_name) {
   std::string t = "ahdpack-conversion-key " + std::to_string(kKeyFormat) + "\n";
   t += "version " AHD_VERSION_STRING "\n";
   // Output naming.
   t += "name " + out_name + "\n";
   // ConversionOptions: every option the table puts in the key (api/option_table.h; not threads,
-  // progress, cancel), the container first.
+  // progress, cancel), the container first; an option added later (iz_scale) only when set.
   for (const OptionRow& r : option_table())
-    if (r.spec.key != KeyForm::None) t += std::string(r.name) + " " + r.key_text(o) + "\n";
+    if (option_in_key(r, o)) t += std::string(r.name) + " " + r.key_text(o) + "\n";
   // The input's options (which role each file plays; the files themselves follow).
   t += "input " + std::string(in.input.empty() ? "sample" : "files") + "\n";
   if (in.input.empty())
@@ -59,7 +58,6 @@ std::string conversion_options_text(const BakeInput& in, const ConversionOptions
   if (in.page >= 0) t += "page " + std::to_string(in.page) + "\n";
   if (!in.input_space.empty())
     t += "input_space " + in.input_space + "\n";  // the files' declarations are in their bytes
-  if (iz_scale != 1.0) t += "iz_scale " + num(iz_scale) + "\n";
   return t;
 }
 
@@ -96,14 +94,14 @@ std::string input_files_text(const std::vector<std::string>& files) {
 }
 
 std::string conversion_key_text(const BakeInput& in, const ConversionOptions& o, const std::string& out_name,
-                                const InputRecord& record, double iz_scale) {
-  return conversion_options_text(in, o, out_name, iz_scale) + input_files_text(record.files);
+                                const InputRecord& record) {
+  return conversion_options_text(in, o, out_name) + input_files_text(record.files);
 }
 
 std::string command_key(const BakeInput& given, const ConversionOptions& o, const std::string& out_name,
-                        const std::string& profile_arg, double iz_scale) {
+                        const std::string& profile_arg) {
   std::error_code ec;
-  std::string t = "ahdpack-command-key " + std::to_string(kKeyFormat) + "\n" + conversion_options_text(given, o, out_name, iz_scale);
+  std::string t = "ahdpack-command-key " + std::to_string(kKeyFormat) + "\n" + conversion_options_text(given, o, out_name);
   t += "input_path " + given.input + "\nlayout_arg " + given.layout + "\nnormals_path " + given.normals + "\nmesh_path " +
        given.mesh + "\nplacement_path " + given.placement +
        "\ngodot_scene_path " + given.scene + "\nprofile_arg " + profile_arg + "\ncwd " +

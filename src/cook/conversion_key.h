@@ -27,11 +27,8 @@ inline constexpr int kKeyFormat = 2;  // 2: manifests list a placed scene's inst
 // input_files_text of the files read. Reads every recorded file again to hash it; throws
 // ahd::Error naming a file that can no longer be read.
 std::string conversion_key_text(const BakeInput& in, const ConversionOptions& o, const std::string& out_name,
-                                const InputRecord& record, double iz_scale = 1.0);
-// iz_scale: convert --iz-scale's factor (not a library option); 1 adds no line, so keys of runs
-// without it are as before.
-std::string conversion_options_text(const BakeInput& in, const ConversionOptions& o, const std::string& out_name,
-                                    double iz_scale = 1.0);
+                                const InputRecord& record);
+std::string conversion_options_text(const BakeInput& in, const ConversionOptions& o, const std::string& out_name);
 std::string input_files_text(const std::vector<std::string>& files);
 
 // The key of the command itself, before anything is read (`--cache`'s direct lookup): the options
@@ -39,7 +36,7 @@ std::string input_files_text(const std::vector<std::string>& files);
 // maps it to what the last such run read and probed (cook/conversion_cache.h InputsRecord); when every
 // probe still holds, hashing those files gives the conversion key without reading the images.
 std::string command_key(const BakeInput& given, const ConversionOptions& o, const std::string& out_name,
-                        const std::string& profile_arg, double iz_scale = 1.0);
+                        const std::string& profile_arg);
 
 // sha256 of conversion_key_text: 64 lower-case hex digits.
 std::string conversion_key(const std::string& key_text);

@@ -162,7 +162,7 @@ CookResult cook_conversion(const CookRequest& request, const CookHooks& hooks) {
     const OutputPaths out = output_paths(request.output);
     ConversionOptions given = request.options;
     given.container = out.kind;
-    cmd_key = command_key(a, given, out.name, request.options.profile, request.iz_scale);
+    cmd_key = command_key(a, given, out.name, request.options.profile);
     const auto warn_once = [&](const std::string& message) {
       refused_warned = true;
       if (ev.warning) ev.warning(message);
@@ -192,7 +192,6 @@ CookResult cook_conversion(const CookRequest& request, const CookHooks& hooks) {
   std::string source;
   std::vector<ShImage> pages;
   size_t detection_notes = 0;
-  double iz_scale = request.iz_scale;  // 0: the input's own scale (input_iz_scale), once its layout is known
   const auto t0 = std::chrono::steady_clock::now();
   {
     const RecordInputs recording(&record);
@@ -208,16 +207,17 @@ CookResult cook_conversion(const CookRequest& request, const CookHooks& hooks) {
     co.container = out.kind;
 
     // Checked before anything is read or written: one clear line, no output.
+    // iz_scale 0: the input's own scale (input_iz_scale), once its layout is known; 1 until then.
+    const bool own_iz_scale = co.iz_scale == 0;
+    if (own_iz_scale) co.iz_scale = 1;
     ro = co.profile_json.empty() ? resolve_options(co, out.name, load_profile(co.profile))
                                  : resolve_options(co, out.name);
-    if (!(iz_scale >= 0) || !std::isfinite(iz_scale))
-      throw Error("iz_scale must be a positive factor (or 0: the input's own scale), not " + std::to_string(iz_scale));
     check_bake_input(a);
     try {
       pages = read_bake_pages(a, co.threads, &rs, &source);
-      if (iz_scale == 0) {  // the input's own scale, once its layout is read (its preset already recorded)
+      if (own_iz_scale) {  // the input's own scale, once its layout is read (its preset already recorded)
         std::string why;
-        iz_scale = input_iz_scale(a, &why);
+        co.iz_scale = ro.package.iz_scale = input_iz_scale(a, &why);
         if (!why.empty()) a.notes += why + "\n";
       }
     } catch (const std::exception&) {
@@ -230,7 +230,7 @@ CookResult cook_conversion(const CookRequest& request, const CookHooks& hooks) {
   const double read_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   std::string key;
-  if (request.key_only || cache) key = conversion_key(conversion_key_text(a, co, out.name, record, iz_scale));
+  if (request.key_only || cache) key = conversion_key(conversion_key_text(a, co, out.name, record));
   if (request.key_only) {
     CookResult r;
     r.outcome = CookResult::Outcome::KeyOnly;
@@ -242,7 +242,7 @@ CookResult cook_conversion(const CookRequest& request, const CookHooks& hooks) {
     if (cmd_key.empty()) return;
     try {
       cache->store_inputs(cmd_key,
-                          {conversion_options_text(a, co, out.name, iz_scale), source, record.files, record.probes});
+                          {conversion_options_text(a, co, out.name), source, record.files, record.probes});
     } catch (const std::exception& e) {
       if (ev.warning) ev.warning(std::string(e.what()) + " (the inputs are not recorded in the cache)");
     }
@@ -275,11 +275,7 @@ CookResult cook_conversion(const CookRequest& request, const CookHooks& hooks) {
 
   PackageOptions pkg = ro.package;
   pkg.world_frame = !pages[0].normals.empty();
-  pkg.iz_scale = iz_scale;
   pkg.instances = bake_instances(a);  // the placed scene's instances, when the input has one
-  if (pkg.iz_scale != 1.0)  // the SH is linear in the light: scaling it scales I_z and keeps d and the ratio
-    for (ShImage& p : pages)
-      for (float& v : p.data) v = float(double(v) * pkg.iz_scale);
   pkg.report_extra = {
       {"source", source},
       {"working_space", kWorkingSpace},
@@ -292,7 +288,7 @@ CookResult cook_conversion(const CookRequest& request, const CookHooks& hooks) {
   if (pages.size() > 1) {         // an atlas: every page converted alone, planes stacked as array layers
     if (request.keep_intermediate)
       throw Error("--keep-intermediate holds one page: not available for a multi-page atlas");
-    run = run_pages(pages, ro.profile, ro.convert, pkg, read_stage);
+    run = run_pages(std::move(pages), ro.profile, ro.convert, pkg, read_stage);
   } else {
     std::function<void(const std::vector<FittedLevel>&)> on_fitted;
     // Kept in memory and published with the set: a conversion that fails or is cancelled after the

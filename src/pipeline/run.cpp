@@ -31,6 +31,13 @@ ConversionRun finish(ConversionRun run, const std::vector<FittedLevel>& levels, 
   return package(std::move(run), profile, opt, pkg, prior_seconds, t0);
 }
 
+// Stored I_z = iz_scale × E: the SH is linear in the light, so scaling it scales I_z and both
+// colours and keeps d and the ratio.
+void scale_sh(ShImage& sh, double iz_scale) {
+  if (iz_scale != 1.0)
+    for (float& v : sh.data) v = float(double(v) * iz_scale);
+}
+
 double sum_seconds(const std::vector<StageCost>& stages) {
   double s = 0;
   for (const StageCost& c : stages) s += c.seconds;
@@ -45,6 +52,7 @@ ConversionRun run_conversion(ShImage sh, const Profile& profile, const PipelineO
   check_profile(profile, opt);
   const auto t0 = Clock::now();
   const double prior_seconds = sum_seconds(prior);
+  scale_sh(sh, pkg.iz_scale);
   ConversionRun run;
   if (!on_fitted) {  // level by level: the chain of fitted levels never exists at once
     run.result = run_conversion(std::move(sh), profile, opt);
@@ -59,9 +67,10 @@ ConversionRun run_conversion(ShImage sh, const Profile& profile, const PipelineO
   return finish(std::move(run), levels, profile, opt, pkg, prior_seconds, t0);
 }
 
-ConversionRun run_pages(const std::vector<ShImage>& pages, const Profile& profile, const PipelineOptions& opt,
+ConversionRun run_pages(std::vector<ShImage> pages, const Profile& profile, const PipelineOptions& opt,
                         const PackageOptions& pkg, std::vector<StageCost> prior) {
   check_profile(profile, opt);
+  for (ShImage& p : pages) scale_sh(p, pkg.iz_scale);
   const auto t0 = Clock::now();
   const double prior_seconds = sum_seconds(prior);
   ConversionRun run;

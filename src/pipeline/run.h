@@ -15,7 +15,7 @@ struct ConversionRun {
   double seconds = 0;         // total, including the `prior` stages the caller timed
 };
 
-// SH → files. `sh` is taken by value: move the input in and it becomes mip level 0 without a copy
+// SH → files. The SH is first scaled by pkg.iz_scale (stored I_z = iz_scale × E). `sh` is taken by value: move the input in and it becomes mip level 0 without a copy
 // (a 4096² L2 image is 1.8 GB). `prior` are stages the caller already timed (e.g. reading the input); they lead the
 // report's timings and count in its total. `on_fitted` (optional) sees the fitted levels before
 // quantisation (the CLI writes the lossless intermediate there).
@@ -25,7 +25,7 @@ ConversionRun run_conversion(ShImage sh, const Profile& profile, const PipelineO
 
 // The pages of an atlas → files whose planes are array textures, layer p = page p
 // (pipeline/pages.h: every layer equals that page converted alone).
-ConversionRun run_pages(const std::vector<ShImage>& pages, const Profile& profile, const PipelineOptions& opt,
+ConversionRun run_pages(std::vector<ShImage> pages, const Profile& profile, const PipelineOptions& opt,
                         const PackageOptions& pkg, std::vector<StageCost> prior = {});
 
 // Fitted levels (a stored intermediate) → files: quantise and package only.

@@ -35,7 +35,8 @@ class Options(ctypes.Structure):
                 ("eps", ctypes.c_double), ("closed_loop", ctypes.c_int), ("levels", ctypes.c_int),
                 ("coverage_plane", ctypes.c_int), ("direction", ctypes.c_int),
                 ("ambient_threshold", ctypes.c_double), ("container", ctypes.c_int), ("zstd", ctypes.c_int),
-                ("plane_metadata", ctypes.c_int), ("measure", ctypes.c_int)]
+                ("plane_metadata", ctypes.c_int), ("measure", ctypes.c_int),
+                ("iz_scale", ctypes.c_double)]
 
 
 # (sample size, order, seed), the ahd_options fields set, the same conversion as `ahdpack convert` flags.

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "containers/container.h"
+#include "pipeline/plane_codec.h"
 
 namespace {
 
@@ -204,6 +205,58 @@ TEST(Api, CApiOptionsStructSize) {
   // NULL options: the defaults.
   ASSERT_EQ(ahd_convert(&in, "s", nullptr, &r, err, sizeof err), 0) << err;
   ahd_result_free(r);
+}
+
+// The library's iz_scale (issue 39; the command's --iz-scale): stored I_z = iz_scale × E. The SH
+// is scaled before the fit, so the I_z plane is the default's times the factor (float rounding),
+// the manifest and the planes record it, and a caller of an older header (no member) gets 1.
+TEST(Api, IzScaleScalesTheIzPlaneAndIsRecorded) {
+  const auto iz_and_manifest = [](double iz_scale) {
+    ahd::ConversionOptions opt;
+    opt.iz_scale = iz_scale;
+    const ahd::Conversion c = ahd::convert(sample32(), "s", opt);
+    const nlohmann::json m = json_of(c.files.back());
+    const ahd::OutputFile* f = find(c, m.at("planes").at(0).at("file").get<std::string>());
+    EXPECT_EQ(m.at("planes").at(0).at("name").get<std::string>(), "iz");
+    const ahd::Texture t = ahd::decode_container(ahd::ContainerKind::KTX2, f->bytes.data(), f->bytes.size(), f->name);
+    return std::make_pair(ahd::decode_plane(t.format, t.levels.at(0)), m);
+  };
+  const auto [e, me] = iz_and_manifest(1.0);
+  const double k = 1.0 / 3.14159265358979323846;
+  const auto [q, mq] = iz_and_manifest(k);
+  EXPECT_EQ(me.at("decode").at("iz_scale").get<double>(), 1.0);
+  EXPECT_DOUBLE_EQ(mq.at("decode").at("iz_scale").get<double>(), k);
+  ASSERT_EQ(e.data.size(), q.data.size());
+  size_t lit = 0;
+  for (size_t i = 0; i < e.data.size(); ++i) {
+    if (i % size_t(e.channels) == 3) continue;  // RGBA16F: alpha is 1
+    const float a = e.data[i], b = q.data[i];
+    EXPECT_NEAR(b, a * k, 2e-3 * std::abs(a * k) + 1e-6) << i;  // half floats: 11 bits
+    lit += a > 0;
+  }
+  EXPECT_GT(lit, 100u);
+  ahd::ConversionOptions bad;
+  for (double v : {0.0, -1.0, std::nan("")}) {
+    bad.iz_scale = v;
+    EXPECT_THROW(ahd::convert(sample32(), "s", bad), ahd::Error) << v;
+  }
+  // C: a caller whose struct ends before iz_scale converts at 1, one whose struct has it at 1/π.
+  const ahd::ShImage& sh = sample32();
+  ahd_sh_input in = {sh.width, sh.height, sh.coeffs, sh.data.data(), sh.coverage.data(), nullptr};
+  char err[256] = "";
+  for (const bool member : {false, true}) {
+    ahd_options opt;
+    std::memset(&opt, 0xAB, sizeof opt);
+    ahd_options_init_size(&opt, member ? sizeof opt : offsetof(ahd_options, iz_scale));
+    EXPECT_EQ(opt.iz_scale == 1.0, member) << "init wrote past the caller's size, or not its default";
+    if (member) opt.iz_scale = k;
+    ahd_result* r = nullptr;
+    ASSERT_EQ(ahd_convert(&in, "s", &opt, &r, err, sizeof err), 0) << err;
+    size_t n = 0;
+    const unsigned char* d = ahd_result_file_data(r, ahd_result_file_count(r) - 1, &n);
+    EXPECT_DOUBLE_EQ(nlohmann::json::parse(d, d + n).at("decode").at("iz_scale").get<double>(), member ? k : 1.0);
+    ahd_result_free(r);
+  }
 }
 
 // Issue 44: the C API accepted stems `.room`, `a:b`, `..`, newlines, 300 characters and NaN

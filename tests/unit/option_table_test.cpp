@@ -183,4 +183,5 @@ TEST(OptionTable, InternalDefaultsAreThePublicOnes) {
   EXPECT_EQ(k.container, r.package.container);
   EXPECT_EQ(k.zstd, r.package.zstd);
   EXPECT_EQ(k.plane_metadata, r.package.plane_metadata);
+  EXPECT_EQ(k.iz_scale, r.package.iz_scale);
 }
