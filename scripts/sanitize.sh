@@ -2,8 +2,10 @@
 # The whole unit-test suite built with AddressSanitizer + UndefinedBehaviorSanitizer (clang 14)
 # into build-asan/, then run with ctest. The same build also holds the libFuzzer targets (fuzz/):
 # everything is compiled with -fsanitize=fuzzer-no-link too, so one instrumented library serves
-# both (scripts/fuzz.sh runs them). Left out: the Mesa/llvmpipe judge tests (ahd_gl_tests) — the
-# GL driver's JIT under ASan is impractically slow and its code is not ours; the bench.
+# both (scripts/fuzz.sh runs them). Built: the unit and integration tests (AHD_TEST_KINDS); left
+# out: the judges (tests/judges: Mesa's llvmpipe, whose JIT under ASan is impractically slow, the
+# browsers and Godot — not our code) and the accuracy sweeps (tests/accuracy: thousands of inputs
+# through code the unit tests run instrumented); the bench.
 # The test sources at -O0 (AHD_TEST_OPT_FLAGS): half the instrumented compile time of -Og
 # (godot_array_mesh_test.cpp 20.9 s -> 10.7 s); the library keeps -O1.
 # -gline-tables-only: the reports' stack traces name files and lines (all they print) without the
@@ -20,7 +22,7 @@ cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCMAKE_C_COMPILER=clang-14 -DCMAKE_CXX_COMPILER=clang++-14 "${launcher[@]}" \
   -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only $SAN" -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only $SAN" \
   -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \
-  -DAHD_TEST_OPT_FLAGS=-O0 -DAHD_BUILD_BENCH=OFF -DAHD_GL_TESTS=OFF -DAHD_FUZZ=ON -DAHD_WARNINGS_AS_ERRORS="${AHD_WERROR:-OFF}" >/dev/null
+  -DAHD_TEST_OPT_FLAGS=-O0 -DAHD_BUILD_BENCH=OFF -DAHD_TEST_KINDS="unit;integration" -DAHD_FUZZ=ON -DAHD_WARNINGS_AS_ERRORS="${AHD_WERROR:-OFF}" >/dev/null
 cmake --build build-asan -j "$(nproc)"
 [ "${1:-}" = "--build-only" ] && exit 0
 # Leaks are errors; the suppressions name third-party libraries' own one-time allocations only.

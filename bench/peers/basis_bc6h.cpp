@@ -8,7 +8,7 @@
 // the user provides (nothing of Basis Universal is in this repository). Protocol of PEERS.md:
 // g++ -O2 -march=native, one thread, thread CPU time of the encode alone (blocks already in memory as
 // half floats, output already allocated), median of 5 rounds (3 for the 9-mode setting); inputs clamped to [0, 65504]. The
-// error is measured with ahdpack's BC6H decoder (bit-exact with Mesa's, tests/gl) as log-RMSE over
+// error is measured with ahdpack's BC6H decoder (bit-exact with Mesa's, tests/judges/gl) as log-RMSE over
 // log2(1 + x), as the bench does.
 #include <time.h>
 

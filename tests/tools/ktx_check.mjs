@@ -1,5 +1,5 @@
 // Independent KTX2 check: reads FILE with ktx-parse (not our reader) and compares what it finds
-// with EXPECTED.json, written by tests/unit/ktx_parse_check_test.cpp. Exit 0 when everything
+// with EXPECTED.json, written by tests/judges/ktx_parse_check_test.cpp. Exit 0 when everything
 // matches; otherwise prints each mismatch and exits 1.
 import { read } from 'ktx-parse';
 import { readFileSync } from 'node:fs';

@@ -38,10 +38,10 @@ TEST(EngineGuide, ExamplesAreTheTestedFiles) {
   const std::string page = ahd_test::read_text(ahd_test::kSourceDir / "docs" / "examples" / "three" / "render_check.html");
   EXPECT_NE(page.find("from '../ahd/formats/engine/three/ahd_three.js'"), std::string::npos);
   EXPECT_NE(page.find("fetch('../ahd/formats/shaders/ahd_decode.glsl')"), std::string::npos);
-  EXPECT_NE(ahd_test::read_text(ahd_test::kSourceDir / "tests" / "unit" / "three_render_test.cpp").find("/page/render_check.html"),
+  EXPECT_NE(ahd_test::read_text(ahd_test::kSourceDir / "tests" / "judges" / "three_render_test.cpp").find("/page/render_check.html"),
             std::string::npos);
   // The Godot test (GodotAddon.*) runs the project the guide shows, with the add-on it shows.
-  const std::string godot_test = ahd_test::read_text(ahd_test::kSourceDir / "tests" / "unit" / "godot_addon_test.cpp");
+  const std::string godot_test = ahd_test::read_text(ahd_test::kSourceDir / "tests" / "judges" / "godot_addon_test.cpp");
   EXPECT_NE(godot_test.find("\"docs\" / \"examples\" / \"godot\" / \"render_check\""), std::string::npos);
   EXPECT_NE(godot_test.find("\"addons\" / \"ahdpack\""), std::string::npos);
 }

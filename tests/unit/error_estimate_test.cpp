@@ -1,5 +1,5 @@
-// The sampled error estimate (what a conversion prints by default) against the full measurement,
-// the fixed sample itself, the sampled direction decision, and `ahdpack bench convert` in miniature.
+// The sampled error estimate (what a conversion prints by default): the fixed sample itself and the
+// sampled direction decision. Against the full measurement: tests/accuracy/error_estimate_test.cpp.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -14,76 +14,10 @@
 #include "pipeline/convert.h"
 #include "pipeline/profile.h"
 #include "sample/analytic_baker.h"
+#include "error_estimate_fixture.h"
 
 using namespace ahd;
-
-namespace {
-
-ShImage estimate_scene(int size, int coeffs = 9) {
-  BakerOptions bo;
-  bo.width = bo.height = size;
-  bo.coeffs = coeffs;
-  return bake_analytic_scene(bo);
-}
-
-// A plain lightmap as the `plain` layout reads it: L0 only (E/π along the normal), no L1.
-ShImage plain_of(const ShImage& sh) {
-  ShImage p = make_sh_image(sh.width, sh.height, 4);
-  p.coverage = sh.coverage;
-  for (size_t i = 0; i < sh.texels(); ++i)
-    for (int c = 0; c < 3; ++c) p.texel(i)[c] = sh.texel(i)[c];
-  return p;
-}
-
-// What a pc-bc conversion's files decode to at level 0, as lobes.
-std::vector<AhdLobe> final_lobes(const ShImage& sh, PipelineResult* r) {
-  PipelineOptions opt;
-  opt.measure = Measure::Off;
-  *r = run_conversion(sh, load_profile("pc-bc"), opt);
-  return lobes_from_planes(decode_planes(r->planes, false, 0), opt.fit.dz_min);
-}
-
-std::vector<AhdLobe> fit_lobes(const ShImage& sh) {
-  PipelineOptions opt;
-  opt.measure = Measure::Off;
-  opt.max_levels = 1;
-  PipelineResult r;
-  const auto levels = fit_levels(sh, opt, &r);
-  std::vector<AhdLobe> lobes(sh.texels());
-  for (size_t i = 0; i < lobes.size(); ++i)
-    for (int c = 0; c < 3; ++c) {
-      lobes[i].ca[c] = fitted_ca(levels[0].ahd.texel(i), c);
-      lobes[i].cd[c] = fitted_cd(levels[0].ahd.texel(i), c);
-      lobes[i].d[c] = levels[0].ahd.texel(i).d[c];
-    }
-  return lobes;
-}
-
-// The stated tolerance of the estimate (docs/performance.md "The error estimate", hemisphere_error.h): mean within 3 %, p99 within
-// 10 % of the full figure (relative to it), or within `floor` absolute for figures near zero.
-// Why 10 % for the p99: the sample's p99 stands at a true quantile of 0.99 ± 0.0016 (one standard
-// error at 4096 texels); on the heavy-tailed BC6H errors of a plain map that rank band is ±6 % in
-// value (measured +6.4 %), on the sample scene under 2 %.
-void expect_agrees(const ErrorStat& est, const ErrorStat& full, double floor, const char* what) {
-  std::printf("  %-9s mean %.4g vs %.4g (%+.2f %%), p99 %.4g vs %.4g (%+.2f %%)\n", what, est.mean, full.mean,
-              100 * (est.mean / full.mean - 1), est.p99, full.p99, 100 * (est.p99 / full.p99 - 1));
-  EXPECT_NEAR(est.mean, full.mean, std::max(0.03 * full.mean, floor)) << what << " mean";
-  EXPECT_NEAR(est.p99, full.p99, std::max(0.10 * full.p99, floor)) << what << " p99";
-  EXPECT_LE(est.max, full.max) << what << " max (the sample's max bounds it from below)";
-}
-
-void expect_estimate_agrees(const ShImage& sh, const std::vector<AhdLobe>& lobes, double floor) {
-  const ErrorReport full = measure_error(sh, lobes, 0);
-  const ErrorReport est = estimate_error(sh, lobes, 0);
-  ASSERT_GT(full.texels, size_t(kErrorSampleSize)) << "the image must be larger than the sample";
-  EXPECT_EQ(est.texels, size_t(kErrorSampleSize));
-  EXPECT_EQ(est.population, full.texels);
-  expect_agrees(est.relative, full.relative, floor, "relative");
-  expect_agrees(est.rmse, full.rmse, floor * 1e-3, "rmse");
-  expect_agrees(est.log2, full.log2, floor, "log2");
-}
-
-}  // namespace
+using namespace ahd_fixture::error_estimate_fixture;
 
 TEST(ErrorEstimate, SampleIsFixedStratifiedAndCovered) {
   std::vector<uint8_t> cov(100000, 0);
@@ -136,27 +70,6 @@ TEST(ErrorEstimate, SmallImagesAreMeasuredExactly) {
   EXPECT_EQ(est.normal_rel.p99, full.normal_rel.p99);
 }
 
-TEST(ErrorEstimate, AgreesWithFullMeasurementOnTheSampleScene) {
-  const ShImage sh = estimate_scene(256);
-  expect_estimate_agrees(sh, fit_lobes(sh), 1e-4);
-  PipelineResult r;
-  const auto lobes = final_lobes(sh, &r);
-  expect_estimate_agrees(sh, lobes, 1e-4);
-  // Thread count does not change it.
-  const ErrorReport a = estimate_error(sh, lobes, 1), b = estimate_error(sh, lobes, 3);
-  EXPECT_EQ(a.relative.p99, b.relative.p99);
-  EXPECT_EQ(a.log2.mean, b.log2.mean);
-}
-
-TEST(ErrorEstimate, AgreesWithFullMeasurementOnAPlainLightmap) {
-  const ShImage p = plain_of(estimate_scene(256, 4));
-  PipelineResult r;
-  const auto lobes = final_lobes(p, &r);
-  EXPECT_FALSE(r.directional);
-  // The plain map's error is BC6H's alone (≈ 1e-2 relative); near-zero figures get an absolute floor.
-  expect_estimate_agrees(p, lobes, 2e-4);
-}
-
 TEST(ErrorEstimate, DirectionDecisionShortcuts) {
   const ShImage sh = estimate_scene(64);
   const ShImage p = plain_of(sh);
@@ -178,64 +91,4 @@ TEST(ErrorEstimate, DirectionDecisionShortcuts) {
   EXPECT_TRUE(sampled_relative_p99_exceeds(sh, at, p99 * 0.999));
   EXPECT_FALSE(sampled_relative_p99_exceeds(sh, at, p99 * 1.001));
   EXPECT_EQ(sampled_relative_p99_exceeds(sh, at, 0.01), relative_p99_exceeds(sh, ambient, 0.01));
-}
-
-TEST(BenchConvert, TinyRunPrintsTimesAndMemory) {
-  const auto r = ahd_test::run_cli({"bench", "convert", "--sizes", "16", "--plain", "16", "--threads", "1"});
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("L2 16²"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("plain 16²"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("peak MB"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("stages: read"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("OIIO read alone"), std::string::npos) << r.output;
-}
-
-TEST(BenchConvert, RealPlainFileRunsBesideTheGeneratedOnes) {
-  // --plain-file: a given plain RGB EXR (a real bake in use; here a 20×12 one with a black
-  // gutter column, not square) converted with the plain layout; --sizes 0 --plain 0: nothing else.
-  const std::string dir = ahd_test::temp_dir("bench_plain_file");
-  ImageF img(20, 12, 3);
-  for (int y = 0; y < 12; ++y)
-    for (int x = 0; x < 20; ++x)
-      for (int c = 0; c < 3; ++c) img.at(x, y)[c] = x == 9 ? 0.0f : 0.05f * float(1 + x + y + c);
-  write_image(dir + "/bake_plain.exr", img, true, {"R", "G", "B"});
-  const auto r = ahd_test::run_cli(
-      {"bench", "convert", "--sizes", "0", "--plain", "0", "--plain-file", dir + "/bake_plain.exr", "--threads", "1"});
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("bake_plain"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("    0.00 "), std::string::npos) << r.output;  // 240 texels: 0.00 MTexels
-  EXPECT_EQ(r.output.find("L2 "), std::string::npos) << r.output;
-  EXPECT_EQ(r.output.find("plain 2048"), std::string::npos) << r.output;
-  const auto bad = ahd_test::run_cli({"bench", "convert", "--plain-file", dir + "/missing.exr"});
-  EXPECT_NE(bad.exit_code, 0);
-}
-
-// What `ahdpack convert` prints by default (Measure::Estimate) against `--measure full`, through the
-// whole conversion of the built-in sample: every level's quantised error, mean within 3 % and p99
-// within 10 % (the tolerance stated in fit/hemisphere_error.h), and the fit's error likewise.
-TEST(ErrorEstimate, ConversionEstimateAgreesWithFullMeasurement) {
-  BakerOptions bo;
-  bo.width = bo.height = 256;  // the built-in sample: 65 536 texels, far more than the 4096 sampled
-  const ShImage sh = bake_analytic_scene(bo);
-  PipelineOptions est, full;
-  est.measure = Measure::Estimate;
-  full.measure = Measure::Full;
-  const Profile p = load_profile("pc-bc");
-  const PipelineResult e = run_conversion(sh, p, est), f = run_conversion(sh, p, full);
-  ASSERT_EQ(e.level_error.size(), f.level_error.size());
-  EXPECT_LT(e.final_error.texels, f.final_error.texels);  // level 0 really was sampled
-  EXPECT_EQ(e.final_error.population, f.final_error.texels);
-  for (size_t l = 0; l < f.level_error.size(); ++l) {
-    const ErrorReport &a = e.level_error[l], &b = f.level_error[l];
-    EXPECT_NEAR(a.relative.mean, b.relative.mean, 0.03 * b.relative.mean) << "level " << l;
-    EXPECT_NEAR(a.relative.p99, b.relative.p99, 0.10 * b.relative.p99) << "level " << l;
-    EXPECT_NEAR(a.log2.mean, b.log2.mean, 0.03 * b.log2.mean) << "level " << l;
-  }
-  EXPECT_NEAR(e.fit_error.relative.mean, f.fit_error.relative.mean, 0.03 * f.fit_error.relative.mean);
-  EXPECT_NEAR(e.fit_error.relative.p99, f.fit_error.relative.p99, 0.10 * f.fit_error.relative.p99);
-  // The planes do not depend on what is measured.
-  ASSERT_EQ(e.planes.size(), f.planes.size());
-  for (size_t i = 0; i < f.planes.size(); ++i)
-    for (size_t l = 0; l < f.planes[i].texture.levels.size(); ++l)
-      EXPECT_EQ(e.planes[i].texture.levels[l].data, f.planes[i].texture.levels[l].data);
 }

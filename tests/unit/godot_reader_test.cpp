@@ -23,105 +23,11 @@
 #include "bakers/godot/godot_tscn.h"
 #include "bakers/godot/godot_unwrap_cache.h"
 #include "test_data.h"
+#include "godot_reader_fixture.h"
 
 namespace fs = std::filesystem;
 using namespace ahd;
-
-namespace {
-
-bool contains(const std::string& s, const std::string& what) { return s.find(what) != std::string::npos; }
-
-using ahd_test::Rsrc;
-
-// world.tscn: a LightmapGI with res://world.lmbake and one node `node` of the resource `res` of type
-// `type` (a PackedScene instanced, or a Mesh in a MeshInstance3D).
-std::string lit_scene(const std::string& type, const std::string& res, const std::string& node) {
-  return "[gd_scene load_steps=3 format=3]\n"
-         "[ext_resource type=\"LightmapGIData\" path=\"res://world.lmbake\" id=\"1_lm\"]\n"
-         "[ext_resource type=\"" +
-         type + "\" path=\"res://" + res +
-         "\" id=\"2_res\"]\n"
-         "[node name=\"World\" type=\"Node3D\"]\n"
-         "[node name=\"LightmapGI\" type=\"LightmapGI\" parent=\".\"]\nlight_data = ExtResource(\"1_lm\")\n" +
-         (type == "Mesh"
-              ? "[node name=\"" + node + "\" type=\"MeshInstance3D\" parent=\".\"]\nmesh = ExtResource(\"2_res\")\n"
-              : "[node name=\"" + node + "\" parent=\".\" instance=ExtResource(\"2_res\")]\n");
-}
-
-// One unwrap-cache entry as godot_unwrap_cache.cpp reads it: the key, the size hint, four vertices
-// (source vertices 0..3) with their UV2 (`uv2`: u, v pairs), the indices.
-void unwrap_entry(Rsrc& c, const GodotUnwrapKey& key, uint32_t hint_w, uint32_t hint_h, const float* uv2,
-                  const std::vector<uint32_t>& idx) {
-  c.b.insert(c.b.end(), key.begin(), key.end());
-  c.u32(hint_w), c.u32(hint_h), c.u32(4);
-  for (uint32_t v = 0; v < 4; ++v) c.u32(v);
-  for (int k = 0; k < 8; ++k) c.f32(uv2[k]);
-  c.u32(uint32_t(idx.size()));
-  for (uint32_t i : idx) c.u32(i);
-}
-
-// A LightmapGIData whose users are `users` (node paths by name; default one, "../Box"), each
-// with the rectangle 0.25, 0.5, 0.5, 0.25 and slice 1, after a PackedVector4Array and a Callable
-// property, written as format `format`. `uid_flag` false: flags without FORMAT_FLAG_UIDS (the uid
-// field is written all the same).
-std::vector<uint8_t> lmbake_bytes(uint32_t format, bool uid_flag = true,
-                                  const std::vector<std::vector<std::string>>& users = {{"..", "Box"}}) {
-  Rsrc r;
-  r.b = {'R', 'S', 'R', 'C'};
-  r.u32(0), r.u32(0), r.u32(4), r.u32(format >= 6 ? 3 : 2), r.u32(format);
-  r.str("LightmapGIData");
-  r.u64(0);                      // import metadata offset
-  r.u32(uid_flag ? 3 : 1);       // named scene ids (+ uids)
-  r.u64(0x1234567890abcdefull);  // uid
-  for (int i = 0; i < 11; ++i) r.u32(0);
-  std::vector<std::string> strings = {"extra", "later", "user_data", "uses_spherical_harmonics"};
-  std::vector<std::vector<uint32_t>> ids;  // each user's names in the string table
-  for (const std::vector<std::string>& path : users) {
-    ids.emplace_back();
-    for (const std::string& name : path) {
-      const auto at = std::find(strings.begin(), strings.end(), name);
-      ids.back().push_back(uint32_t(at - strings.begin()));
-      if (at == strings.end()) strings.push_back(name);
-    }
-  }
-  r.one_resource(strings, "LightmapGIData");
-  r.u32(4);                       // properties
-  r.u32(0), r.u32(53), r.u32(2);  // extra: PackedVector4Array of 2
-  for (int i = 0; i < 8; ++i) r.f32(float(i));
-  r.u32(1), r.u32(42);                                     // later: Callable (no payload)
-  r.u32(3), r.u32(2), r.u32(1);                            // uses_spherical_harmonics: bool true
-  r.u32(2), r.u32(30), r.u32(uint32_t(4 * users.size()));  // user_data: Array of 4 per user
-  for (const std::vector<uint32_t>& path : ids) {
-    r.u32(22), r.u16(uint16_t(path.size())), r.u16(0);  // NodePath
-    for (uint32_t i : path) r.u32(i);
-    r.u32(11), r.f32(0.25f), r.f32(0.5f), r.f32(0.5f), r.f32(0.25f);
-    r.u32(3), r.u32(1);
-    r.u32(3), r.u32(uint32_t(-1));
-  }
-  return r.b;
-}
-
-void write(const fs::path& p, const std::string& text) {
-  fs::create_directories(p.parent_path());
-  std::ofstream(p, std::ios::binary) << text;
-}
-void write(const fs::path& p, const std::vector<uint8_t>& bytes) {
-  fs::create_directories(p.parent_path());
-  std::ofstream(p, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
-}
-
-std::string lightmap_scene(const std::string& lmbake_res, const std::string& extra_nodes) {
-  return "[gd_scene load_steps=3 format=3 uid=\"uid://abc\"]\n\n"
-         "[ext_resource type=\"LightmapGIData\" uid=\"uid://def\" path=\"" +
-         lmbake_res +
-         "\" id=\"1_lm\"]\n\n"
-         "[sub_resource type=\"BoxMesh\" id=\"BoxMesh_q1\"]\nadd_uv2 = true\nsize = Vector3(1, 2, 3)\n\n"
-         "[node name=\"World\" type=\"Node3D\"]\n\n"
-         "[node name=\"LightmapGI\" type=\"LightmapGI\" parent=\".\"]\nlight_data = ExtResource(\"1_lm\")\n\n" +
-         extra_nodes;
-}
-
-}  // namespace
+using namespace ahd_fixture::godot_reader_fixture;
 
 // Gap 1: format 6 (every Godot >= 4.3 bake) and 4 are read like 3 and 5; the new tag is parsed.
 TEST(GodotReader, LmbakeFormatsThreeToSixAreRead) {
@@ -441,44 +347,6 @@ TEST(GodotReader, MeshesOfEqualVertexCountTakeTheirOwnEntries) {
   fs::remove_all(dir);
 }
 
-namespace {
-
-// A project instancing tests/data/godot/handmade/room.fbx as "Room" (imported with Static
-// Lightmaps), its one user the node Floor; the unwrap cache holds `entry` (a Godot-keyed entry).
-fs::path fbx_project(const std::string& name, const std::vector<uint8_t>& cache, const std::string& import_extra = "") {
-  const fs::path dir = ahd_test::temp_dir(name);
-  write(dir / "project.godot", "config_version=5\n");
-  fs::create_directories(dir / "m");
-  fs::copy_file(ahd_test::test_data("godot/handmade/room.fbx"), dir / "m/room.fbx");
-  write(dir / "m/room.fbx.import",
-        "[remap]\n\nimporter=\"scene\"\n\n[params]\n\nmeshes/light_baking=2\n"
-        "meshes/lightmap_texel_size=0.2\n" +
-            import_extra);
-  write(dir / "m/room.fbx.unwrap_cache", cache);
-  write(dir / "world.lmbake", lmbake_bytes(6, true, {{"..", "Room", "Floor"}}));
-  write(dir / "world.tscn", lit_scene("PackedScene", "m/room.fbx", "Room"));
-  return dir;
-}
-
-// The cache Godot writes for room.fbx's FloorMesh, derived from modules/fbx/fbx_document.cpp's rules:
-// the file's triangles (0,0,0) (2,0,0) (2,0,-1) and (0,0,0) (2,0,-1) (0,0,-1) are taken as c, b, a
-// and their corners merged in order of first use: vertices (2,0,-1) (2,0,0) (0,0,0) (0,0,-1),
-// triangles 0 1 2, 3 0 2; metres and Y up already (UnitScaleFactor 100); node scale 2.
-const float kFbxUv2[8] = {0.9f, 0.1f, 0.9f, 0.6f, 0.1f, 0.6f, 0.1f, 0.1f};  // per vertex, v down
-std::vector<uint8_t> room_cache(bool damage_key) {
-  const std::vector<float> pos = {2, 0, -1, 2, 0, 0, 0, 0, 0, 0, 0, -1};
-  const std::vector<float> nrm = {0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1, 0};
-  const std::vector<uint32_t> idx = {0, 1, 2, 3, 0, 2};
-  const float scale[3] = {2, 2, 2};
-  GodotUnwrapKey key = godot_unwrap_key(pos, nrm, idx, scale, 0.2f);
-  if (damage_key) key[0] ^= 0xff;
-  Rsrc c;
-  c.u32(1);
-  unwrap_entry(c, key, 16, 8, kFbxUv2, idx);
-  return c.b;
-}
-
-}  // namespace
 
 // An FBX instance (Godot >= 4.3 imports .fbx through ufbx) is read through Assimp and rebuilt as
 // Godot's importer builds it, so that its mesh finds its unwrap-cache entry by Godot's key: the
@@ -523,63 +391,6 @@ TEST(GodotFbx, InstanceTakesItsUv2FromTheUnwrapCacheByKey) {
     EXPECT_TRUE(contains(e.what(), "FBX2glTF")) << e.what();
   }
   fs::remove_all(d3);
-}
-
-// A cache entry Godot's own importer dropped (godotengine/godot#122494: an entry whose key sorts
-// after the first one written is never stored), made here from the real project: the chair's cache
-// holds only an entry of least key (another mesh's, written first), so the chair's own entry, of
-// greater key, is the dropped one. Its users are named with the cause (no "reimport"), the
-// conversion is refused by default in one line naming them and the option, and converts with
-// --allow-unplaced, the kept texels counted in the summary and the report.
-TEST(GodotFbx, DroppedEntryIsRefusedByDefaultAndCountedWhenAllowed) {
-  const fs::path bake = ahd_test::test_data("bakes/godot42-vermilion/project");
-  if (!fs::exists(bake / "scenes/world.exr")) GTEST_SKIP() << "no " << bake / "scenes/world.exr";
-  const fs::path dir = ahd_test::temp_dir("godot_fbx_dropped");
-  fs::copy(bake, dir / "project", fs::copy_options::recursive);
-  const fs::path models = dir / "project/assets/models";
-  std::vector<uint8_t> first = ahd_test::slurp(models / "apartments/doorframe/doorframe.glb.unwrap_cache");
-  ASSERT_GT(first.size(), 20u);
-  std::fill(first.begin() + 4, first.begin() + 20, uint8_t(0));  // the least key
-  write(models / "chair/chair.glb.unwrap_cache", first);
-  const std::string dropped_from = "chair.glb.unwrap_cache";
-  const fs::path scenes = dir / "project/scenes";
-  const GodotSceneMeshes g = load_godot_scene((scenes / "world.tscn").string());
-  ASSERT_FALSE(g.unplaced.empty()) << testing::PrintToString(g.notes);
-  EXPECT_EQ(g.scene.instances.size() + g.unplaced.size(), 55u);
-  const GodotUnplacedUser& u = g.unplaced.front();
-  EXPECT_TRUE(contains(u.why, dropped_from + " has no entry for mesh")) << u.why;
-  EXPECT_TRUE(contains(u.why, "godotengine/godot#122494")) << u.why;
-  EXPECT_FALSE(contains(u.why, "reimport it")) << u.why;
-
-  // Refused by default: one error line naming the user, the cause and the option.
-  const auto r = ahd_test::run_cli(
-      {"convert", (scenes / "world.exr").string(), "-o", (dir / "o/w.ktx2").string(), "--levels", "1"});
-  EXPECT_NE(r.exit_code, 0) << r.output;
-  size_t error_lines = 0;
-  for (size_t at = r.output.find("ahdpack: error:"); at != std::string::npos;
-       at = r.output.find("ahdpack: error:", at + 1))
-    ++error_lines;
-  EXPECT_EQ(error_lines, 1u) << r.output;
-  EXPECT_TRUE(contains(r.output, "lightmap users cannot be placed from the project")) << r.output;
-  EXPECT_TRUE(contains(r.output, u.node)) << r.output;
-  EXPECT_TRUE(contains(r.output, "godotengine/godot#122494")) << r.output;
-  EXPECT_TRUE(contains(r.output, "--allow-unplaced converts the other " + std::to_string(55 - g.unplaced.size())))
-      << r.output;
-  EXPECT_FALSE(fs::exists(dir / "o/w.json"));
-
-  // With --allow-unplaced: converted, the unplaced users' lit texels kept and counted.
-  const auto ok = ahd_test::run_cli({"convert", (scenes / "world.exr").string(), "--allow-unplaced", "-o",
-                                     (dir / "o/w.ktx2").string(), "--levels", "1"});
-  ASSERT_EQ(ok.exit_code, 0) << ok.output;
-  const std::string tag = std::to_string(g.unplaced.size()) + " unplaced user(s) on page 0: ";
-  const size_t at = ok.output.find(tag);
-  ASSERT_NE(at, std::string::npos) << ok.output;
-  const long kept = std::strtol(ok.output.c_str() + at + tag.size(), nullptr, 10);
-  EXPECT_GT(kept, 0) << ok.output;
-  EXPECT_TRUE(contains(ok.output, "godot scene: lightmap user " + u.node + " left out: ")) << ok.output;
-  const std::string report = ahd_test::read_text(dir / "o/w.report.json");
-  EXPECT_TRUE(contains(report, tag + std::to_string(kept) + " lit texels kept")) << report.substr(0, 2000);
-  fs::remove_all(dir);
 }
 
 // The arrays Godot 4.6's own FBX importer builds (its FBXDocument, run in the official web build by

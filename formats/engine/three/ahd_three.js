@@ -103,7 +103,7 @@ in vec2 vLmUv;
 vec4 ahd_sample(sampler2D s, vec2 uv) { return lodBias < 0.0 ? texture(s, uv) : textureLod(s, uv, lodBias); }
 
 // The built-in detail normal (tangent space of the lightmap texel): a smooth bump pattern whose
-// exact value the tests recompute on the CPU (tests/unit/three_render_test.cpp, detail_normal). A
+// exact value the tests recompute on the CPU (tests/judges/three_render_test.cpp, detail_normal). A
 // real material passes its normal map's tangent-space normal here instead (see the guide).
 vec3 ahd_detail_normal(vec2 uv) {
   const float TAU = 6.28318530718;

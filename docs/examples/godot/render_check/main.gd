@@ -1,5 +1,5 @@
 # Renders a quad lit by the ahdpack add-on (res://addons/ahdpack) in Godot 4 and hands the pixels
-# back; GodotAddon.* (tests/unit/godot_addon_test.cpp) packs this project with the add-on, ahdpack's
+# back; GodotAddon.* (tests/judges/godot_addon_test.cpp) packs this project with the add-on, ahdpack's
 # planes and res://check.json, runs it with tests/tools/godot/run_godot.mjs and compares every pixel
 # with ahdpack's reference decoder. docs/engine-integration.md "Godot 4 (tested)".
 #

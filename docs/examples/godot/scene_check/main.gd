@@ -1,7 +1,7 @@
 # Renders the placed scene `ahdpack scene` writes (res://conv/world.glb, loaded at run time with
 # GLTFDocument) lit by the ahdpack add-on from the conversion's planes (res://conv/world.json), seen by
 # the camera of res://scene.json (the three.js page's: docs/examples/three/scene.html), and hands the
-# image back as godot.png. GodotAddonScene.* (tests/unit/godot_addon_scene_test.cpp) compares it with
+# image back as godot.png. GodotAddonScene.* (tests/judges/godot_addon_scene_test.cpp) compares it with
 # three.js's image. glTF node i is manifest instance i; its TEXCOORD_1 (Godot's UV2) is already in
 # atlas space, so every material takes the whole atlas as its rectangle, at the instance's page.
 extends Node

@@ -96,7 +96,7 @@ TEST(ThreeRender, KtxPlanesLitInChromiumMatchTheReferenceDecoder) {
   // must agree to float32 rounding: 1e-4 · max(|ref|, 1) per channel. The detail normal adds
   // SwiftShader's float32 sin/cos and normalize: 1e-3 · max(|ref|, 1). And a GPU decodes
   // BC4/BC5 (RGTC) to 8 bits (within one 8-bit step of the exact palette our decoder uses,
-  // tests/gl/rgtc_mesa_test.cpp): for pc-bc the detail value must lie, within 1e-3, in the range
+  // tests/judges/gl/rgtc_mesa_test.cpp): for pc-bc the detail value must lie, within 1e-3, in the range
   // the reference takes when the ratio and each hemi-octahedral coordinate move by ±1/255.
   const auto in_range = [](const float iz[3], const float d[3], const float ratio[3], const double n[3], double dz_min,
                            bool rgtc, double lo[3], double hi[3]) {

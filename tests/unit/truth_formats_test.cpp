@@ -1,0 +1,73 @@
+// The bakers' directional formats of `report truth` (src/lab/truth_baker_formats.h) against
+// the SH they come from. The path-traced accuracy figures: tests/accuracy/truth_test.cpp.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "api/options.h"
+#include "fit/ahd_decode.h"
+#include "lab/fit_quality.h"
+#include "lab/truth_baker_formats.h"
+#include "lab/truth_reference.h"
+#include "lab/truth_file.h"
+#include "pipeline/convert.h"
+#include "pipeline/plane_decode.h"
+#include "sh/sh_image.h"
+#include "test_data.h"
+
+namespace ahd {
+namespace {
+
+// The bakers' formats of `report truth` (lab/truth_baker_formats.h) decode what they claim to: for
+// L1 SH whose light has one colour (every channel the same SH up to a factor), float MonoSH and
+// float Godot L1 are both exactly the L1 SH's irradiance (clamped at 0); through BC6H and 8 bits
+// they stay within a few per cent; and a coloured light separates MonoSH (one shared L1) from Godot.
+TEST(TruthFormats, FloatFormatsAreTheL1ShAndQuantisedOnesStayClose) {
+  const int w = 16, h = 16;
+  ShImage sh = make_sh_image(w, h, 4);
+  const double tint[3] = {1.0, 0.6, 0.3};
+  for (size_t i = 0; i < sh.texels(); ++i) {
+    const double u = double(i % w) / w, v = double(i / w) / h;
+    const double c[4] = {1.0 + u, 0.3 * std::sin(6 * v), 0.4 * v, -0.25 * u};
+    for (int k = 0; k < 4; ++k)
+      for (int ch = 0; ch < 3; ++ch) sh.texel(i)[k * 3 + ch] = float(c[k] * tint[ch]);
+  }
+  const double normals[3][3] = {{0, 0, 1}, {0.6, 0, 0.8}, {-0.48, 0.6, 0.64}};
+  auto worst = [&](const BakerFormatEval& f) {
+    double rel = 0;
+    for (size_t i = 0; i < sh.texels(); ++i)
+      for (const auto& n : normals) {
+        IrradiancePoly p[3];
+        local_polys(sh, i, p);
+        double got[3];
+        f.eval(i, n, got);
+        for (int ch = 0; ch < 3; ++ch) {
+          const double want = std::max(0.0, eval_irradiance(p[ch], n));
+          rel = std::max(rel, std::abs(got[ch] - want) / std::max(want, 1e-3));
+        }
+      }
+    return rel;
+  };
+  EXPECT_LT(worst(mono_sh_format(sh, false)), 1e-5);
+  EXPECT_LT(worst(godot_l1_format(sh, false)), 1e-5);
+  EXPECT_LT(worst(mono_sh_format(sh, true)), 0.05);
+  EXPECT_LT(worst(godot_l1_format(sh, true)), 0.05);
+  EXPECT_EQ(mono_sh_format(sh, true).bytes_per_texel, 5.0);
+  EXPECT_EQ(godot_l1_format(sh, true).bytes_per_texel, 4.0);
+
+  // Red light from +x, blue from −x: one shared L1 vector cannot hold both; per-channel L1 can.
+  for (size_t i = 0; i < sh.texels(); ++i) {
+    float* t = sh.texel(i);
+    for (int k = 0; k < 12; ++k) t[k] = 0;
+    for (int ch = 0; ch < 3; ++ch) t[ch] = 1.0f;
+    t[3 * 3 + 0] = 0.5f;   // L1 x coefficient (c11), red
+    t[3 * 3 + 2] = -0.5f;  // blue
+  }
+  EXPECT_LT(worst(godot_l1_format(sh, false)), 1e-5);
+  EXPECT_GT(worst(mono_sh_format(sh, false)), 0.2);
+}
+
+}  // namespace
+}  // namespace ahd
