@@ -229,8 +229,8 @@ std::string lower(std::string s) {
   return s;
 }
 
-// One request on its own connection. The body of a 200 is read when at most `max_body` bytes
-// (exactly Content-Length of them; chunked bodies are refused), any other status's body is not.
+// One request on its own connection. The body of a GET's 200 is read when at most `max_body`
+// bytes (exactly Content-Length of them; chunked bodies are refused); no other answer's body is.
 // Throws TransportError when the exchange does not complete, Error for a malformed answer.
 Response exchange(const Url& u, const std::string& method, const std::string& target, const std::vector<uint8_t>* body,
                   uint64_t max_body) {
@@ -261,7 +261,7 @@ Response exchange(const Url& u, const std::string& method, const std::string& ta
       !std::all_of(header.begin() + 9, header.begin() + 12, [](char c) { return c >= '0' && c <= '9'; }))
     throw Error("not an HTTP/1.x answer");
   r.status = std::stoi(header.substr(9, 3));
-  if (r.status != 200) return r;
+  if (r.status != 200 || method != "GET") return r;  // a PUT's answer body is not needed
   int64_t length = -1;
   size_t pos = header.find("\r\n");
   while (pos != std::string::npos && pos < header.size()) {
