@@ -14,6 +14,8 @@ PKGS=(
   chromium                      # headless tests: the `ahdpack preview` page, three.js rendering (ThreeRender.*)
   strace                        # Cook.GodotAtlasDepfileNamesEveryFileRead: the files really opened
   python3-numpy                 # ColourSpace.Numpy*: the independent reference matrices (tests/colour_reference.py)
+  nginx-light                   # CookHttpCache.*, Bazel.*: a Bazel HTTP remote cache (WebDAV PUT) on 127.0.0.1
+  bazel-bootstrap               # Bazel.AhdpackLightmapRemoteCache: the ahdpack_lightmap rule (bazel/ahdpack.bzl), offline
 )
 # Node.js is needed for the independent KTX2 reader (ktx-parse) and the Chromium driver; a machine that
 # already has node+npm (from any source) keeps it, otherwise Debian's are installed.

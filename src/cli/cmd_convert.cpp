@@ -92,6 +92,7 @@ BatchRow run_convert(ConvertArgs a, const BatchJob* job = nullptr) {
                   hit.manifest.c_str());
     };
     h.events.stored = [](const std::string& key, const CacheStats& st) {
+      if (st.entries == 0) return (void)std::printf("cache: stored %s\n", key.c_str());  // a server's size is its own
       std::printf("cache: stored %s (%zu entries, %.1f MiB%s)\n", key.c_str(), st.entries, double(st.bytes) / 1048576.0,
                   st.evicted ? (", " + std::to_string(st.evicted) + " least recently used evicted").c_str() : "");
     };
@@ -288,10 +289,11 @@ void add_convert_command(CLI::App& app) {
   c->add_option("--depfile", a->depfile,
                 "Also write OUT.d, a Make/Ninja depfile naming every file the conversion read (target: the manifest)");
   c->add_option("--cache", a->cache,
-                "Folder of finished conversions, shared between runs and processes: reuse the outputs stored under "
-                "the conversion's key (--print-key), or store them");
+                "Folder of finished conversions, shared between runs and processes, or http://host:port/prefix/ "
+                "(a Bazel HTTP remote cache): reuse the outputs stored under the conversion's key (--print-key), or "
+                "store them");
   c->add_option("--cache-max-size", a->cache_max_size,
-                "Bound of the --cache folder (bytes, or with a K/M/G/T suffix; 0 = none): least recently used entries "
+                "Bound of a --cache folder (bytes, or with a K/M/G/T suffix; 0 = none): least recently used entries "
                 "are evicted past it (default 10G)");
   c->add_flag("--print-key", a->print_key,
               "Print the conversion's key (its inputs' bytes, the effective options, the tool version) and convert "

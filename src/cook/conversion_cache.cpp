@@ -228,6 +228,15 @@ std::optional<InputsRecord> ConversionCache::lookup_inputs(const std::string& co
   } catch (const Error&) {
     return std::nullopt;
   }
+  std::optional<InputsRecord> r = decode_inputs(command_key, b);
+  if (!r) return std::nullopt;
+  std::error_code ec;
+  fs::last_write_time(path, fs::file_time_type::clock::now(), ec);
+  return r;
+}
+
+std::optional<InputsRecord> ConversionCache::decode_inputs(const std::string& command_key,
+                                                           const std::vector<uint8_t>& b) {
   const std::string text(b.begin(), b.end());
   const size_t tail = text.rfind("sha256 ");
   if (tail == std::string::npos || text.size() != tail + 7 + 64 + 1 || text.back() != '\n') return std::nullopt;
@@ -256,18 +265,16 @@ std::optional<InputsRecord> ConversionCache::lookup_inputs(const std::string& co
     }
   }
   if (r.options_text.empty()) return std::nullopt;
-  std::error_code ec;
-  fs::last_write_time(path, fs::file_time_type::clock::now(), ec);
   return r;
 }
 
-void ConversionCache::store_inputs(const std::string& command_key, const InputsRecord& r) const {
+std::optional<std::string> ConversionCache::encode_inputs(const std::string& command_key, const InputsRecord& r) {
   if (!is_key(command_key)) throw Error("cache: not a key: " + command_key);
   const auto one_line = [](const std::string& s) { return s.find_first_of("\n\r") == std::string::npos; };
   for (const std::string& f : r.files)
-    if (!one_line(f)) return;
+    if (!one_line(f)) return std::nullopt;
   for (const InputProbe& p : r.probes)
-    if (!one_line(p.path)) return;
+    if (!one_line(p.path)) return std::nullopt;
   std::string t = "ahdpack-inputs 1\nkey " + command_key + "\n";
   std::string source = r.source;
   for (char& c : source)
@@ -279,9 +286,15 @@ void ConversionCache::store_inputs(const std::string& command_key, const InputsR
   for (const std::string& f : r.files) t += "file " + f + "\n";
   for (const InputProbe& p : r.probes) t += "probe " + std::to_string(p.type) + " " + p.path + "\n";
   t += "sha256 " + sha256_hex(reinterpret_cast<const uint8_t*>(t.data()), t.size()) + "\n";
+  return t;
+}
+
+void ConversionCache::store_inputs(const std::string& command_key, const InputsRecord& r) const {
+  const std::optional<std::string> t = encode_inputs(command_key, r);
+  if (!t) return;
   std::error_code ec;
   fs::create_directories(dir_, ec);
-  write_file_atomic((fs::path(dir_) / (command_key + kInputsExt)).string(), t);
+  write_file_atomic((fs::path(dir_) / (command_key + kInputsExt)).string(), *t);
 }
 
 uint64_t parse_byte_size(const std::string& text, const std::string& option) {

@@ -61,6 +61,11 @@ class ConversionCache : public CacheBackend {
   // The serialised entry (exposed for tests) and its reader (nullopt unless well-formed for `key`).
   static std::vector<uint8_t> encode(const std::string& key, const std::vector<OutputFile>& files);
   static std::optional<std::vector<OutputFile>> decode(const std::string& key, const std::vector<uint8_t>& bytes);
+  // The same for an inputs record (the text of DIR/<command_key>.ahdinputs, its SHA-256 last):
+  // nullopt from encode_inputs for a record that is not stored (a path with a line break), from
+  // decode_inputs unless well-formed for `command_key`. Exposed for the HTTP backend (cook/http_cache.cpp).
+  static std::optional<std::string> encode_inputs(const std::string& command_key, const InputsRecord& record);
+  static std::optional<InputsRecord> decode_inputs(const std::string& command_key, const std::vector<uint8_t>& bytes);
 
  private:
   std::string dir_;
