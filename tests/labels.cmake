@@ -28,7 +28,7 @@ set(_as_unit "^BakerRecipes\\.ReadmeHoldsTheTestedCommands$")  # the README chec
 set(_as_integration "^$")
 set(_as_judge "^$")
 set(_as_accuracy "^$")
-set(_slow "^(Consumer|BenchConvert|Truth|GodotAddon|GodotAddonScene)\\.|^Atlas\\.FourPageGodotAtlas|^Cli\\.(BatchOfSmallFiles|EveryProfileAndContainer)|^Bc6h\\.MaxOnCrops|^OutputSet\\.KilledBeforeEachRename|^OutputFaults\\.(HundredPairs|SignalBetweenRenames|KilledAtEveryRename)|^Cook\\.KeyCoversEveryInput|^(Verify|Preview)\\.GodotProject")
+set(_slow "^(Consumer|BenchConvert|Truth|GodotAddon|GodotAddonScene)\\.|^Atlas\\.FourPageGodotAtlas|^Cli\\.(BatchOfSmallFiles|EveryProfileAndContainer)|^Bc6h\\.MaxOnCrops|^OutputSet\\.KilledBeforeEachRename|^OutputFaults\\.(HundredPairs|SignalBetweenRenames|KilledAtEveryRename)|^Cook\\.KeyCoversEveryInput|^(Verify|Preview|Preview3d)\\.GodotProject")
 set(_nosan "^(Consumer|PreviewChromium|ThreeRender|ThreeScene|GodotAddon|GodotAddonScene|Truth|Cli|BakerBevy|Preview3d|Plot|Preview|Verify|Atlas)\\.|^MeshRaster\\.(BadMeshes|ConvertWithMesh|MeshAxes)|^ColourSpace\\.(Numpy|Cli)|^OutputFaults\\.HundredPairsOfConcurrentConversions|^Bc6h\\.(MaxOnCropsOfTheSharedImages|SharedImagesBeatTheFastestPublicEncoder)$|^Fit\\.ClosedFormTMatchesBruteForceSearch$")
 
 foreach(_kind unit integration judge accuracy)

@@ -21,6 +21,16 @@ const pages = V.pages.map((pg) => pg.levels.map((l) => ({ w: l.w, h: l.h, iz: f3
 const coverage = V.coverage ? bytes(V.coverage) : null;
 const rules = V.source ? bytes(V.source.rules) : null;
 const mesh = { pos: f32(V.mesh.positions), st: f32(V.mesh.st), idx: new Uint32Array(bytes(V.mesh.indices).buffer) };
+// A placed scene (a Godot project, --mesh with --placement) gives each triangle's atlas page: the
+// shown page's triangles are drawn, in 3D and on the lightmap.
+const triPage = V.mesh.page ? new Int32Array(bytes(V.mesh.page).buffer) : null;
+function pageIndices() {
+  if (!triPage) return mesh.idx;
+  const out = [];
+  for (let t = 0; t < triPage.length; ++t)
+    if (triPage[t] === state.page) out.push(mesh.idx[3 * t], mesh.idx[3 * t + 1], mesh.idx[3 * t + 2]);
+  return new Uint32Array(out);
+}
 
 // The reference decode (fit/ahd_decode.h decode_irradiance) for the readout.
 function decodeE(iz, d, ratio, n, dzMin) {
@@ -131,12 +141,13 @@ in vec2 st;
 out vec2 vSt;
 void main() { vSt = st; gl_Position = projectionMatrix * modelViewMatrix * vec4(position, 1.0); }`;
 
-let scene, camera, center = new T.Vector3(), radius = 1;
+let scene, camera, geometry = null, center = new T.Vector3(), radius = 1;
 function setup3d() {
   const g = new T.BufferGeometry();
   g.setAttribute('position', new T.BufferAttribute(mesh.pos, 3));
   g.setAttribute('st', new T.BufferAttribute(mesh.st, 2));
-  g.setIndex(new T.BufferAttribute(mesh.idx, 1));
+  g.setIndex(new T.BufferAttribute(pageIndices(), 1));
+  geometry = g;
   g.computeBoundingSphere();
   center.copy(g.boundingSphere.center);
   radius = g.boundingSphere.radius || 1;
@@ -204,9 +215,10 @@ function draw2d() {
   ctx.drawImage(off, 0, 0, c.width, c.height);
   if (state.wire) {
     ctx.strokeStyle = 'rgba(0,255,255,0.7)'; ctx.lineWidth = 1; ctx.beginPath();
-    for (let t = 0; t + 2 < mesh.idx.length; t += 3)
+    const idx = pageIndices();
+    for (let t = 0; t + 2 < idx.length; t += 3)
       for (let e = 0; e < 3; ++e) {
-        const a = mesh.idx[t + e], b = mesh.idx[t + (e + 1) % 3];
+        const a = idx[t + e], b = idx[t + (e + 1) % 3];
         ctx.moveTo(mesh.st[a * 2] * c.width, mesh.st[a * 2 + 1] * c.height);
         ctx.lineTo(mesh.st[b * 2] * c.width, mesh.st[b * 2 + 1] * c.height);
       }
@@ -256,7 +268,12 @@ for (let l = 0; l < pages[0].length; ++l) $('mip').add(new Option(l + ' (' + pag
 $('mip').addEventListener('change', () => { state.mip = Number($('mip').value); update(); });
 for (let p = 0; p < pages.length; ++p) $('page').add(new Option(String(p), String(p)));
 $('page').disabled = pages.length < 2;
-$('page').addEventListener('change', () => { state.page = Number($('page').value); if (renderer) buildTextures(); update(); });
+$('page').addEventListener('change', () => {
+  state.page = Number($('page').value);
+  if (renderer) buildTextures();
+  if (geometry && triPage) geometry.setIndex(new T.BufferAttribute(pageIndices(), 1));
+  update();
+});
 if (!V.source) {
   for (const id of ['mode-sh', 'mode-diff-sh']) $(id).disabled = true;
   notes.push('No --source: the source-SH A/B and difference need the SH the conversion was made from.');

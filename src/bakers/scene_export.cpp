@@ -77,6 +77,32 @@ std::vector<ManifestInstance> bake_instances(const BakeInput& a) {
   return out;
 }
 
+PlacedSceneMesh bake_placed_mesh(const BakeInput& a) {
+  PlacedSceneMesh out;
+  MeshInstances scene;
+  std::vector<Placement> placements;
+  if (!placed_scene(a, &scene, &placements)) return out;
+  std::map<std::string, size_t> by_node;
+  for (size_t i = 0; i < scene.instances.size(); ++i) by_node.emplace(scene.instances[i].node, i);
+  const MeshTriangles& m = scene.mesh;
+  for (const Placement& p : placements) {
+    const auto it = by_node.find(p.node);
+    if (it == by_node.end()) continue;  // place_instances refused such a placement while reading
+    const MeshInstance& in = scene.instances[it->second];
+    const uint32_t base = uint32_t(out.mesh.positions.size() / 3);
+    out.mesh.positions.insert(out.mesh.positions.end(), m.positions.begin() + long(in.first_vertex * 3),
+                              m.positions.begin() + long((in.first_vertex + in.vertices) * 3));
+    for (size_t v = 0; v < in.vertices; ++v)  // Placement's own convention (v up): atlas = uv · scale + offset
+      for (int c = 0; c < 2; ++c)
+        out.mesh.uv.push_back(float(double(m.uv[(in.first_vertex + v) * 2 + size_t(c)]) * p.scale[c] + p.offset[c]));
+    for (size_t t = 0; t < in.indices; ++t)
+      out.mesh.indices.push_back(base + uint32_t(m.indices[in.first_index + t] - in.first_vertex));
+    out.triangle_page.insert(out.triangle_page.end(), in.indices / 3, int32_t(p.page));
+    ++out.instances;
+  }
+  return out;
+}
+
 SceneGltf bake_scene_gltf(const BakeInput& a) {
   MeshInstances scene;
   std::vector<Placement> placements;

@@ -9,6 +9,7 @@
 
 #include "bakers/bake_input.h"
 #include "pipeline/manifest.h"
+#include "scene/mesh_io.h"
 
 namespace ahd {
 
@@ -23,6 +24,18 @@ struct SceneGltf {
   size_t instances = 0, triangles = 0;
   int pages = 1;
 };
+
+// The placed scene of `a` as one mesh for a viewer: every placed instance's triangles in world
+// space with their lightmap UVs moved to atlas space (MeshTriangles' convention, v up: the atlas
+// row of v is (1 − v) · height), and each triangle's atlas page. Empty (no triangles) when the
+// input has no placed scene. Call after read_bake_input, as bake_scene_gltf. Throws ahd::Error for
+// an unreadable mesh or placement file.
+struct PlacedSceneMesh {
+  MeshTriangles mesh;
+  std::vector<int32_t> triangle_page;  // one per triangle of mesh.indices
+  size_t instances = 0;
+};
+PlacedSceneMesh bake_placed_mesh(const BakeInput& a);
 
 // The placed scene of `a` (read as read_bake_input reads it) as glTF binary: one node per
 // lightmapped instance named by its node path, world-space POSITION and NORMAL (glTF axes, as the

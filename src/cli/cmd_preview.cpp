@@ -53,11 +53,12 @@ struct PreviewArgs {
 
 // The source's pages as convert read them. A canonical EXR holds its own normals and coverage, so
 // --mesh (and --uv-set) beside it give the 3D view's mesh only, as before the input options.
-std::vector<ShImage> read_preview_source(const PreviewArgs& a, const Manifest& m, std::string* described) {
+std::vector<ShImage> read_preview_source(const PreviewArgs& a, const Manifest& m, std::string* described,
+                                         BakeInput* read_as) {
   BakeInput in = a.source;
   resolve_auto_layout(&in);
   if (in.layout.empty()) in.mesh.clear(), in.uv_set = -1;
-  return read_source_for(in, m, described);
+  return read_source_for(in, m, described, read_as);
 }
 
 // Irradiance of level 0 for one tangent-space unit normal.
@@ -122,12 +123,17 @@ void run_preview(const PreviewArgs& a) {
   const bool has_source = !a.source.input.empty();
   std::string described;
   std::vector<ShImage> pages;  // the source's pages; the page shows (and compares) array layer 0
-  if (has_source) pages = read_preview_source(a, m, &described);
+  BakeInput read_as = a.source;  // the source as read (its scene loaded), for the 3D view's placed scene
+  if (has_source) pages = read_preview_source(a, m, &described, &read_as);
 
   if (a.out.empty()) throw Error("-o needs a folder name");
   fs::path out = fs::absolute(a.out).lexically_normal();
   if (!out.has_filename()) out = out.parent_path();  // "DIR/" or "."
-  if (!fs::is_directory(out.parent_path(), ec)) throw file_error(out.parent_path().string(), "no such folder");
+  if (!fs::is_directory(out.parent_path(), ec)) {
+    fs::path given = fs::path(a.out).lexically_normal();  // named as the user gave it
+    if (!given.has_filename()) given = given.parent_path();
+    throw file_error(given.has_parent_path() ? given.parent_path().string() : ".", "no such folder");
+  }
   TempDir tmp{out.parent_path() / ("." + out.filename().string() + ".ahdtmp-" + std::to_string(getpid()) + "-preview")};
   fs::remove_all(tmp.path, ec);
   if (!fs::create_directory(tmp.path, ec))
@@ -176,7 +182,9 @@ void run_preview(const PreviewArgs& a) {
   }
   // The 3D view's A/B takes a single-page source (its coverage and polynomials are of page 0).
   const ShImage* sh3d = pages.size() == 1 ? &pages[0] : nullptr;
-  page.view3d_html = write_preview_3d(tmp.path, {a.manifest, a.source.mesh, a.source.uv_set, sh3d});
+  // A placed scene (a Godot project, --mesh with --placement) puts each instance at its rectangle.
+  const PlacedSceneMesh placed = bake_placed_mesh(read_as);
+  page.view3d_html = write_preview_3d(tmp.path, {a.manifest, a.source.mesh, a.source.uv_set, sh3d, &placed});
   const std::string html = preview_html(page), marker = "written by ahdpack preview\n";
   write("index.html", std::vector<uint8_t>(html.begin(), html.end()));
   write(kMarker, std::vector<uint8_t>(marker.begin(), marker.end()));

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include "core/error.h"
 #include "core/parallel.h"
@@ -36,7 +37,7 @@ ConversionView read_conversion(const std::string& manifest_path, int layer) {
   return v;
 }
 
-std::vector<ShImage> read_source_for(BakeInput source, const Manifest& m, std::string* described) {
+std::vector<ShImage> read_source_for(BakeInput source, const Manifest& m, std::string* described, BakeInput* read_as) {
   const std::string given = source.input;
   ReadStats rs;
   std::vector<ShImage> pages = read_bake_input(&source, 0, &rs, described);
@@ -47,6 +48,7 @@ std::vector<ShImage> read_source_for(BakeInput source, const Manifest& m, std::s
     if (uint32_t(sh.width) != m.width || uint32_t(sh.height) != m.height)
       throw file_error(given, "is " + std::to_string(sh.width) + "x" + std::to_string(sh.height) +
                                   ", the conversion is " + std::to_string(m.width) + "x" + std::to_string(m.height));
+  if (read_as) *read_as = std::move(source);
   return pages;
 }
 

@@ -26,8 +26,10 @@ ConversionView read_conversion(const std::string& manifest_path, int layer = 0);
 // The conversion's source read as convert read it (bakers/bake_input.h read_bake_input: the
 // canonical EXR, any file of a baker's set, a Godot project with its scene…), one ShImage per
 // atlas page, checked against the manifest's pages and size. *described says what was read.
-// Throws ahd::Error naming the file as the user gave it.
-std::vector<ShImage> read_source_for(BakeInput source, const Manifest& m, std::string* described);
+// Throws ahd::Error naming the file as the user gave it. `read_as` (optional) receives the input
+// as read (its Godot scene loaded: bakers/scene_export.h takes it).
+std::vector<ShImage> read_source_for(BakeInput source, const Manifest& m, std::string* described,
+                                     BakeInput* read_as = nullptr);
 
 // Per texel of level 0 (row-major; NaN where the source is not covered):
 //   hemisphere  RMS over 64 hemisphere normals and the channels of I − E / mean luminance of E

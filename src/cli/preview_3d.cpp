@@ -164,7 +164,11 @@ std::string write_preview_3d(const fs::path& dir, const Preview3dInput& in) {
   const size_t n = size_t(w) * h;
   // The mesh, in the lightmap's texture coordinates (s, t) with t = 0 at row 0 (KTXorientation rd).
   MeshTriangles mesh;
-  if (!in.mesh_path.empty()) {
+  const bool placed = in.placed && !in.placed->mesh.indices.empty();
+  if (placed) {
+    mesh = in.placed->mesh;
+    j["mesh_name"] = "the placed scene (" + std::to_string(in.placed->instances) + " instances)";
+  } else if (!in.mesh_path.empty()) {
     mesh = read_mesh_lightmap(in.mesh_path, in.uv_set);
     j["mesh_name"] = fs::path(in.mesh_path).filename().string();
   } else {
@@ -176,11 +180,13 @@ std::string write_preview_3d(const fs::path& dir, const Preview3dInput& in) {
   std::vector<float> st(mesh.uv.size());
   for (size_t i = 0; i + 1 < mesh.uv.size(); i += 2) st[i] = mesh.uv[i], st[i + 1] = 1.0f - mesh.uv[i + 1];
   j["mesh"] = {{"positions", b64(mesh.positions)}, {"st", b64(st)}, {"indices", b64(mesh.indices)}};
+  if (placed) j["mesh"]["page"] = b64(in.placed->triangle_page);  // int32 per triangle
 
   // Coverage: the source's when given, else the mesh's own rasterisation, else unknown.
   std::vector<uint8_t> coverage;
   if (in.source) coverage = in.source->coverage;
-  if (coverage.size() != n && !in.mesh_path.empty()) coverage = rasterise_lightmap_normals(mesh, w, h).coverage;
+  if (coverage.size() != n && (placed || !in.mesh_path.empty()))
+    coverage = rasterise_lightmap_normals(mesh, w, h).coverage;
   j["coverage_from"] = coverage.size() == n ? (in.source ? "source" : "mesh") : "none";
   j["coverage"] = coverage.size() == n ? b64(coverage) : "";
 
@@ -219,7 +225,8 @@ std::string write_preview_3d(const fs::path& dir, const Preview3dInput& in) {
   write_file_atomic((dir / "three_classic.js").string(), three_js);
   write_file_atomic((dir / "view3d_data.js").string(), "window.AHD_VIEW = " + j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + ";\n");
   return "<p id=\"view3d-link\"><a href=\"view3d.html\"><b>3D view</b></a>: the lightmap on " +
-         xml_escape(in.mesh_path.empty() ? std::string("the sample's plane") : j["mesh_name"].get<std::string>()) +
+         xml_escape(in.mesh_path.empty() && !placed ? std::string("the sample's plane")
+                                                    : j["mesh_name"].get<std::string>()) +
          " (orbit, detail normal map, A/B against the source SH and a plain lightmap, exposure, mip, page), and the "
          "lightmap with its UV wireframe, coverage and a texel readout.</p>\n";
 }

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <string>
 
+#include "bakers/scene_export.h"
 #include "cli/conversion_view.h"
 #include "sh/sh_image.h"
 
@@ -22,6 +23,10 @@ struct Preview3dInput {
   std::string mesh_path;     // "" = the built-in sample's plane (a unit quad over the whole lightmap)
   int uv_set = -1;           // the mesh's lightmap UV set (read_mesh_lightmap's rule when −1)
   const ShImage* source = nullptr;  // the source SH (A/B, coverage, rules), or null
+  // The input's placed scene (a Godot project, --mesh with --placement: bakers/scene_export.h), or
+  // null: when it has triangles, the view shows it in place of mesh_path, each instance at its
+  // atlas rectangle, the shown page's instances only.
+  const PlacedSceneMesh* placed = nullptr;
 };
 
 // Writes view3d.html, view3d.js, view3d_data.js and three_classic.js into `dir` and returns the

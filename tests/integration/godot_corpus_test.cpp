@@ -24,6 +24,7 @@
 
 #include "bakers/godot/godot_scene.h"
 #include "cli_runner.h"
+#include "godot_corpus_recipe.h"
 #include "scene/coverage_check.h"
 #include "test_data.h"
 
@@ -45,36 +46,8 @@ const CorpusProject kProjects[] = {
     {"godot42-vermilion", "bakes/godot42-vermilion/project/scenes/world.exr", 55, 1, ahd::kDilation},
 };
 
-// What a conversion by the one-line recipe says: the summed coverage lines (one per page) and the
-// report's fit rules (today the report's fit covers page 0 of an atlas: issue 40).
-struct Converted {
-  ahd_test::CliResult cli;
-  int pages = 0;
-  size_t covered = 0, lit = 0, outside = 0, fit_covered = 0, tilted = 0, negative_iz = 0;
-  double iou_min = 1;
-  double rules_pct() const { return fit_covered ? 100.0 * double(tilted + negative_iz) / double(fit_covered) : 0; }
-};
-
-Converted convert_recipe(const fs::path& exr, const fs::path& dir) {
-  Converted c;
-  c.cli = ahd_test::run_cli({"convert", exr.string(), "-o", (dir / (exr.stem().string() + ".ktx2")).string()});
-  if (c.cli.exit_code != 0) return c;
-  const std::string& o = c.cli.output;
-  const std::regex line(
-      R"(coverage: page (\d+): mesh covers (\d+) texels, lightmap lit (\d+): IoU of the lit charts ([0-9.]+) \(lit far outside the mesh (\d+))");
-  for (std::sregex_iterator it(o.begin(), o.end(), line), end; it != end; ++it) {
-    ++c.pages;
-    c.covered += std::stoul((*it)[2]);
-    c.lit += std::stoul((*it)[3]);
-    c.iou_min = std::min(c.iou_min, std::stod((*it)[4]));
-    c.outside += std::stoul((*it)[5]);
-  }
-  std::ifstream rf(dir / (exr.stem().string() + ".report.json"));
-  if (!rf.good()) return c;
-  const nlohmann::json fr = nlohmann::json::parse(rf).at("fit_rules");
-  c.fit_covered = fr.at("covered"), c.tilted = fr.at("horizon_tilted"), c.negative_iz = fr.at("negative_iz");
-  return c;
-}
+using ahd_test::convert_recipe;
+using ahd_test::Converted;
 
 // The project's name in test listings (instead of the struct's bytes).
 void PrintTo(const CorpusProject& p, std::ostream* os) { *os << p.name; }

@@ -35,8 +35,25 @@ import { deflateSync } from 'node:zlib';
 const [emitted, outRoot] = process.argv.slice(2);
 if (!emitted || !outRoot) { console.error('usage: node bake.mjs EMITTED_DIR OUT_DIR'); process.exit(64); }
 // Numbers as Godot's float32 (f32_json.mjs may have written them in their shortest form).
-const corpus = JSON.parse(readFileSync(join(emitted, 'corpus.json'), 'utf8'),
-                          (k, v) => (typeof v === 'number' ? Math.fround(v) : v));
+const readJson = (f) => JSON.parse(readFileSync(join(emitted, f), 'utf8'), (k, v) => (typeof v === 'number' ? Math.fround(v) : v));
+// corpus.json: the projects whose arrays the readers' tests compare (godot_arrays.json); wild.json:
+// issue 40's further rows (FBX with its unwrap cache, a cache missing an entry Godot dropped).
+const corpus = readJson('corpus.json').concat(existsSync(join(emitted, 'wild.json')) ? readJson('wild.json') : []);
+// Issue 40's Godot 4.0 pre-release row, derived from `gltf` (godot40 below): the same two .glb
+// instances (their GODOT_single_root extension taken out: Godot 4.0 did not know it, and imported
+// every glTF under a root named after the file), the scene in the pre-release text spelling, the
+// .lmbake in binary resource format 4 with 4.0's LightmapGIData properties, raw L1.
+const gltfProject = corpus.find((p) => p.name === 'gltf');
+if (gltfProject) {
+  const p40 = JSON.parse(JSON.stringify(gltfProject));
+  p40.name = 'godot40', p40.godot40 = true, p40.godot = '4.0 pre-release (derived from Godot 4.6 files)';
+  p40.users = p40.users.filter((u) => u.path.slice(3).includes('/'));
+  for (const u of p40.users) {
+    const [inst, ...rest] = u.path.slice(3).split('/');
+    u.path = `../${inst}/${inst.toLowerCase()}/${rest.join('/')}`;
+  }
+  corpus.push(p40);
+}
 
 // ---- analytic lighting -------------------------------------------------------------------
 const SUN = norm([0.45, 0.8, 0.35]);
@@ -104,14 +121,14 @@ function bakeProject(p) {
   for (let k = 0; k < p.pages; ++k) pages.push({ cov: new Uint8Array(S * S), sh: new Float32Array(S * S * 12), owner: new Int32Array(S * S).fill(-1) });
   const tris = [];  // per page: [page, user index, P (pixel space), normals]
   p.users.forEach((u, ui) => {
-    const [rx, ry, rw, rh] = u.uv_scale;
+    const [rx, ry, rw, rh] = u.uv_scale, shift = p.godot40 ? 0 : 0.5;  // the half texel: Godot 4.2+
     for (const s of u.surfaces) {
       const V = s.vertex, N = s.normal, T = s.uv2;
       const idx = s.index || [...Array(V.length / 3).keys()];
       for (let f = 0; f + 2 < idx.length; f += 3) {
         const ids = [idx[f], idx[f + 1], idx[f + 2]];
         tris.push({ page: u.page, user: ui,
-                    P: ids.map((i) => [(rx + T[2 * i] * rw) * S - 0.5, (ry + T[2 * i + 1] * rh) * S - 0.5]),
+                    P: ids.map((i) => [(rx + T[2 * i] * rw) * S - shift, (ry + T[2 * i + 1] * rh) * S - shift]),
                     N: ids.map((i) => [N[3 * i], N[3 * i + 1], N[3 * i + 2]]) });
       }
     }
@@ -184,6 +201,85 @@ function dilate(page, S) {
   return { cov, sh };
 }
 
+// Godot 4.0-4.3's dilation (lm_compute.glsl before godotengine/godot#100765): a lit texel keeps
+// its value; an empty one takes the first lit texel of a fixed list of offsets within 2 texels —
+// sides, corners, far sides, far-mid corners, far corners.
+const DIRS40 = [[-1, 0], [0, 1], [1, 0], [0, -1], [-1, -1], [-1, 1], [1, -1], [1, 1], [-2, 0], [0, 2], [2, 0], [0, -2],
+                [-2, -1], [-2, 1], [2, -1], [2, 1], [-1, -2], [1, -2], [-1, 2], [1, 2], [-2, -2], [-2, 2], [2, -2], [2, 2]];
+function dilate40(page, S) {
+  const cov = new Uint8Array(S * S), sh = new Float32Array(S * S * 12);
+  for (let y = 0; y < S; ++y)
+    for (let x = 0; x < S; ++x) {
+      let src = page.cov[y * S + x] ? y * S + x : -1;
+      for (const [dx, dy] of DIRS40) {
+        if (src >= 0) break;
+        const xx = x + dx, yy = y + dy;
+        if (xx >= 0 && yy >= 0 && xx < S && yy < S && page.cov[yy * S + xx]) src = yy * S + xx;
+      }
+      if (src < 0) continue;
+      cov[y * S + x] = 1;
+      sh.set(page.sh.subarray(src * 12, src * 12 + 12), (y * S + x) * 12);
+    }
+  return { cov, sh };
+}
+
+// Godot's binary resource (core/io/resource_format_binary.cpp) holding a LightmapGIData as Godot
+// 4.0 saves it: format 4, flags NAMED_SCENE_IDS | UIDS, 11 reserved words, the string table, the
+// lightmap as external resource 1, the data as the one internal resource with 4.0's properties
+// light_texture (the external resource), uses_spherical_harmonics and user_data (per user:
+// NodePath, Rect2 uv_scale, int slice, int sub_instance -1; scene/3d/lightmap_gi.cpp). probe_data
+// is left out (no probes baked); there is no _uses_packed_directional (4.4+).
+function lmbake40(users, exrRes, size) {
+  const strings = [], sid = (t) => { let i = strings.indexOf(t); if (i < 0) i = strings.push(t) - 1; return i; };
+  const str = (t) => { const b = Buffer.from(t + '\0', 'utf8'); return Buffer.concat([u32le(b.length), b]); };
+  const props = [];
+  props.push(Buffer.concat([u32le(sid('light_texture')), u32le(24), u32le(3), u32le(0)]));  // OBJECT, external #0
+  props.push(Buffer.concat([u32le(sid('uses_spherical_harmonics')), u32le(2), u32le(1)]));  // BOOL true
+  const ud = [u32le(sid('user_data')), u32le(30), u32le(users.length * 4)];               // ARRAY
+  for (const u of users) {
+    const names = u.path.split('/');
+    ud.push(u32le(22), Buffer.from([names.length, 0, 0, 0]));                              // NODE_PATH, names, no subnames
+    for (const n of names) ud.push(u32le(sid(n)));
+    ud.push(u32le(11), f32s(...u.uv_scale));                                                 // RECT2
+    ud.push(u32le(3), u32le(u.page), u32le(3), i32s(-1));                                    // INT slice, INT sub_instance
+  }
+  props.push(Buffer.concat(ud));
+  const res = Buffer.concat([str('LightmapGIData'), u32le(props.length), ...props]);
+  const head = Buffer.concat([Buffer.from('RSRC'), u32le(0), u32le(0), u32le(4), u32le(0), u32le(4), str('LightmapGIData'),
+                              Buffer.alloc(8), u32le(3), Buffer.alloc(8, 0xff), Buffer.alloc(44)]);
+  const table = Buffer.concat([u32le(strings.length), ...strings.map(str)]);
+  const ext = Buffer.concat([u32le(1), str('CompressedTexture2DArray'), str(exrRes), Buffer.alloc(8, 0xff)]);
+  const intName = str('local://LightmapGIData_1');
+  const before = head.length + table.length + ext.length + 4 + intName.length + 8;
+  const offset = Buffer.alloc(8);
+  offset.writeBigUInt64LE(BigInt(before));
+  return Buffer.concat([head, table, ext, u32le(1), intName, offset, res, Buffer.from('RSRC')]);
+}
+
+// The scene `gltf` as a Godot 4.0 pre-release writes it: load_steps, no unique_id, instance nodes
+// without a type, a space inside every constructor's parentheses (ExtResource( "1" ),
+// Transform3D( ... )); the Yard (a PlaneMesh) left out.
+function tscn40(text) {
+  text = text.replace(/\[sub_resource[^\]]*\]\n(?:[^\[\n][^\n]*\n)*\n/g, '')
+             .replace(/\[node name="Yard"[^\]]*\]\n(?:[^\[\n][^\n]*\n)*\n/, '')
+             .replace(/ unique_id=\d+/g, '').replace(/ type="Node3D"( parent="[^"]*" instance=)/g, '$1')
+             .replace(/\b(ExtResource|SubResource|Transform3D|NodePath|Vector2i|Vector2|Vector3)\(([^()]*)\)/g, '$1( $2 )');
+  const steps = (text.match(/^\[ext_resource /gm) || []).length + 1;
+  return text.replace('[gd_scene format=3]', `[gd_scene load_steps=${steps} format=3]`);
+}
+
+// A .glb without the GODOT_single_root extension (JSON chunk rewritten, padded to 4 bytes).
+function glbWithoutSingleRoot(buf) {
+  const n = buf.readUInt32LE(12), j = JSON.parse(buf.subarray(20, 20 + n).toString('utf8'));
+  delete j.extensionsUsed;
+  for (const sc of j.scenes || []) delete sc.extensions;
+  let js = Buffer.from(JSON.stringify(j), 'utf8');
+  js = Buffer.concat([js, Buffer.alloc((4 - js.length % 4) % 4, 0x20)]);
+  const rest = buf.subarray(20 + n), out = Buffer.concat([buf.subarray(0, 12), u32le(js.length), buf.subarray(16, 20), js, rest]);
+  out.writeUInt32LE(out.length, 8);
+  return out;
+}
+
 // ---- half floats and the EXR ------------------------------------------------------------------
 const f32 = new Float32Array(1), u32 = new Uint32Array(f32.buffer);
 function toHalf(v) {  // round to nearest even; finite inputs in range here
@@ -254,24 +350,38 @@ for (const f of files.filter((f) => f.startsWith('negative__'))) {
 for (const p of corpus) {
   const dir = join(outRoot, p.name);
   if (existsSync(dir)) rmSync(dir, { recursive: true });
-  for (const f of files.filter((f) => f.startsWith(p.name + '__'))) {
-    const rel = f.slice(p.name.length + 2).split('__').join('/');
+  const from = p.godot40 ? 'gltf' : p.name;
+  for (const f of files.filter((f) => f.startsWith(from + '__'))) {
+    const rel = f.slice(from.length + 2).split('__').join('/');
     mkdirSync(dirname(join(dir, rel)), { recursive: true });
-    writeFileSync(join(dir, rel), readFileSync(join(emitted, f)));
+    let data = readFileSync(join(emitted, f));
+    if (p.godot40 && rel.endsWith('.glb')) data = glbWithoutSingleRoot(data);
+    if (p.godot40 && rel.endsWith('.tscn')) data = Buffer.from(tscn40(data.toString('utf8')), 'utf8');
+    if (p.godot40 && rel.endsWith('.lmbake')) data = lmbake40(p.users.map((u) => ({ ...u, path: u.path })), p.lightmap + '.exr', p.size);
+    writeFileSync(join(dir, rel), data);
+    // An .fbx imported with Static Lightmaps: Godot 4.6's scene importer's file (the options the
+    // reader reads: meshes/light_baking = 2, the texel size the cache was keyed with, ufbx).
+    if (rel.endsWith('.fbx'))
+      writeFileSync(join(dir, rel) + '.import', `[remap]\n\nimporter="scene"\nimporter_version=1\ntype="PackedScene"\n\n` +
+        `[deps]\n\nsource_file="res://${rel}"\n\n[params]\n\nnodes/root_type=""\nnodes/root_name=""\n` +
+        `meshes/ensure_tangents=true\nmeshes/generate_lods=true\nmeshes/create_shadow_meshes=true\n` +
+        `meshes/light_baking=2\nmeshes/lightmap_texel_size=0.2\nfbx/importer=0\n`);
   }
+  const features = p.godot40 ? '"4.0", "Vulkan Clustered"' : '"4.6", "Forward Plus"';
   writeFileSync(join(dir, 'project.godot'),
     `; Engine configuration file.\n; Made by tests/tools/godot/gen/corpus (files written by Godot ${p.godot}).\n\n` +
     `config_version=5\n\n[application]\n\nconfig/name="${p.name}"\nrun/main_scene="${p.scene}"\n` +
-    `config/features=PackedStringArray("4.6", "Forward Plus")\n`);
+    `config/features=PackedStringArray(${features})\n`);
   const { pages, stats } = bakeProject(p);
   const S = p.size, layers = 4 * p.pages;
-  const dil = pages.map((pg) => dilate(pg, S));
+  const dil = pages.map((pg) => (p.godot40 ? dilate40(pg, S) : dilate(pg, S)));
   const px = [0, 0, 0];
   const exr = writeExr(S, S * layers, (x, y) => {
     const layer = Math.floor(y / S), page = dil[layer >> 2], k = layer & 3, t = (y % S) * S + x;
     for (let c = 0; c < 3; ++c) {
       const l0 = page.sh[t * 12 + c];
-      px[c] = k === 0 ? l0 : Math.min(1, Math.max(0, Math.fround(page.sh[t * 12 + 3 * k + c] / Math.fround(l0 * 8 + 1e-6)) + 0.5));
+      if (p.godot40) px[c] = k === 0 ? l0 : page.sh[t * 12 + 3 * k + c];  // raw L1 (before 4.4)
+      else px[c] = k === 0 ? l0 : Math.min(1, Math.max(0, Math.fround(page.sh[t * 12 + 3 * k + c] / Math.fround(l0 * 8 + 1e-6)) + 0.5));
     }
     return px;
   });

@@ -63,17 +63,39 @@ func _projects() -> Array:
 				["Prop", "prop", "CylinderMesh", {"top_radius": 0.15, "bottom_radius": 0.25, "height": 1.5, "radial_segments": 12}, _xf(Vector3.ZERO, Vector3.ONE, Vector3(3.0, 0.75, -3.0)), 3],
 			],
 		},
+		# Issue 40's FBX rows (emitted to wild.json): .fbx instances imported with Static Lightmaps,
+		# their NAME.fbx.unwrap_cache written as Godot's importer writes it (_fbx_unwrap below).
+		{
+			"name": "fbx", "size": 128, "pages": 1, "json": "wild",
+			"scene": "res://scenes/room.tscn", "lightmap": "res://scenes/room",
+			"nodes": [
+				["Room", "fbx", "room.fbx", {}, _xf(Vector3(0, 20, 0), Vector3.ONE, Vector3(-1.0, 0.0, -1.0)), 0],
+				["Corner", "fbx", "room_zup.fbx", {}, _xf(Vector3.ZERO, Vector3(1.0, 1.0, 1.5), Vector3(2.0, 0.0, 1.0)), 0],
+			],
+		},
+		{
+			"name": "fbx_dropped", "size": 128, "pages": 1, "json": "wild",
+			"scene": "res://level.tscn", "lightmap": "res://level",
+			"nodes": [
+				["Tiles", "fbx", "tiles.fbx", {}, _xf(Vector3(0, -30, 0), Vector3.ONE, Vector3(0.0, 0.0, 0.5)), 0],
+			],
+		},
 	]
 
 
 func _ready() -> void:
 	var manifest := []
+	var wild := []
 	for p in _projects():
 		var entry = _make_project(p)
 		if entry == null:
 			return
-		manifest.append(entry)
+		if p.get("json", "") == "wild":
+			wild.append(entry)
+		else:
+			manifest.append(entry)
 	H.emit_json("corpus.json", manifest)
+	H.emit_json("wild.json", wild)
 	H.done(0)
 
 
@@ -160,7 +182,7 @@ func _make_project(p: Dictionary) -> Variant:
 	for n in p["nodes"]:
 		var node_name: String = n[0]
 		var kind: String = n[1]
-		var prim := _primitive(n[2], n[3])
+		var prim: PrimitiveMesh = null if kind == "fbx" else _primitive(n[2], n[3])
 		var mesh: Mesh = prim
 		if kind == "prim":
 			prim.resource_scene_unique_id = node_name
@@ -176,6 +198,10 @@ func _make_project(p: Dictionary) -> Variant:
 				return null
 			_emit(name, file, tmp)
 			mesh.take_over_path(file)
+		if kind == "fbx":
+			if not _add_fbx(name, n, root, users, keep, p):
+				return null
+			continue
 		var mi := MeshInstance3D.new()
 		mi.mesh = mesh
 		if kind == "glb":
@@ -363,3 +389,191 @@ func _describe_user(mi: MeshInstance3D, path: String, page: int, r: Rect2i, uv_s
 		"rect_texels": [r.position.x, r.position.y, r.size.x, r.size.y],
 		"uv_scale": J.to_json(uv_scale), "surfaces": surfaces,
 	}
+
+
+# An FBX file (tests/data/godot/handmade, packed as res://fbx/NAME.fbx) imported by Godot's own FBX
+# importer (FBXDocument, ufbx) and given lightmap UV2 as the editor's scene importer does with
+# meshes/light_baking = Static Lightmaps: each mesh node in tree order is unwrapped with the key of
+# ImporterMesh::lightmap_unwrap_cached and its entry goes into NAME.fbx.unwrap_cache the way
+# ResourceImporterScene::_generate_meshes collects them (_fbx_unwrap). The nodes of the file, with
+# their meshes now carrying UV2, are instanced under `n[0]`; each mesh node is a lightmap user.
+func _add_fbx(name: String, n: Array, root: Node3D, users: Array, keep: Array, p: Dictionary) -> bool:
+	var file := "res://models/" + String(n[2])
+	var doc = ClassDB.instantiate("FBXDocument")
+	var st = ClassDB.instantiate("FBXState")
+	if doc == null or doc.append_from_file("res://fbx/" + String(n[2]), st) != OK:
+		H.fail("%s: FBX import of %s" % [name, n[2]])
+		return false
+	var imported: Node = doc.generate_scene(st)
+	# The importer's meshes (ImporterMesh: uncompressed normals, as the unwrap gets them), by node name.
+	var importer_meshes := {}
+	for gn in st.get_nodes():
+		if gn.mesh >= 0:
+			importer_meshes[String(gn.resource_name)] = st.get_meshes()[gn.mesh].mesh
+	var found := imported.find_children("*", "MeshInstance3D", true, false)
+	if found.is_empty():
+		H.fail("%s: %s: no mesh node" % [name, file])
+		return false
+	var texel := 0.2  # meshes/lightmap_texel_size, the import default
+	var cache := []  # entries' bytes, as _generate_meshes keeps them
+	for mi in found:
+		var im = importer_meshes.get(String(mi.name))
+		if im == null:
+			H.fail("%s: %s: no importer mesh for node %s" % [name, file, mi.name])
+			return false
+		# The node's transform in the imported scene, as _generate_meshes accumulates it.
+		var xf := Transform3D()
+		var walk: Node = mi
+		while walk != null and walk is Node3D:
+			xf = walk.transform * xf
+			walk = walk.get_parent()
+		var u = _fbx_unwrap(im, xf, texel)
+		if u == null:
+			H.fail("%s: %s: unwrap of %s" % [name, file, mi.name])
+			return false
+		_cache_insert(cache, u["entry"])
+		mi.mesh = u["mesh"]
+	var bytes := PackedByteArray()
+	bytes.resize(4)
+	bytes.encode_u32(0, cache.size())
+	for e in cache:
+		bytes.append_array(e)
+	H.emit_file(name + "__" + file.trim_prefix("res://").replace("/", "__") + ".unwrap_cache", bytes)
+	H.emit_file(name + "__" + file.trim_prefix("res://").replace("/", "__"), FileAccess.get_file_as_bytes("res://fbx/" + String(n[2])))
+	for c in imported.find_children("*", "", true, false):
+		c.owner = imported
+	var packed := H.pack_scene(imported)
+	if packed == null:
+		return false
+	imported.free()
+	# As for .glb: packed from a stand-in .tscn path, renamed to the .fbx in the saved text.
+	packed.take_over_path(file.get_basename() + "_fbx.tscn")
+	keep.append(packed)
+	p["renames"] = p.get("renames", []) + [[file.get_basename() + "_fbx.tscn", file]]
+	var inst: Node3D = packed.instantiate()
+	inst.name = n[0]
+	inst.transform = n[4]
+	root.add_child(inst)
+	inst.owner = root
+	for m in inst.find_children("*", "MeshInstance3D", true, false):
+		users.append([m, String(root.get_path_to(m)), n[5], m.mesh])
+	return true
+
+
+# Godot's collection of cache entries (editor/import/3d/resource_importer_scene.cpp,
+# _generate_meshes): the first entry is kept; a later one is inserted before the first entry whose
+# key (as a hex string) is greater, and dropped when none is (godotengine/godot#122494).
+static func _cache_insert(cache: Array, entry: PackedByteArray) -> void:
+	if cache.is_empty():
+		cache.append(entry)
+		return
+	var k := entry.slice(0, 16).hex_encode()
+	for i in cache.size():
+		var ki: String = cache[i].slice(0, 16).hex_encode()
+		if k < ki:
+			cache.insert(i, entry)
+			return
+		if k == ki:
+			return
+
+
+# One mesh's unwrap as ImporterMesh::lightmap_unwrap_cached hands it to the unwrapper
+# (scene/resources/importer_mesh.cpp): surfaces concatenated, positions by the scale of `xf` only,
+# normals by that scale's inverse transpose and normalised, triangles with an edge shorter than
+# sqrt(1.19209290e-7) dropped; its key is the MD5 of the texel size (float), the indices (int32),
+# the positions and the normals (float triples) — modules/xatlas_unwrap/register_types.cpp, which
+# also gives the entry's layout: key, size hint (x, y), vertex count, source vertex per vertex,
+# UV2 pairs, index count, indices. The UV2 itself is a stand-in for xatlas, which the web build
+# lacks (an editor-only module): one planar chart per mesh (projected along its mean normal's
+# largest axis), one texel of margin, the size hint its extent over the texel size. Returns
+# {"entry": bytes, "mesh": the ArrayMesh the import ends with (UV2 added, size hint set)}.
+static func _fbx_unwrap(im, xf: Transform3D, texel: float) -> Variant:
+	var b := xf.basis
+	var t := Transform3D().scaled(Vector3(b.x.length(), b.y.length(), b.z.length()))
+	var nb := t.basis.inverse().transposed()
+	var pos := PackedFloat32Array()
+	var nrm := PackedFloat32Array()
+	var idx := PackedInt32Array()
+	var src_v := PackedVector3Array()
+	var src_n := PackedVector3Array()
+	var scaled := PackedVector3Array()
+	var mean := Vector3.ZERO
+	var eps := 1.19209290e-7
+	for s in im.get_surface_count():
+		var a: Array = im.get_surface_arrays(s)
+		var V: PackedVector3Array = a[Mesh.ARRAY_VERTEX]
+		var N: PackedVector3Array = a[Mesh.ARRAY_NORMAL]
+		var I: PackedInt32Array = a[Mesh.ARRAY_INDEX]
+		if N.size() != V.size() or I.is_empty():
+			return null
+		var ofs := src_v.size()
+		for j in V.size():
+			var v := t * V[j]
+			var nn := (nb * N[j]).normalized()
+			for c in 3:
+				pos.append(v[c])
+				nrm.append(nn[c])
+			src_v.append(V[j])
+			src_n.append(N[j])
+			scaled.append(v)
+			mean += nn
+		for j in I.size() / 3:
+			var p0 := t * V[I[j * 3]]
+			var p1 := t * V[I[j * 3 + 1]]
+			var p2 := t * V[I[j * 3 + 2]]
+			if (p0 - p1).length_squared() < eps or (p1 - p2).length_squared() < eps or (p2 - p0).length_squared() < eps:
+				continue
+			for c in 3:
+				idx.append(ofs + I[j * 3 + c])
+	var hc := HashingContext.new()
+	hc.start(HashingContext.HASH_MD5)
+	var ts := PackedFloat32Array()
+	ts.append(texel)
+	hc.update(ts.to_byte_array())
+	hc.update(idx.to_byte_array())
+	hc.update(pos.to_byte_array())
+	hc.update(nrm.to_byte_array())
+	var key := hc.finish()
+	# The stand-in chart: project on the two axes other than the mean normal's largest.
+	var ax := 0 if absf(mean.x) >= maxf(absf(mean.y), absf(mean.z)) else (1 if absf(mean.y) >= absf(mean.z) else 2)
+	var ua := (ax + 1) % 3
+	var va := (ax + 2) % 3
+	var lo := Vector2(INF, INF)
+	var hi := Vector2(-INF, -INF)
+	for v in scaled:
+		lo = Vector2(minf(lo.x, v[ua]), minf(lo.y, v[va]))
+		hi = Vector2(maxf(hi.x, v[ua]), maxf(hi.y, v[va]))
+	var w := int(ceil((hi.x - lo.x) / texel)) + 2
+	var h := int(ceil((hi.y - lo.y) / texel)) + 2
+	var uv2 := PackedVector2Array()
+	var uvf := PackedFloat32Array()
+	for v in scaled:
+		var q := Vector2(((v[ua] - lo.x) / texel + 1.0) / w, ((v[va] - lo.y) / texel + 1.0) / h)
+		uv2.append(q)
+		uvf.append(q.x)
+		uvf.append(q.y)
+	var e := PackedByteArray()
+	e.append_array(key)
+	var head := PackedInt32Array()
+	head.append(w)
+	head.append(h)
+	head.append(scaled.size())
+	for i in scaled.size():
+		head.append(i)  # source vertex: one chart, no vertex split
+	e.append_array(head.to_byte_array())
+	e.append_array(uvf.to_byte_array())
+	var count := PackedInt32Array()
+	count.append(idx.size())
+	e.append_array(count.to_byte_array())
+	e.append_array(idx.to_byte_array())
+	# The mesh the import ends with: the unwrapped vertices (source vertex, UV2) and triangles.
+	var arrays := []
+	arrays.resize(Mesh.ARRAY_MAX)
+	arrays[Mesh.ARRAY_VERTEX] = src_v
+	arrays[Mesh.ARRAY_NORMAL] = src_n
+	arrays[Mesh.ARRAY_TEX_UV2] = uv2
+	arrays[Mesh.ARRAY_INDEX] = idx
+	var am := ArrayMesh.new()
+	am.add_surface_from_arrays(Mesh.PRIMITIVE_TRIANGLES, arrays)
+	am.lightmap_size_hint = Vector2i(w, h)
+	return {"entry": e, "mesh": am}

@@ -9,8 +9,11 @@ repo="$(cd "$here/../../../../.." && pwd)"
 out="${1:-$repo/tests/data/godot/corpus}"
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
-node "$here/../../run_godot.mjs" --project "$here" --out "$tmp" --timeout 180
-node "$here/../../f32_json.mjs" "$tmp/corpus.json"
+# The FBX files of the fbx projects, packed as res://fbx/NAME.fbx.
+fbx=()
+for f in room.fbx room_zup.fbx tiles.fbx; do fbx+=(--add "$repo/tests/data/godot/handmade/$f=fbx/$f"); done
+node "$here/../../run_godot.mjs" --project "$here" --out "$tmp" --timeout 180 "${fbx[@]}"
+node "$here/../../f32_json.mjs" "$tmp/corpus.json" "$tmp/wild.json"
 mkdir -p "$out"
 node "$here/bake.mjs" "$tmp" "$out"
 # Godot's own world-space arrays of every lightmap user, for the readers' tests.
