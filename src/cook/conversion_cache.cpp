@@ -135,6 +135,13 @@ std::optional<std::vector<OutputFile>> ConversionCache::decode(const std::string
 // size from fstat before any file's bytes are allocated; each file is then read into its own buffer
 // and hashed. A non-regular file, a symlink, an entry over kMaxEntryBytes: a miss, nothing read.
 std::optional<std::vector<OutputFile>> ConversionCache::lookup(const std::string& key) const {
+  std::vector<std::string> sha256;
+  return lookup_hashed(key, &sha256);
+}
+
+std::optional<std::vector<OutputFile>> ConversionCache::lookup_hashed(const std::string& key,
+                                                                      std::vector<std::string>* sha256) const {
+  sha256->clear();
   if (!is_key(key)) return std::nullopt;
   const std::string path = entry_path(key);
   std::vector<OutputFile> files;
@@ -152,10 +159,16 @@ std::optional<std::vector<OutputFile>> ConversionCache::lookup(const std::string
       std::memcpy(o.bytes.data(), head.data() + pos, from_head);
       pos += from_head, in_head -= from_head;
       f.read(o.bytes.data() + from_head, o.bytes.size() - from_head);
-      if (sha256_hex(o.bytes.data(), o.bytes.size()) != it.sha) return std::nullopt;
+      std::string sha = sha256_hex(o.bytes.data(), o.bytes.size());
+      if (sha != it.sha) {
+        sha256->clear();
+        return std::nullopt;
+      }
+      sha256->push_back(std::move(sha));
       files.push_back(std::move(o));
     }
   } catch (const Error&) {
+    sha256->clear();
     return std::nullopt;  // missing, removed by another process's eviction meanwhile, too large: a miss
   }
   std::error_code ec;
