@@ -255,13 +255,17 @@ std::optional<InputsRecord> ConversionCache::lookup_inputs(const std::string& co
     else if (line.rfind("source ", 0) == 0) r.source = line.substr(7);
     else if (line.rfind("file ", 0) == 0) r.files.push_back(line.substr(5));
     else if (line.rfind("probe ", 0) == 0) {
+      // The type is std::filesystem::file_type's value: not_found is -1 (an absent file's probe,
+      // which every baker set and Godot project has; refused here, it made every such record a miss).
       const size_t sp = line.find(' ', 6);
-      if (sp == std::string::npos || sp == 6 || sp - 6 > 3) return std::nullopt;
+      const size_t digits = line.size() > 6 && line[6] == '-' ? 7 : 6;
+      if (sp == std::string::npos || sp == digits || sp - digits > 3) return std::nullopt;
       InputProbe p;
-      for (size_t i = 6; i < sp; ++i) {
+      for (size_t i = digits; i < sp; ++i) {
         if (line[i] < '0' || line[i] > '9') return std::nullopt;
         p.type = p.type * 10 + (line[i] - '0');
       }
+      if (digits == 7) p.type = -p.type;
       p.path = line.substr(sp + 1);
       r.probes.push_back(std::move(p));
     } else {
