@@ -60,16 +60,43 @@ seed profile formats/profiles/*.json
 mkdir -p "$corpus/godot_mesh"
 printf '\000[{"aabb": AABB(0, 0, 0, 1, 1, 1), "attribute_data": PackedByteArray(0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 128, 63, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 128, 63), "format": 34359738401, "primitive": 3, "vertex_count": 3, "vertex_data": PackedByteArray("AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA")}]' >"$corpus/godot_mesh/triangle"
 for f in tests/data/godot/generated/arraymesh_*; do [ -f "$f" ] && { printf '\001'; cat "$f"; } >"$corpus/godot_mesh/$(basename "$f")"; done
+# Issue 44's readers. Godot scene files (byte 0: 0 .tscn, 1 .lmbake, 2 .res/.mesh, 3 .obj); the
+# small unwrap caches of the real bake; job files; KTX2/DDS lightmaps read as input images (the
+# golden planes and a zstd-supercompressed one); the cache's entry (byte 0 even) and inputs record
+# (byte 0 = 3: its hash recomputed by the target) of a cached conversion.
+mkdir -p "$corpus/godot_scene" "$corpus/jobs" "$corpus/cache"
+i=0
+for f in tests/data/godot/generated/*.tscn tests/data/godot/corpus/*/*/*.tscn tests/data/godot/corpus/*/*.tscn; do
+  [ -f "$f" ] && [ "$(stat -c %s "$f")" -lt 65536 ] && { printf '\000'; cat "$f"; } >"$corpus/godot_scene/tscn$((i++))"
+done
+for f in tests/data/godot/generated/*.lmbake tests/data/godot/corpus/*/*/*.lmbake tests/data/godot/corpus/*/*.lmbake; do
+  [ -f "$f" ] && [ "$(stat -c %s "$f")" -lt 65536 ] && { printf '\001'; cat "$f"; } >"$corpus/godot_scene/lmbake$((i++))"
+done
+for f in tests/data/godot/generated/arraymesh_*.res tests/data/godot/generated/arraymesh_*.mesh; do
+  [ -f "$f" ] && { printf '\002'; cat "$f"; } >"$corpus/godot_scene/res$((i++))"
+done
+printf '\003o a\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvn 0 0 1\nf 1/1/1 2/2/1 3/3/1\nusemtl m\nf 3/3/1 2/2/1 1/1/1\n' >"$corpus/godot_scene/tri.obj"
+seed unwrap_cache $(find tests/data/bakes -name '*.unwrap_cache' -size -4k 2>/dev/null | sort | head -8)
+seed jobs tests/data/bevy/cornell.jobs.json
+printf '{"jobs": [{"input": "a.exr", "mesh": "m.glb", "node": "n", "uv-set": 1, "output": "a"}, {"input": "b.ktx2", "allow-mismatch": true}]}' >"$corpus/jobs/two.json"
+seed texture golden/expected/*.ktx2 golden/expected/*.dds
+ASAN_OPTIONS=detect_leaks=0 "$A" convert golden/inputs/scene13_l1_seed3.exr -o "$tmp/z/z.ktx2" --zstd -q
+seed texture "$tmp"/z/z.iz.*.ktx2
+ASAN_OPTIONS=detect_leaks=0 "$A" convert golden/inputs/scene13_l1_seed3.exr -o "$tmp/c/c.ktx2" --cache "$tmp/cache" -q
+for f in "$tmp"/cache/*.ahdcache; do [ -f "$f" ] && { printf '\000'; cat "$f"; } >"$corpus/cache/entry"; done
+for f in "$tmp"/cache/*.ahdinputs; do [ -f "$f" ] && { printf '\003'; cat "$f"; } >"$corpus/cache/inputs"; done
 failed=0
 # A fixed number of runs per target with a fixed seed: the same inputs are tried on every machine,
 # so a run that passed here passes in CI (FUZZ_SECONDS only caps the time on a slow machine, which
 # then tries a prefix of the same sequence). About 15 s each on this 2-core machine (CI's budget:
 # the whole of .ci/run stays well under 30 minutes; a longer run is FUZZ_RUNS=… FUZZ_SECONDS=…).
 declare -A RUNS=([ktx2]=300000 [dds]=500000 [manifest]=50000 [layout]=30000 [intermediate]=250 [blocks]=30000 [mesh]=150
-                [image]=1500 [godot]=50000 [placement]=25000 [profile]=25000 [report]=25000 [godot_mesh]=50000)
-# The issue-26 targets are capped at 12 s each.
+                [image]=1500 [godot]=50000 [placement]=25000 [profile]=25000 [report]=25000 [godot_mesh]=50000
+                [godot_scene]=50000 [unwrap_cache]=100000 [jobs]=25000 [texture]=50000 [cache]=50000)
+# The issue-26 targets are capped at 12 s each (and every target at FUZZ_SECONDS: .ci/run's budget).
 declare -A SECONDS_CAP=([image]=12 [godot]=12 [placement]=12 [profile]=12 [report]=12 [godot_mesh]=12)
-for t in ${@:-ktx2 dds manifest layout intermediate blocks mesh image godot placement profile report godot_mesh}; do
+for t in ${@:-ktx2 dds manifest layout intermediate blocks mesh image godot placement profile report godot_mesh \
+              godot_scene unwrap_cache jobs texture cache}; do
   extra=(-runs="${FUZZ_RUNS:-${RUNS[$t]}}")
   cap="${SECONDS_CAP[$t]:-$T}"; [ "$cap" -gt "$T" ] && cap="$T"
   # OpenEXR and Assimp are not instrumented and keep caches of their own: leaks are only ours to find elsewhere.

@@ -61,6 +61,15 @@ class AHD_API CacheBackend {
   virtual void store_inputs(const std::string& command_key, const InputsRecord& record) const = 0;
   // Where `key`'s entry is (a path, a URL), for messages.
   virtual std::string entry_path(const std::string& key) const = 0;
+  // lookup, and each returned file's SHA-256 (64 lower-case hex digits, (*sha256)[i] for file i)
+  // as the backend computed it from the bytes it returns while checking them, so a hit is not
+  // hashed twice (the cook checks the manifest against these). Never a hash read from the store.
+  // The default calls lookup and leaves *sha256 empty: the cook then hashes the files itself.
+  virtual std::optional<std::vector<OutputFile>> lookup_hashed(const std::string& key,
+                                                               std::vector<std::string>* sha256) const {
+    sha256->clear();
+    return lookup(key);
+  }
 };
 
 // The folder cache of `ahdpack convert --cache DIR` (one file per entry, atomic rename, shared

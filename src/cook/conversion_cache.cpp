@@ -135,6 +135,13 @@ std::optional<std::vector<OutputFile>> ConversionCache::decode(const std::string
 // size from fstat before any file's bytes are allocated; each file is then read into its own buffer
 // and hashed. A non-regular file, a symlink, an entry over kMaxEntryBytes: a miss, nothing read.
 std::optional<std::vector<OutputFile>> ConversionCache::lookup(const std::string& key) const {
+  std::vector<std::string> sha256;
+  return lookup_hashed(key, &sha256);
+}
+
+std::optional<std::vector<OutputFile>> ConversionCache::lookup_hashed(const std::string& key,
+                                                                      std::vector<std::string>* sha256) const {
+  sha256->clear();
   if (!is_key(key)) return std::nullopt;
   const std::string path = entry_path(key);
   std::vector<OutputFile> files;
@@ -152,10 +159,16 @@ std::optional<std::vector<OutputFile>> ConversionCache::lookup(const std::string
       std::memcpy(o.bytes.data(), head.data() + pos, from_head);
       pos += from_head, in_head -= from_head;
       f.read(o.bytes.data() + from_head, o.bytes.size() - from_head);
-      if (sha256_hex(o.bytes.data(), o.bytes.size()) != it.sha) return std::nullopt;
+      std::string sha = sha256_hex(o.bytes.data(), o.bytes.size());
+      if (sha != it.sha) {
+        sha256->clear();
+        return std::nullopt;
+      }
+      sha256->push_back(std::move(sha));
       files.push_back(std::move(o));
     }
   } catch (const Error&) {
+    sha256->clear();
     return std::nullopt;  // missing, removed by another process's eviction meanwhile, too large: a miss
   }
   std::error_code ec;
@@ -251,13 +264,17 @@ std::optional<InputsRecord> ConversionCache::decode_inputs(const std::string& co
     else if (line.rfind("source ", 0) == 0) r.source = line.substr(7);
     else if (line.rfind("file ", 0) == 0) r.files.push_back(line.substr(5));
     else if (line.rfind("probe ", 0) == 0) {
+      // The type is std::filesystem::file_type's value: not_found is -1 (an absent file's probe,
+      // which every baker set and Godot project has; refused here, it made every such record a miss).
       const size_t sp = line.find(' ', 6);
-      if (sp == std::string::npos || sp == 6 || sp - 6 > 3) return std::nullopt;
+      const size_t digits = line.size() > 6 && line[6] == '-' ? 7 : 6;
+      if (sp == std::string::npos || sp == digits || sp - digits > 3) return std::nullopt;
       InputProbe p;
-      for (size_t i = 6; i < sp; ++i) {
+      for (size_t i = digits; i < sp; ++i) {
         if (line[i] < '0' || line[i] > '9') return std::nullopt;
         p.type = p.type * 10 + (line[i] - '0');
       }
+      if (digits == 7) p.type = -p.type;
       p.path = line.substr(sp + 1);
       r.probes.push_back(std::move(p));
     } else {

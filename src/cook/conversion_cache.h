@@ -44,6 +44,10 @@ class ConversionCache : public CacheBackend {
   // entry. Safe on untrusted entries (every length bounded, every byte hashed). Never throws except
   // std::bad_alloc; refreshes the entry's modification time (ignored on a read-only folder).
   std::optional<std::vector<OutputFile>> lookup(const std::string& key) const override;
+  // lookup with each file's SHA-256 as computed from its bytes here (the hash the entry's header
+  // was checked against): a hit's planes are hashed once.
+  std::optional<std::vector<OutputFile>> lookup_hashed(const std::string& key,
+                                                       std::vector<std::string>* sha256) const override;
 
   // Stores `files` under `key` (temporary + rename), then evicts. File names must be plain names
   // (no folder). Throws ahd::Error naming the entry when it cannot be written; eviction never throws.

@@ -47,7 +47,10 @@ const OutputFile* cached_manifest(const std::vector<OutputFile>& files, const Ou
 // plane it names is in the entry once, with the size and SHA-256 it records, and the entry holds
 // nothing else but the report. A backend returns what it stored, and a store can be damaged or
 // written by another tool: a broken entry is a miss (`why` says what), never a broken set published.
-std::optional<Manifest> checked_hit(const std::vector<OutputFile>& files, const OutputPaths& out, std::string* why) {
+// `sha256`: each file's SHA-256 as the backend computed it (CacheBackend::lookup_hashed), or empty
+// (hashed here): each plane of a hit is hashed once.
+std::optional<Manifest> checked_hit(const std::vector<OutputFile>& files, const std::vector<std::string>& sha256,
+                                    const OutputPaths& out, std::string* why) {
   const OutputFile* mf = cached_manifest(files, out);
   if (!mf) {
     *why = "it holds no " + out.name + ".json or a file of another name";
@@ -73,7 +76,9 @@ std::optional<Manifest> checked_hit(const std::vector<OutputFile>& files, const 
       *why = "plane " + p.file + " is missing";
       return std::nullopt;
     }
-    if (f->bytes.size() != p.bytes || sha256_hex(f->bytes.data(), f->bytes.size()) != p.sha256) {
+    const size_t i = size_t(f - files.begin());
+    if (f->bytes.size() != p.bytes ||
+        (sha256.size() == files.size() ? sha256[i] : sha256_hex(f->bytes.data(), f->bytes.size())) != p.sha256) {
       *why = "plane " + p.file + " is not the one its manifest records (size or SHA-256)";
       return std::nullopt;
     }
@@ -115,10 +120,11 @@ std::optional<DirectHit> direct_lookup(const CacheBackend& cache, const std::str
   } catch (const Error&) {
     return std::nullopt;  // a file it read is gone: read again (and fail there, naming it)
   }
-  std::optional<std::vector<OutputFile>> files = cache.lookup(h.key);
+  std::vector<std::string> sha256;
+  std::optional<std::vector<OutputFile>> files = cache.lookup_hashed(h.key, &sha256);
   if (!files) return std::nullopt;
   std::string why;
-  std::optional<Manifest> m = checked_hit(*files, out, &why);
+  std::optional<Manifest> m = checked_hit(*files, sha256, out, &why);
   if (!m) {
     if (warn) warn(cache.entry_path(h.key) + ": cache entry refused (" + why + "): converting again");
     return std::nullopt;
@@ -255,9 +261,10 @@ CookResult cook_conversion(const CookRequest& request, const CookHooks& hooks) {
   };
 
   if (cache) {
-    std::optional<std::vector<OutputFile>> hit = cache->lookup(key);
+    std::vector<std::string> sha256;
+    std::optional<std::vector<OutputFile>> hit = cache->lookup_hashed(key, &sha256);
     std::string why;
-    std::optional<Manifest> checked = hit ? checked_hit(*hit, out, &why) : std::nullopt;
+    std::optional<Manifest> checked = hit ? checked_hit(*hit, sha256, out, &why) : std::nullopt;
     if (hit && !checked && ev.warning && !refused_warned)
       ev.warning(cache->entry_path(key) + ": cache entry refused (" + why + "): converting again");
     if (checked) {  // a hit: the stored files, published exactly as a conversion's (cook/publish.h)

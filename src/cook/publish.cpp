@@ -76,6 +76,8 @@ std::vector<std::string> previous_set_files(const OutputPaths& out) {
     std::string rest;
     std::smatch m;
     if (!plane_of_name(fn, &rest, &m)) continue;
+    // Already proven ours by the manifest's full SHA-256 above: not hashed a second time.
+    if (std::find(files.begin(), files.end(), it->path().string()) != files.end()) continue;
     try {
       if (file_sha256(it->path().string(), kMaxPlaneFileBytes, nullptr, true).compare(0, 12, m[2].str()) == 0)
         files.push_back(it->path().string());

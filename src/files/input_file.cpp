@@ -74,9 +74,12 @@ std::vector<uint8_t> read_input_bytes(const std::string& path, size_t max_bytes)
 
 bool input_exists(const std::string& path) {
   struct stat st {};
-  if (::stat(path.c_str(), &st) == 0) return true;
-  if (errno == ELOOP) throw file_error(path, "symbolic links loop (" + errno_text(ELOOP) + ")");
-  return false;
+  const bool found = ::stat(path.c_str(), &st) == 0;
+  if (!found && errno == ELOOP) throw file_error(path, "symbolic links loop (" + errno_text(ELOOP) + ")");
+  // Noted as a probe: what a reader reads depends on it, so the cache's direct lookup checks it
+  // again (an .import or unwrap cache that appears later reads the input again, no stale hit).
+  (void)probe_input_file(path);
+  return found;
 }
 
 std::string read_input_text(const std::string& path, InputKind kind) {

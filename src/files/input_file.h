@@ -35,7 +35,8 @@ inline std::vector<uint8_t> read_input_bytes(const std::string& path, InputKind 
 
 // Whether `path` exists (following symlinks), for readers deciding what to read: false when it is
 // absent, ahd::Error("<path>: symbolic links loop …") for a symlink loop (std::filesystem::exists
-// threw, which surfaced as an internal error), never blocks. Not noted in the input record.
+// threw, which surfaced as an internal error), never blocks. Noted in the input record as an
+// existence test (probe_input_file, files/input_record.h), not as a file read.
 bool input_exists(const std::string& path);
 
 // read_input_bytes as a string (text files).

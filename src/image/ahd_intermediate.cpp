@@ -13,6 +13,7 @@
 #include "image/image_file.h"
 #include "image/image_io.h"
 #include "files/file_io.h"
+#include "files/input_file.h"
 #include "files/output_set.h"
 #include "pipeline/manifest.h"
 
@@ -104,7 +105,11 @@ void write_intermediate(const std::string& path, const std::vector<FittedLevel>&
 }
 
 std::vector<FittedLevel> read_intermediate(const std::string& path, FitOptions* fit) {
-  if (!fs::exists(path)) throw file_error(path, "file not found");
+  // input_exists, not fs::exists: a symlink loop is one error line ("symbolic links loop"), where
+  // std::filesystem threw and the command ended in "internal error" (issue 44). A symlink leading
+  // elsewhere is followed (the user named it); a FIFO, device or folder at its end is refused
+  // unread by the opener (read_input_bytes: "not a regular file").
+  if (!input_exists(path)) throw file_error(path, "file not found");
   // Read once into memory (a file replaced while it is read cannot mix two headers).
   OpenedImage file = open_image_file(path);
   const OiioSpec spec0 = file.spec;

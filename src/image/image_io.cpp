@@ -15,6 +15,7 @@
 #include "core/error.h"
 #include "files/input_record.h"
 #include "files/file_io.h"
+#include "files/input_file.h"
 #include "files/output_set.h"
 
 namespace ahd {
@@ -23,8 +24,8 @@ namespace fs = std::filesystem;
 namespace {
 
 std::vector<uint8_t> read_image_bytes(const std::string& path) {
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw file_error(path, "file not found");
+  // A symlink loop is "symbolic links loop", not "file not found" (input_exists).
+  if (!input_exists(path)) throw file_error(path, "file not found");
   return read_file_bytes(path);
 }
 

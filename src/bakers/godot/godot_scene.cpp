@@ -94,8 +94,7 @@ bool gltf_single_root(const std::vector<uint8_t>& bytes) {
 
 // [params] key of a Godot .import file, "" when absent.
 std::string import_param(const std::string& import_file, const std::string& key) {
-  std::error_code ec;
-  if (!fs::exists(import_file, ec)) return "";
+  if (!probe_input_file(import_file)) return "";  // a probe: an .import appearing later changes the result
   std::istringstream f(read_input_text(import_file, InputKind::kSceneText));
   std::string line;
   bool params = false;
@@ -408,8 +407,7 @@ struct Loader {
     if (texel_size > 0) return texel_size;
     texel_size = kGodotPrimitiveTexelSize;
     const fs::path settings = project / "project.godot";
-    std::error_code ec;
-    if (fs::is_regular_file(settings, ec)) {
+    if (probe_regular_file(settings.string())) {
       add_file(settings.string());
       texel_size = godot_primitive_texel_size(read_text(settings.string()));
     }
@@ -815,7 +813,7 @@ fs::path project_root(const fs::path& file) {
   if (dir.empty()) dir = ".";
   std::error_code ec;
   for (int up = 0; up < 64; ++up) {
-    if (fs::exists(dir / "project.godot", ec)) return dir;
+    if (probe_input_file((dir / "project.godot").string())) return dir;
     const fs::path abs = fs::absolute(dir, ec).lexically_normal();
     if (ec || abs == abs.root_path() || abs.parent_path() == abs) break;
     const fs::path parent = dir.parent_path();
@@ -1060,12 +1058,13 @@ std::string find_godot_scene(const std::string& exr) {
   const fs::path folder = p.parent_path().empty() ? fs::path(".") : p.parent_path();
   const fs::path lmbake = folder / (p.stem().string() + ".lmbake");
   std::error_code ec;
-  if (!fs::is_regular_file(lmbake, ec)) return "";
+  // Probes (files/input_record.h): a .lmbake or project.godot appearing later reads the input again.
+  if (!probe_regular_file(lmbake.string())) return "";
   const fs::path want = fs::weakly_canonical(lmbake, ec);
   if (ec) return "";
   // The project: the nearest project.godot at or above the EXR (else the EXR's folder alone).
   const fs::path project = project_root(exr);
-  const bool has_project = fs::exists(project / "project.godot", ec);
+  const bool has_project = probe_input_file((project / "project.godot").string());
   // A bounded walk: no hidden folders (.godot/ holds the editor's imports), no symlinked folders
   // (no loops), no nested projects, at most 12 levels and 20 000 entries.
   std::vector<std::string> found;

@@ -116,7 +116,11 @@ GodotTscn parse_godot_tscn(const std::string& text, const std::string& source) {
   std::istringstream in(text);
   std::string line, section;
   size_t n = 0;
-  const auto fail = [&](const std::string& why) { return file_error(source, "line " + std::to_string(n) + ": " + why); };
+  // A cause may quote the file's text (a token of a multi-line value): its control characters are
+  // escaped, so the error stays one line (found by fuzz_godot_scene).
+  const auto fail = [&](const std::string& why) {
+    return file_error(source, "line " + std::to_string(n) + ": " + printable_path(why));
+  };
   const size_t kMaxValue = size_t(64) << 20;
   while (std::getline(in, line)) {
     ++n;
@@ -191,7 +195,7 @@ GodotTscn parse_godot_tscn(const std::string& text, const std::string& source) {
         const double x = std::strtod(tok.c_str(), &end);
         while (end && (*end == ' ' || *end == '\t')) ++end;
         if (!end || end == tok.c_str() || *end != '\0' || !std::isfinite(x))
-          throw fail("Transform3D number '" + tok + "'");
+          throw fail("Transform3D number '" + (tok.size() > 64 ? tok.substr(0, 64) + "…" : tok) + "'");
         node.transform[k++] = x;
       }
       if (k != 12) throw fail("Transform3D takes 12 numbers, found " + std::to_string(k));
