@@ -16,19 +16,13 @@
 namespace fs = std::filesystem;
 using namespace ahd;
 using namespace layout_test;
-
 using namespace ahd_fixture::baker_placement_fixture;
 
 
 TEST(Placement, ConvertWithPlacementFromTheCommandLine) {
   const WorldBake b("placement_cli");
   const fs::path& d = b.dir;
-  write_scene((d / "instanced.gltf").string(), {Quad().uv}, kNodes);
-  std::vector<Node> baked_nodes = kNodes;
-  for (int k = 0; k < 3; ++k) baked_nodes[size_t(k)].mesh = k;
-  write_scene((d / "baked.gltf").string(), {baked_uv(0), baked_uv(1), baked_uv(2)}, baked_nodes);
-  write_json((d / "p.json").string(), kPlace);
-  write_unity((d / "scene.unity").string());
+  write_placement_inputs(d);
   // A Godot-packed 32×32 page: uniform L0, L1 along +y.
   ImageF img(kAtlas, 4 * kAtlas, 3);
   for (int y = 0; y < kAtlas; ++y)

@@ -18,6 +18,7 @@
 #include "cook/conversion_cache.h"
 #include "cook/depfile.h"
 #include "layout_test_scene.h"
+#include "depfile_deps.h"
 #include "test_data.h"
 #include "file_bytes.h"
 
@@ -37,21 +38,7 @@ void spit(const fs::path& p, const std::string& text) {
 
 std::string abs_path(const fs::path& p) { return fs::absolute(p).lexically_normal().string(); }
 
-// The dependencies of a depfile written by depfile_text (no escaped characters in test paths).
-std::set<std::string> depfile_deps(const fs::path& d) {
-  std::istringstream in(ahd_test::read_text(d));
-  std::set<std::string> deps;
-  std::string tok;
-  bool target = true;
-  while (in >> tok) {
-    if (target) {
-      target = false;  // "OUT.json:"
-      continue;
-    }
-    if (tok != "\\") deps.insert(tok);
-  }
-  return deps;
-}
+using ahd_test::depfile_deps;
 
 // Every file of a folder (name -> bytes), for comparing two output sets.
 std::map<std::string, std::string> folder_files(const fs::path& dir) {

@@ -21,6 +21,7 @@
 #include "cli_runner.h"
 #include "file_bytes.h"
 #include "layout_test_scene.h"
+#include "depfile_deps.h"
 #include "test_data.h"
 
 namespace fs = std::filesystem;
@@ -41,21 +42,7 @@ std::string quoted(const std::string& s) {
 
 bool strace_works() { return ahd_test::run_shell("strace -f -qq -e trace=none true 2>&1; echo rc=$?") == "rc=0\n"; }
 
-// The dependencies of a depfile (test paths need no escapes), absolute.
-std::set<std::string> depfile_deps(const fs::path& d) {
-  std::istringstream in(ahd_test::read_text(d));
-  std::set<std::string> deps;
-  std::string tok;
-  bool target = true;
-  while (in >> tok) {
-    if (target) {
-      target = false;
-      continue;
-    }
-    if (tok != "\\") deps.insert(tok);
-  }
-  return deps;
-}
+using ahd_test::depfile_deps;
 
 // The "file" lines of every inputs record in the cache folder (paths as the command gave them,
 // relative to `cwd`), absolute.

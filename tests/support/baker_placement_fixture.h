@@ -122,4 +122,15 @@ inline void expect_same_raster(const RasterisedNormals& a, const RasterisedNorma
   EXPECT_LT(worst, 1e-6) << what;
 }
 
+// The placement tests' inputs in `d`: instanced.gltf (one quad, three nodes), baked.gltf (each
+// node's UVs already in the atlas), p.json and scene.unity placing the instanced nodes.
+inline void write_placement_inputs(const fs::path& d) {
+  write_scene((d / "instanced.gltf").string(), {Quad().uv}, kNodes);
+  std::vector<Node> baked_nodes = kNodes;
+  for (int k = 0; k < 3; ++k) baked_nodes[size_t(k)].mesh = k;
+  write_scene((d / "baked.gltf").string(), {baked_uv(0), baked_uv(1), baked_uv(2)}, baked_nodes);
+  write_json((d / "p.json").string(), kPlace);
+  write_unity((d / "scene.unity").string());
+}
+
 }  // namespace ahd_fixture::baker_placement_fixture

@@ -18,17 +18,11 @@
 namespace fs = std::filesystem;
 using namespace ahd;
 using namespace layout_test;
-
 using namespace ahd_fixture::baker_placement_fixture;
 
 TEST(Placement, InstancesPlacedByJsonAndUnityYamlEqualUvsBakedIntoTheAtlas) {
   const fs::path d = ahd_test::temp_dir("placement");
-  write_scene((d / "instanced.gltf").string(), {Quad().uv}, kNodes);
-  std::vector<Node> baked_nodes = kNodes;
-  for (int k = 0; k < 3; ++k) baked_nodes[size_t(k)].mesh = k;
-  write_scene((d / "baked.gltf").string(), {baked_uv(0), baked_uv(1), baked_uv(2)}, baked_nodes);
-  write_json((d / "p.json").string(), kPlace);
-  write_unity((d / "scene.unity").string());
+  write_placement_inputs(d);
 
   const RasterisedNormals want = rasterise_lightmap_normals(read_mesh_lightmap((d / "baked.gltf").string(), -1), kAtlas, kAtlas);
   size_t covered = 0;
