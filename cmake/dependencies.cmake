@@ -5,6 +5,12 @@ find_package(PkgConfig REQUIRED)
 pkg_check_modules(ZSTD REQUIRED IMPORTED_TARGET GLOBAL libzstd)
 find_package(nlohmann_json CONFIG REQUIRED)
 
+# AHD_LIBRARY_ONLY: the library ahd, the sample and the platform tests need nothing more
+# (docs/platforms.md "Library-only builds").
+if(AHD_LIBRARY_ONLY)
+  return()
+endif()
+
 # EXR files are read by OpenEXR directly (src/image/exr_read.cpp): no OpenImageIO start-up for them.
 find_package(OpenEXR CONFIG REQUIRED)
 find_package(OpenImageIO CONFIG REQUIRED)
