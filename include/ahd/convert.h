@@ -53,6 +53,10 @@ struct ConversionOptions {
   // manifest and the planes (`iz_scale`), which decoders divide by. > 0; the cook (<ahd/cook.h>) also
   // takes 0: the input's own scale (a plain lightmap's E/π: 1/π; else 1).
   double iz_scale = 1.0;
+  // Plane files named NAME.<plane>.<ext>, without the content hash, so that an engine's references
+  // to them (Godot res:// paths, Unity .meta GUIDs) survive a re-cook. docs/asset-cook.md "Stable
+  // names for engines" says what publishing them keeps and what it gives up.
+  bool stable_names = false;
   // Called on the calling thread between steps with a stage name ("fit", "encode", "write"; the
   // error measures report no progress of their own) and the fraction of that stage done, in [0, 1].
   std::function<void(const char* stage, double fraction)> progress;
@@ -68,7 +72,8 @@ struct OutputFile {
 
 struct Conversion {
   // The plane containers (NAME.<plane>.<hash>.<ext>: iz, dir, ratio…, named by the first 12 hex
-  // digits of their SHA-256 so a new set never overwrites the planes an older manifest names), then
+  // digits of their SHA-256 so a new set never overwrites the planes an older manifest names;
+  // NAME.<plane>.<ext> with stable_names), then
   // NAME.report.json (rules fired, errors, seconds), then NAME.json (the manifest: which file holds
   // which plane, its size and SHA-256, and how to decode it). Write the manifest last.
   std::vector<OutputFile> files;
