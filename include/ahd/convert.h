@@ -64,6 +64,16 @@ struct ConversionOptions {
   const std::atomic<bool>* cancel = nullptr;
 };
 
+// A lightmapped instance of the scene a bake was read with (<ahd/bakers.h> BakeRead::instances),
+// written to the manifest's "instances" by the convert overload that takes them
+// (docs/container-format.md "Instances"): where its lightmap UVs land in the atlas.
+struct LightmapInstance {
+  std::string node;  // Godot: the node path as the .lmbake names it; else the renderer / node name
+  int page = 0;      // atlas page = array layer of every plane
+  // atlas_uv = uv2 * uv_scale + uv_offset, glTF UV convention (v down, v = 0 is row 0)
+  double uv_scale[2] = {1, 1}, uv_offset[2] = {0, 0};
+};
+
 // One output file: its name (no folder) and its bytes.
 struct OutputFile {
   std::string name;
@@ -86,5 +96,10 @@ AHD_API Conversion convert(const ShImage& sh, const std::string& name, const Con
 // The same, taking the image over: it becomes mip level 0 without a copy (peak memory ≈ 2.4× the
 // SH instead of 3.4× for L2). `sh` is left empty.
 AHD_API Conversion convert(ShImage&& sh, const std::string& name, const ConversionOptions& options = {});
+// The same, the manifest also listing the scene's lightmapped `instances` (<ahd/bakers.h>
+// BakeRead::instances; each page must be a page of the conversion), as `ahdpack convert` writes it.
+// Throws ahd::Error for an instance on a page the conversion does not have.
+AHD_API Conversion convert(const ShImage& sh, const std::string& name, const ConversionOptions& options,
+                           const std::vector<LightmapInstance>& instances);
 
 }  // namespace ahd
