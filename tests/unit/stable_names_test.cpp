@@ -145,3 +145,23 @@ TEST(StableNames, SwitchingNamingRemovesThePreviousPlanes) {
   EXPECT_EQ(ahd_test::read_text(d / "world.coverage.ktx2"), "not ahdpack's");
   fs::remove_all(d);
 }
+
+// A cache hit publishes the stored files as the conversion does: the same stable names and bytes.
+TEST(StableNames, CacheHitPublishesTheStableNames) {
+  const fs::path d = ahd_test::temp_dir("stable_names_cache");
+  const std::string cache = (d / "cache").string();
+  ASSERT_EQ(cook(d / "a" / "world.ktx2", 1, "pc-bc", true, {"--cache", cache}).exit_code, 0);  // a miss: stored
+  const auto hit = run_cli({"convert", "-o", (d / "b" / "world.ktx2").string(), "--sample-size", "16", "--profile", "pc-bc",
+                            "--seed", "1", "--stable-names", "--cache", cache});
+  ASSERT_EQ(hit.exit_code, 0) << hit.output;
+  EXPECT_NE(hit.output.find("cache hit"), std::string::npos) << hit.output;
+  EXPECT_EQ(ahd_test::names_in(d / "b"), ahd_test::names_in(d / "a"));
+  EXPECT_TRUE(fs::exists(d / "b" / "world.iz.ktx2"));
+  for (const std::string f : {"world.json", "world.iz.ktx2", "world.dir.ktx2", "world.ratio.ktx2"})
+    EXPECT_EQ(ahd_test::read_text(d / "b" / f), ahd_test::read_text(d / "a" / f)) << f;
+  // The hashed conversion of the same input is another entry (the key has stable_names 1).
+  const auto hashed = cook(d / "c" / "world.ktx2", 1, "pc-bc", false, {"--cache", cache});
+  ASSERT_EQ(hashed.exit_code, 0) << hashed.output;
+  EXPECT_FALSE(fs::exists(d / "c" / "world.iz.ktx2"));
+  fs::remove_all(d);
+}
