@@ -1,7 +1,7 @@
 # Renders the placed scene `ahdpack scene` writes (res://conv/world.glb) twice, from the same camera,
 # through the same Environment: lit by Godot's own LightmapGI from the source SH (native.png), and
 # by the ahdpack add-on from the conversion's planes (addon.png). GodotNative.*
-# (tests/unit/godot_native_lightmap_test.cpp) compares the two.
+# (tests/judges/godot_native_lightmap_test.cpp) compares the two.
 #
 # The LightmapGIData is built here, as a baked scene's would be loaded: one Texture2DArray of
 # 4 layers per page (L0, L1y, L1z, L1x) in Godot 4.4+'s packed directional form (res://native.bin,
