@@ -60,6 +60,7 @@ typedef struct ahd_options {
   int plane_metadata;       /* ahd.* KTX2 key/values, default 1 */
   int measure;              /* 0 off (default), 1 estimate, 2 full */
   double iz_scale;          /* stored I_z = iz_scale x E, default 1 (1/pi: E/pi, what most engines store) */
+  int stable_names;         /* plane files NAME.<plane>.<ext> (no content hash), default 0 */
   /* New members only here, at the end (docs/maintaining.md "Adding a conversion option"). */
 } ahd_options;
 

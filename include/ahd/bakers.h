@@ -17,6 +17,7 @@
 // (<prefix>/lib/ahdpack/libahd_oiio.so), loaded on first use.
 #pragma once
 #include <ahd/export.h>
+#include <ahd/convert.h>  // LightmapInstance
 #include <ahd/types.h>
 
 #include <cstddef>
@@ -77,6 +78,9 @@ struct BakeRead {
   std::string input_space;         // the space the input was converted from ("" = read as the working space)
   std::vector<std::string> files;  // every file read, in order, each once, as named (a depfile's list)
   std::vector<InputProbe> probes;  // every existence test made, in order
+  // The placed scene's lightmapped instances (a Godot project's users, a mesh with its placement);
+  // empty otherwise. Hand them to ahd::convert to write the manifest `ahdpack convert` writes.
+  std::vector<LightmapInstance> instances;
 };
 
 // Reads `source` (see above). `threads` bakes the sample (0 = all hardware threads).

@@ -53,11 +53,25 @@ struct ConversionOptions {
   // manifest and the planes (`iz_scale`), which decoders divide by. > 0; the cook (<ahd/cook.h>) also
   // takes 0: the input's own scale (a plain lightmap's E/π: 1/π; else 1).
   double iz_scale = 1.0;
+  // Plane files named NAME.<plane>.<ext>, without the content hash, so that an engine's references
+  // to them (Godot res:// paths, Unity .meta GUIDs) survive a re-cook. docs/asset-cook.md "Stable
+  // names for engines" says what publishing them keeps and what it gives up.
+  bool stable_names = false;
   // Called on the calling thread between steps with a stage name ("fit", "encode", "write"; the
   // error measures report no progress of their own) and the fraction of that stage done, in [0, 1].
   std::function<void(const char* stage, double fraction)> progress;
   // When not null and raised (from any thread), the conversion stops with ahd::Cancelled.
   const std::atomic<bool>* cancel = nullptr;
+};
+
+// A lightmapped instance of the scene a bake was read with (<ahd/bakers.h> BakeRead::instances),
+// written to the manifest's "instances" by the convert overload that takes them
+// (docs/container-format.md "Instances"): where its lightmap UVs land in the atlas.
+struct LightmapInstance {
+  std::string node;  // Godot: the node path as the .lmbake names it; else the renderer / node name
+  int page = 0;      // atlas page = array layer of every plane
+  // atlas_uv = uv2 * uv_scale + uv_offset, glTF UV convention (v down, v = 0 is row 0)
+  double uv_scale[2] = {1, 1}, uv_offset[2] = {0, 0};
 };
 
 // One output file: its name (no folder) and its bytes.
@@ -68,7 +82,8 @@ struct OutputFile {
 
 struct Conversion {
   // The plane containers (NAME.<plane>.<hash>.<ext>: iz, dir, ratio…, named by the first 12 hex
-  // digits of their SHA-256 so a new set never overwrites the planes an older manifest names), then
+  // digits of their SHA-256 so a new set never overwrites the planes an older manifest names;
+  // NAME.<plane>.<ext> with stable_names), then
   // NAME.report.json (rules fired, errors, seconds), then NAME.json (the manifest: which file holds
   // which plane, its size and SHA-256, and how to decode it). Write the manifest last.
   std::vector<OutputFile> files;
@@ -81,5 +96,10 @@ AHD_API Conversion convert(const ShImage& sh, const std::string& name, const Con
 // The same, taking the image over: it becomes mip level 0 without a copy (peak memory ≈ 2.4× the
 // SH instead of 3.4× for L2). `sh` is left empty.
 AHD_API Conversion convert(ShImage&& sh, const std::string& name, const ConversionOptions& options = {});
+// The same, the manifest also listing the scene's lightmapped `instances` (<ahd/bakers.h>
+// BakeRead::instances; each page must be a page of the conversion), as `ahdpack convert` writes it.
+// Throws ahd::Error for an instance on a page the conversion does not have.
+AHD_API Conversion convert(const ShImage& sh, const std::string& name, const ConversionOptions& options,
+                           const std::vector<LightmapInstance>& instances);
 
 }  // namespace ahd

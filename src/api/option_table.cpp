@@ -296,6 +296,14 @@ std::vector<OptionRow> make_table() {
                              .doc = "stored I_z = `iz_scale` × E (1/π: E/π, what most engines store); recorded in "
                                     "the manifest and the planes; the cook also takes 0, the input's own scale "
                                     "([godot.md](godot.md) \"Irradiance scale\")"}));
+  t.push_back(bool_option("stable_names", &CO::stable_names, &ahd_options::stable_names,
+                          {.flag = "--stable-names",
+                           .help = "Plane files NAME.<plane>.<ext> without the content hash, for engines that "
+                                   "refer to them by name (docs/asset-cook.md)",
+                           .key = KeyForm::ValueIfSet,
+                           .doc = "plane files named `NAME.<plane>.<ext>`, without the content hash, for engines "
+                                  "that refer to them by name ([asset-cook.md](asset-cook.md) \"Stable names for "
+                                  "engines\")"}));
   return t;
 }
 

@@ -46,6 +46,7 @@ ResolvedOptions resolve_options(const ConversionOptions& o, const std::string& n
   p.zstd = o.zstd;
   p.plane_metadata = o.plane_metadata;
   p.iz_scale = o.iz_scale;
+  p.stable_names = o.stable_names;
   return r;
 }
 

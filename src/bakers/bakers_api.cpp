@@ -5,6 +5,7 @@
 #include "bakers/bake_input.h"
 #include "bakers/baker_layout.h"
 #include "bakers/layout_detect.h"
+#include "bakers/scene_export.h"
 #include "core/error.h"
 #include "files/input_record.h"
 
@@ -33,6 +34,14 @@ BakeRead read_bake(const BakeSource& source, int threads) {
   out.input_space = rs.input_space;
   out.files = std::move(record.files);
   out.probes = std::move(record.probes);
+  // As the cook (cook/cook.cpp), after the inputs are recorded: the manifest's "instances".
+  for (const ManifestInstance& m : bake_instances(in)) {
+    LightmapInstance i;
+    i.node = m.node;
+    i.page = m.page;
+    for (int k = 0; k < 2; ++k) i.uv_scale[k] = m.scale[k], i.uv_offset[k] = m.offset[k];
+    out.instances.push_back(std::move(i));
+  }
   return out;
 }
 

@@ -42,6 +42,15 @@ bool file_is(const fs::path& path, uint64_t size, const std::string& sha256) {
   }
 }
 
+// The plane a file name NAME.<plane>.<ktx2|dds> of stem `name` names (package.h, stable_names), or "".
+std::string stable_plane_of(const std::string& name, const std::string& file) {
+  static const std::regex plane(R"(^\.(iz|dir|ratio|dirratio|coverage)\.(ktx2|dds)$)");
+  std::smatch m;
+  if (file.size() <= name.size() || file.compare(0, name.size(), name) != 0) return "";
+  const std::string rest = file.substr(name.size());
+  return std::regex_match(rest, m, plane) ? m[1].str() : "";
+}
+
 // The files of the previous set of `out` that a new set supersedes (evaluated with the folder
 // locked). Only files ahdpack wrote for this stem go: a plane the previous NAME.json names when its
 // name is package.h's plane_file_name for NAME (NAME.<plane>.<12 hex>.<ktx2|dds>, the hex the
@@ -54,6 +63,7 @@ std::vector<std::string> previous_set_files(const OutputPaths& out) {
   std::vector<std::string> files;
   const std::string manifest = out.sibling(".json");
   static const std::regex plane(R"(^\.(iz|dir|ratio|dirratio|coverage)\.([0-9a-f]{12})\.(ktx2|dds)$)");
+
   // NAME.<plane>.<12 hex>.<ext>: `rest` keeps the part after NAME that `m` points into.
   const auto plane_of_name = [&out](const std::string& fn, std::string* rest, std::smatch* m) {
     if (fn.size() <= out.name.size() || fn.compare(0, out.name.size(), out.name) != 0) return false;
@@ -65,7 +75,12 @@ std::vector<std::string> previous_set_files(const OutputPaths& out) {
       for (const ManifestPlane& p : read_manifest_file(manifest).planes) {
         std::string rest;
         std::smatch m;
-        if (!plane_of_name(p.file, &rest, &m) || m[1].str() != p.name || p.sha256.compare(0, 12, m[2].str()) != 0) continue;
+        // NAME.<plane>.<ext> (--stable-names): ours when the manifest names it as that plane and
+        // the file is the manifest's; a killed run never leaves one unnamed (they are annexes).
+        const bool stable = stable_plane_of(out.name, p.file) == p.name;
+        if (!stable && (!plane_of_name(p.file, &rest, &m) || m[1].str() != p.name ||
+                        p.sha256.compare(0, 12, m[2].str()) != 0))
+          continue;
         if (file_is(out.dir / p.file, p.bytes, p.sha256)) files.push_back((out.dir / p.file).string());
       }
     } catch (const std::exception&) {
@@ -93,12 +108,23 @@ std::vector<std::string> previous_set_files(const OutputPaths& out) {
 
 void publish_conversion(const OutputPaths& out, std::vector<OutputFile> files, IntermediateFile intermediate) {
   OutputSet set;
+  std::vector<FileToPublish> stable;
   const std::string manifest = out.name + ".json", report = out.name + ".report.json";
   for (OutputFile& f : files) {
     FileToPublish p{(out.dir / f.name).string(), std::move(f.bytes)};
     if (f.name == manifest) set.commit = std::move(p);
     else if (f.name == report) set.annexes.push_back(std::move(p));
+    else if (!stable_plane_of(out.name, f.name).empty()) stable.push_back(std::move(p));
     else set.members.push_back(std::move(p));
+  }
+  // Stable plane names (--stable-names) cannot be content-addressed members: a new plane would
+  // replace one the previous manifest names before the commit. They are published as annexes: the
+  // previous files of those names are moved aside before the commit and the new ones renamed after
+  // it, so a plane beside NAME.json is always the one it names (or missing after a kill), and an
+  // error before the commit puts the previous ones back (docs/asset-cook.md "Stable names for engines").
+  for (FileToPublish& p : stable) {
+    set.annex_names.push_back(p.path);
+    set.annexes.push_back(std::move(p));
   }
   if (set.commit.path.empty()) throw Error("publish_conversion: no " + manifest);
   set.annex_names.push_back(out.sibling(".report.json"));

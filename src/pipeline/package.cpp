@@ -51,7 +51,8 @@ PackagedConversion package_conversion(PipelineResult& r, const Profile& profile,
     else p.texture.metadata.clear();
     std::vector<uint8_t> bytes = encode_container(opt.container, p.texture, opt.zstd);
     const std::string sha256 = sha256_hex(bytes.data(), bytes.size());  // once: the name and the manifest
-    const std::string file = plane_file_name_of_digest(opt.name, p.name, ext, sha256);
+    const std::string file =
+        opt.stable_names ? opt.name + "." + p.name + "." + ext : plane_file_name_of_digest(opt.name, p.name, ext, sha256);
     out.files.push_back({file, std::move(bytes)});
     ManifestPlane mp;
     mp.name = p.name;

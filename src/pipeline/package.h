@@ -17,6 +17,7 @@ struct PackageOptions {
   ContainerKind container = ContainerKind::KTX2;
   bool zstd = false;
   bool plane_metadata = true;  // ahd.* key/values in each plane (ConversionOptions::plane_metadata)
+  bool stable_names = false;   // planes NAME.<plane>.<ext>, no content hash (ConversionOptions::stable_names)
   bool world_frame = false;    // the SH was world space + normals: d is in each texel's normal frame
   double iz_scale = 1.0;       // recorded: the SH was scaled by it before the fit (stored I_z = iz_scale × E)
   std::vector<ManifestInstance> instances;  // the scene's lightmapped instances (manifest "instances")

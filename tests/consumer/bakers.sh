@@ -60,21 +60,15 @@ check() {
   local p=0 f
   for f in "$tmp/$what/read"/*; do
     [[ "$f" == *.report.json ]] && continue
-    # The cook's manifest also lists the placed scene's instances (docs/container-format.md
-    # "Instances"), which ahd::convert of one ShImage does not know: the same JSON without them.
-    if [[ "$f" == *.json ]]; then
-      python3 - "$f" "$tmp/$what/cli/out/$(basename "$f")" <<'PY' || { echo "FAIL: $what: read_bake + convert: $(basename "$f") differs"; exit 1; }
-import json, sys
-a, b = (json.load(open(x)) for x in sys.argv[1:])
-b.pop("instances", None), b.pop("instance_uv", None)
-sys.exit(0 if a == b else 1)
-PY
-      p=$((p + 1)); continue
-    fi
     cmp "$f" "$tmp/$what/cli/out/$(basename "$f")" || { echo "FAIL: $what: read_bake + convert: $(basename "$f") differs"; exit 1; }
     p=$((p + 1))
   done
   [ "$p" -ge 2 ] || { echo "FAIL: $what: only $p files from read_bake + convert"; exit 1; }
+  # The manifest compared above lists the placed scene's instances when the input has a scene
+  # (BakeRead::instances handed to ahd::convert; docs/container-format.md "Instances").
+  if [ "$what" = vermilion ] && ! grep -q '"instances"' "$tmp/$what/read/$stem.json"; then
+    echo "FAIL: $what: read_bake + convert wrote no instances"; exit 1
+  fi
   # A cache filled through the library serves the CLI (same key, same entry format).
   (cd "$tmp/$what/cook" && "$con" cook "$in" "cached/$stem.ktx2" "$@" --cache "$tmp/$what/cache" >/dev/null)
   local hit

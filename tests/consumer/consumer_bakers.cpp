@@ -53,7 +53,7 @@ int main(int argc, char** argv) {
       const ahd::BakeRead b = ahd::read_bake(r.input);
       if (b.pages.size() != 1)
         throw ahd::Error("read: " + std::to_string(b.pages.size()) + " pages (this test converts one)");
-      const ahd::Conversion c = ahd::convert(b.pages[0], name, r.options);
+      const ahd::Conversion c = ahd::convert(b.pages[0], name, r.options, b.instances);
       for (const ahd::OutputFile& f : c.files) {
         std::ofstream out(r.output + "/" + f.name, std::ios::binary);
         out.write(reinterpret_cast<const char*>(f.bytes.data()), std::streamsize(f.bytes.size()));

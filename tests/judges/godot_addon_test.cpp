@@ -323,12 +323,20 @@ TEST(GodotAddon, KtxPlanesLitInGodotMatchTheReferenceDecoder) {
   EXPECT_EQ(inst["albedo"], nlohmann::json({0.5, 0.25, 1.0}));
   EXPECT_EQ(inst["shader"], "res://addons/ahdpack/ahd_lightmap.gdshader");
 
-  // The shader as a game renders it (no readback hook; lit.bin): EMISSION = albedo E / π, flat
-  // normal (E = I_z), no ambient light, through Godot's 8-bit output: each byte must be what the
-  // calibration ramp gives for the expected value, within 2 (the value's own 8-bit rounding and the
-  // transfer's steps). The albedo Color(1, 0.5, 1) of the source_color uniform reaches the shader
-  // as given in the Compatibility renderer (measured: 0.5, not the sRGB-decoded 0.214, which is 26
-  // to 80 steps off).
+  // The shader as a game renders it (no readback hook; lit.bin): flat normal (E = I_z), no ambient
+  // light, through Godot's 8-bit output. The albedo Color(1, 0.5, 1) of the source_color uniform
+  // reaches the shader as given (0.5) in the Compatibility renderer, which decodes ALBEDO and
+  // EMISSION from sRGB with its cubic (drivers/gles3/shaders/scene.glsl); the add-on lights the
+  // decoded albedo and writes the emission that cubic maps to albedo_linear E / π, as Godot's own
+  // lightmaps light a material. An unshaded ALBEDO k/255 (the calibration ramp) goes through the same
+  // decode, so each byte must be the ramp's at k = the cubic's inverse of albedo_linear E / π,
+  // within 2 (the value's own 8-bit rounding and the transfer's steps).
+  const auto compat_linear = [](double c) { return c * (c * (c * 0.305306011 + 0.682171111) + 0.012522878); };
+  const auto compat_encode = [&](double x) {
+    double y = std::pow(x, 0.4545);
+    for (int i = 0; i < 6; ++i) y -= (compat_linear(y) - x) / (y * (y * 0.915918033 + 1.364342222) + 0.012522878);
+    return y;
+  };
   const auto& lit = rep["lit"];
   ASSERT_EQ(lit["image_format"].get<int>(), 5) << "RGBA8";
   const auto lit_px = read_bytes(dir / "out" / "lit.bin");
@@ -340,14 +348,16 @@ TEST(GodotAddon, KtxPlanesLitInGodotMatchTheReferenceDecoder) {
   size_t lit_checked = 0, lit_bad = 0;
   for (size_t i = 0; i < size_t(lref.width) * lref.height; ++i)
     for (int ch = 0; ch < 3; ++ch) {
-      const double want = albedo[ch] * lref.iz[i * 3 + ch] / 3.14159265358979;
-      if (want < 16 / 255.0 || want > 1) continue;  // the ramp's flat foot; clamped
+      const double lin = compat_linear(albedo[ch]) * lref.iz[i * 3 + ch] / 3.14159265358979;
+      if (!(lin > 0) || lin > 1) continue;  // clamped
+      const double want = compat_encode(lin);
+      if (want < 16 / 255.0) continue;  // the ramp's flat foot
       const int expect = ramp[size_t(std::lround(want * 255)) * 4], got = lit_px[i * 4 + ch];
       worst_lit = std::max(worst_lit, std::abs(got - expect));
       ++lit_checked;
       if (std::abs(got - expect) > 2 && lit_bad++ < 5)
         ADD_FAILURE() << "lit texel " << i << " channel " << ch << ": Godot byte " << got << ", expected " << expect
-                      << " (albedo E / pi = " << want << ")";
+                      << " (albedo_linear E / pi = " << lin << ")";
     }
   std::printf("lit (no hook): %zu values checked, worst %d 8-bit steps\n", lit_checked, worst_lit);
   EXPECT_GT(lit_checked, size_t(lref.width) * lref.height);

@@ -36,7 +36,7 @@ class Options(ctypes.Structure):
                 ("coverage_plane", ctypes.c_int), ("direction", ctypes.c_int),
                 ("ambient_threshold", ctypes.c_double), ("container", ctypes.c_int), ("zstd", ctypes.c_int),
                 ("plane_metadata", ctypes.c_int), ("measure", ctypes.c_int),
-                ("iz_scale", ctypes.c_double)]
+                ("iz_scale", ctypes.c_double), ("stable_names", ctypes.c_int)]
 
 
 # (sample size, order, seed), the ahd_options fields set, the same conversion as `ahdpack convert` flags.

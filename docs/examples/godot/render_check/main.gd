@@ -115,7 +115,8 @@ func _instance_check(manifest: String) -> Dictionary:
 
 # The add-on's shader as a game renders it (no readback hook): ahd_lightmap_instance.gd on the quad,
 # full atlas, albedo (1, 0.5, 1), in an environment without
-# ambient light, reflections or tone mapping, so the image is EMISSION = albedo E / π, 8 bits.
+# ambient light, reflections or tone mapping, so the image is the add-on's emission, linear albedo
+# E / π (the shader writes it for the Compatibility renderer's sRGB decode), 8 bits.
 func _lit_check(manifest: String) -> Dictionary:
 	var we := WorldEnvironment.new()
 	var env := Environment.new()
