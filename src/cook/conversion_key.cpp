@@ -19,16 +19,6 @@
 
 namespace ahd {
 
-namespace {
-
-std::string num(double v) {
-  char b[40];
-  std::snprintf(b, sizeof b, "%.17g", v);
-  return b;
-}
-
-}  // namespace
-
 std::string conversion_options_text(const BakeInput& in, const ConversionOptions& o, const std::string& out_name) {
   std::string t = "ahdpack-conversion-key " + std::to_string(kKeyFormat) + "\n";
   t += "version " AHD_VERSION_STRING "\n";
