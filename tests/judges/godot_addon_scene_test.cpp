@@ -16,6 +16,7 @@
 #include <fstream>
 
 #include "cli_runner.h"
+#include "godot_run.h"
 #include "test_data.h"
 
 namespace fs = std::filesystem;
@@ -24,17 +25,6 @@ using ahd_test::run_cli;
 namespace {
 
 const fs::path kTools = ahd_test::kSourceDir / "tests" / "tools";
-
-// An 8-bit RGB image (OpenImageIO), or empty.
-std::vector<uint8_t> read_rgb8(const fs::path& p, int* w, int* h) {
-  auto in = OIIO::ImageInput::open(p.string());
-  if (!in) return {};
-  const OIIO::ImageSpec& s = in->spec();
-  *w = s.width, *h = s.height;
-  std::vector<uint8_t> px(size_t(s.width) * s.height * 3);
-  if (!in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, px.data())) return {};
-  return px;
-}
 
 }  // namespace
 
@@ -82,22 +72,17 @@ TEST(GodotAddonScene, VermilionInGodotMatchesThreeJs) {
                                 {"position", cam["position"]},    {"target", cam["target"]},
                                 {"near", 0.3},                    {"far", 300.0}};
   std::ofstream(dir / "scene.json") << scene.dump();
-  std::string cmd = "node '" + (kTools / "godot" / "run_godot.mjs").string() + "' --project '" +
-                    (ahd_test::kSourceDir / "docs" / "examples" / "godot" / "scene_check").string() + "' --out '" +
-                    (dir / "out").string() + "' --timeout 240 --chromium '" + ahd_test::chromium_binary() + "'";
-  cmd += " --add '" + (dir / "scene.json").string() + "=scene.json'";
-  for (const auto& e : fs::directory_iterator(conv))
-    if (e.path().extension() == ".ktx2" || e.path().filename() == "world.json" || e.path().filename() == "world.glb")
-      cmd += " --add '" + e.path().string() + "=conv/" + e.path().filename().string() + "'";
-  for (const auto& e : fs::directory_iterator(ahd_test::kSourceDir / "addons" / "ahdpack"))
-    cmd += " --add '" + e.path().string() + "=addons/ahdpack/" + e.path().filename().string() + "'";
-  const std::string log = ahd_test::run_shell(cmd + " 2>&1");
+  ahd_test::GodotFiles files;
+  files.add(dir / "scene.json", "scene.json");
+  files.add_conversion(conv, "world", "conv");
+  files.add_addon();
+  const std::string log = ahd_test::run_godot("scene_check", files, dir / "out");
   ASSERT_TRUE(fs::exists(dir / "out" / "report.json")) << "run_godot.mjs gave no report:\n" << log;
   const nlohmann::json rep = nlohmann::json::parse(std::ifstream(dir / "out" / "report.json"));
   EXPECT_EQ(rep["meshes"], tj["result"]["meshes"]);
 
   int tw = 0, th = 0, gw = 0, gh = 0;
-  const std::vector<uint8_t> three = read_rgb8(dir / "three.png", &tw, &th), godot = read_rgb8(dir / "out" / "godot.png", &gw, &gh);
+  const std::vector<uint8_t> three = ahd_test::read_rgb8(dir / "three.png", &tw, &th), godot = ahd_test::read_rgb8(dir / "out" / "godot.png", &gw, &gh);
   ASSERT_FALSE(three.empty());
   ASSERT_FALSE(godot.empty());
   ASSERT_EQ(tw, gw);

