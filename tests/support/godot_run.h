@@ -30,10 +30,12 @@ inline std::string godot_missing() {
 struct GodotFiles {
   std::vector<std::pair<std::filesystem::path, std::string>> files;
   void add(const std::filesystem::path& local, const std::string& as) { files.emplace_back(local, as); }
-  // A conversion's KTX2 planes, its manifest NAME.json and its scene NAME.glb, under `as/`.
-  void add_conversion(const std::filesystem::path& folder, const std::string& name, const std::string& as) {
+  // A conversion's planes (`ext`: .ktx2 or .dds), its manifest NAME.json and its scene NAME.glb,
+  // under `as/`.
+  void add_conversion(const std::filesystem::path& folder, const std::string& name, const std::string& as,
+                      const std::string& ext = ".ktx2") {
     for (const auto& e : std::filesystem::directory_iterator(folder))
-      if (e.path().extension() == ".ktx2" || e.path().filename() == name + ".json" || e.path().filename() == name + ".glb")
+      if (e.path().extension() == ext || e.path().filename() == name + ".json" || e.path().filename() == name + ".glb")
         add(e.path(), as + "/" + e.path().filename().string());
   }
   // The add-on (addons/ahdpack) where a Godot project has it.
