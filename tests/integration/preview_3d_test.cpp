@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "chromium_page.h"
 #include "cli_runner.h"
 #include "core/texture.h"
 #include "fit/ahd_decode.h"
@@ -141,10 +142,11 @@ TEST(Preview3d, MeshViewClicksThroughAbAndNormalMapAndReadsTheDecoderValue) {
   for (const auto& [k, v] : {std::pair{"TX", tx}, std::pair{"TY", ty}})
     for (size_t p; (p = script.find(k)) != std::string::npos;) script.replace(p, 2, std::to_string(v));
   std::ofstream(dir / "click.js") << script;
-  const std::string log = ahd_test::run_shell(
-      "node '" + (ahd_test::kSourceDir / "tests" / "tools" / "chromium_cdp.mjs").string() + "' --chromium '" + ahd_test::chromium_binary() +
-      "' --url 'file://" + (out / "view3d.html").string() + "' --script '" + (dir / "click.js").string() + "' --out '" +
-      (dir / "r.json").string() + "' --screenshot '" + (dir / "shot.png").string() + "' --timeout 60 2>&1");
+  const std::string log = ahd_test::run_chromium_page({.url = "file://" + (out / "view3d.html").string(),
+                                                      .script = dir / "click.js",
+                                                      .out = dir / "r.json",
+                                                      .screenshot = dir / "shot.png",
+                                                      .timeout_seconds = 60});
   std::ifstream rf(dir / "r.json");
   ASSERT_TRUE(rf) << log;
   const nlohmann::json j = nlohmann::json::parse(rf);

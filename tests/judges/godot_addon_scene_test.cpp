@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "chromium_page.h"
 #include "cli_runner.h"
 #include "godot_run.h"
 #include "test_data.h"
@@ -56,10 +57,12 @@ TEST(GodotAddonScene, VermilionInGodotMatchesThreeJs) {
          "if (!window.ahdReady) throw new Error('scene.html did not load');\n"
          "return await window.ahdScene({ manifest: '../conv/world.json', gltf: '../conv/world.glb', exposure: "
       << exposure << ", grid: 2 });\n";
-  const std::string three_log = ahd_test::run_shell(
-      "node '" + (kTools / "chromium_cdp.mjs").string() + "' --chromium '" + ahd_test::chromium_binary() + "' --serve '" +
-      site.string() + "' --url '{origin}/page/scene.html' --script '" + (dir / "check.js").string() + "' --out '" +
-      (dir / "three.json").string() + "' --screenshot '" + (dir / "three.png").string() + "' --timeout 120 2>&1");
+  const std::string three_log = ahd_test::run_chromium_page({.serve = site,
+                                                            .url = "{origin}/page/scene.html",
+                                                            .script = dir / "check.js",
+                                                            .out = dir / "three.json",
+                                                            .screenshot = dir / "three.png",
+                                                            .timeout_seconds = 120});
   std::ifstream tf(dir / "three.json");
   ASSERT_TRUE(tf) << "no result from chromium_cdp.mjs: " << three_log;
   const nlohmann::json tj = nlohmann::json::parse(tf);

@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "chromium_page.h"
 #include "cli_runner.h"
 #include "core/texture.h"
 #include "fit/ahd_decode.h"
@@ -79,10 +80,8 @@ TEST(ThreeRender, KtxPlanesLitInChromiumMatchTheReferenceDecoder) {
   script += "return out;\n";
   std::ofstream(dir / "check.js") << script;
   const fs::path result = dir / "result.json";
-  const std::string cmd = "node '" + (kTools / "chromium_cdp.mjs").string() + "' --chromium '" + ahd_test::chromium_binary() +
-                          "' --serve '" + site.string() + "' --url '{origin}/page/render_check.html' --script '" +
-                          (dir / "check.js").string() + "' --out '" + result.string() + "' --timeout 90 2>&1";
-  const std::string log = ahd_test::run_shell(cmd);
+  const std::string log = ahd_test::run_chromium_page(
+      {.serve = site, .url = "{origin}/page/render_check.html", .script = dir / "check.js", .out = result});
   std::ifstream rf(result);
   ASSERT_TRUE(rf) << "no result from chromium_cdp.mjs: " << log;
   const nlohmann::json j = nlohmann::json::parse(rf);

@@ -19,6 +19,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "chromium_page.h"
 #include "cli_runner.h"
 #include "core/texture.h"
 #include "files/manifest_file.h"
@@ -91,11 +92,12 @@ TEST(ThreeScene, VermilionSceneFromGltfAndZstdArrayPlanesMatchesTheReferenceDeco
          "if (!window.ahdReady) throw new Error('scene.html did not load');\n"
          "return await window.ahdScene({ manifest: '../conv/world.json', gltf: '../conv/world.glb', exposure: 4.0 });\n";
   const fs::path result = dir / "result.json", shot = dir / "scene.png";
-  const std::string cmd = "node '" + (kTools / "chromium_cdp.mjs").string() + "' --chromium '" +
-                          ahd_test::chromium_binary() + "' --serve '" + site.string() +
-                          "' --url '{origin}/page/scene.html' --script '" + (dir / "check.js").string() + "' --out '" +
-                          result.string() + "' --screenshot '" + shot.string() + "' --timeout 120 2>&1";
-  const std::string log = ahd_test::run_shell(cmd);
+  const std::string log = ahd_test::run_chromium_page({.serve = site,
+                                                      .url = "{origin}/page/scene.html",
+                                                      .script = dir / "check.js",
+                                                      .out = result,
+                                                      .screenshot = shot,
+                                                      .timeout_seconds = 120});
   std::ifstream rf(result);
   ASSERT_TRUE(rf) << "no result from chromium_cdp.mjs: " << log;
   const nlohmann::json j = nlohmann::json::parse(rf);
