@@ -220,10 +220,16 @@ std::string write_preview_3d(const fs::path& dir, const Preview3dInput& in) {
   std::string html = read_text(preview / "view3d.html");
   const std::string title = "{{TITLE}}";
   for (size_t k; (k = html.find(title)) != std::string::npos;) html.replace(k, title.size(), xml_escape(j["name"].get<std::string>()));
-  write_file_atomic((dir / "view3d.html").string(), html);
-  write_file_atomic((dir / "view3d.js").string(), read_text(preview / "view3d.js"));
-  write_file_atomic((dir / "three_classic.js").string(), three_js);
-  write_file_atomic((dir / "view3d_data.js").string(), "window.AHD_VIEW = " + j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + ";\n");
+  // New files in the preview's temporary folder, published by its rename (cmd_preview.cpp): written
+  // plainly, not through write_file_atomic, whose publish takes SIGINT over (it would end the
+  // process, leaving the temporary folder, instead of letting the preview clean it up).
+  const auto write = [&](const char* file, const std::string& text) {
+    write_new_file((dir / file).string(), std::vector<uint8_t>(text.begin(), text.end()));
+  };
+  write("view3d.html", html);
+  write("view3d.js", read_text(preview / "view3d.js"));
+  write("three_classic.js", three_js);
+  write("view3d_data.js", "window.AHD_VIEW = " + j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + ";\n");
   return "<p id=\"view3d-link\"><a href=\"view3d.html\"><b>3D view</b></a>: the lightmap on " +
          xml_escape(in.mesh_path.empty() && !placed ? std::string("the sample's plane")
                                                     : j["mesh_name"].get<std::string>()) +

@@ -29,7 +29,8 @@ struct Preview3dInput {
   const PlacedSceneMesh* placed = nullptr;
 };
 
-// Writes view3d.html, view3d.js, view3d_data.js and three_classic.js into `dir` and returns the
+// Writes view3d.html, view3d.js, view3d_data.js and three_classic.js as new files into `dir` (the
+// preview's temporary folder, which its rename publishes) and returns the
 // HTML (escaped) that index.html shows: a link to the view, or — when three.js cannot be found or
 // the lightmap is too large for the page (more than 512² texels per page) — a note saying why, and
 // nothing else is written. Throws ahd::Error("<file>: <cause>") for an unreadable mesh.
