@@ -40,10 +40,14 @@ TEST(EngineGuide, ExamplesAreTheTestedFiles) {
   EXPECT_NE(page.find("fetch('../ahd/formats/shaders/ahd_decode.glsl')"), std::string::npos);
   EXPECT_NE(ahd_test::read_text(ahd_test::kSourceDir / "tests" / "judges" / "three_render_test.cpp").find("/page/render_check.html"),
             std::string::npos);
-  // The Godot test (GodotAddon.*) runs the project the guide shows, with the add-on it shows.
+  // The Godot test (GodotAddon.*) runs the project the guide shows, with the add-on it shows,
+  // through the shared runner (tests/support/godot_run.h: docs/examples/godot/<project>, addons/ahdpack).
   const std::string godot_test = ahd_test::read_text(ahd_test::kSourceDir / "tests" / "judges" / "godot_addon_test.cpp");
-  EXPECT_NE(godot_test.find("\"docs\" / \"examples\" / \"godot\" / \"render_check\""), std::string::npos);
-  EXPECT_NE(godot_test.find("\"addons\" / \"ahdpack\""), std::string::npos);
+  EXPECT_NE(godot_test.find("run_godot(\"render_check\""), std::string::npos);
+  EXPECT_NE(godot_test.find("files.add_addon()"), std::string::npos);
+  const std::string runner = ahd_test::read_text(ahd_test::kSourceDir / "tests" / "support" / "godot_run.h");
+  EXPECT_NE(runner.find("\"docs\" / \"examples\" / \"godot\" / project"), std::string::npos);
+  EXPECT_NE(runner.find("\"addons\" / \"ahdpack\""), std::string::npos);
 }
 
 // The add-on's Godot include carries the GLSL decode's functions verbatim (the Godot test renders
