@@ -156,9 +156,9 @@ std::optional<std::vector<OutputFile>> ConversionCache::lookup_hashed(const std:
     for (const Item& it : items) {
       OutputFile o{it.name, std::vector<uint8_t>(size_t(it.size))};
       const size_t from_head = size_t(std::min<uint64_t>(in_head, it.size));
-      std::memcpy(o.bytes.data(), head.data() + pos, from_head);
+      if (from_head) std::memcpy(o.bytes.data(), head.data() + pos, from_head);  // an empty file has no data()
       pos += from_head, in_head -= from_head;
-      f.read(o.bytes.data() + from_head, o.bytes.size() - from_head);
+      if (o.bytes.size() > from_head) f.read(o.bytes.data() + from_head, o.bytes.size() - from_head);
       std::string sha = sha256_hex(o.bytes.data(), o.bytes.size());
       if (sha != it.sha) {
         sha256->clear();
