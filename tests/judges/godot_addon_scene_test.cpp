@@ -94,25 +94,14 @@ TEST(GodotAddonScene, VermilionInGodotMatchesThreeJs) {
   // sources: Godot's Compatibility renderer's approximate sRGB decode + encode around its 8-bit
   // output (tests/tools/godot/README.md, its traps), and the two rasterisers' edges (a pixel
   // whose centre falls on the other side of an edge: up to the full contrast there).
-  std::vector<int> d;
-  size_t lit_three = 0, lit_godot = 0;
-  for (size_t p = 0; p < size_t(tw) * th; ++p) {
-    const uint8_t* a = &three[p * 3];
-    const uint8_t* b = &godot[p * 3];
-    const bool la = a[0] + a[1] + a[2] > 24, lb = b[0] + b[1] + b[2] > 24;
-    lit_three += la, lit_godot += lb;
-    if (la || lb)
-      for (int c = 0; c < 3; ++c) d.push_back(std::abs(int(a[c]) - int(b[c])));
-  }
-  ASSERT_FALSE(d.empty());
-  double mean = 0;
-  for (int v : d) mean += v;
-  mean /= double(d.size());
-  std::sort(d.begin(), d.end());
-  const auto q = [&](double f) { return d[size_t(f * double(d.size() - 1))]; };
+  const ahd_test::Rgb8Difference diff = ahd_test::rgb8_difference(three, godot, size_t(tw) * th, false);
+  ASSERT_FALSE(diff.d.empty());
+  const size_t lit_three = diff.lit_a, lit_godot = diff.lit_b;
+  const double mean = diff.mean();
+  const auto q = [&](double f) { return diff.quantile(f); };
   std::printf("Godot vs three.js (%dx%d, %zu/%zu lit pixels): |difference| over lit pixels mean %.2f, p50 %d, p90 %d, "
               "p99 %d, max %d (of 255)\n",
-              tw, th, lit_godot, lit_three, mean, q(0.5), q(0.9), q(0.99), d.back());
+              tw, th, lit_godot, lit_three, mean, q(0.5), q(0.9), q(0.99), diff.d.back());
   EXPECT_GT(double(lit_godot), 0.15 * tw * th);
   // Fewer pixels pass 8/255 in Godot: its output crushes the darkest values (k/255 for k < 8 reads
   // back 0; tests/tools/godot/README.md), so near-black pixels fall under the threshold (measured 6.9 % fewer).

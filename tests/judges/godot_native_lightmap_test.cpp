@@ -103,27 +103,14 @@ TEST(GodotAddonScene, VermilionNativeLightmapGiMatchesTheAddOn) {
   ASSERT_EQ(nh, ah);
   // Over the pixels lit (sum > 24/255) in either image and not clipped (< 250) in both: the
   // per-channel differences and the ratio of the sums (a scale between the two paths shows there).
-  std::vector<int> d;
-  size_t lit_native = 0, lit_addon = 0;
-  double sum_n = 0, sum_a = 0;
-  for (size_t p = 0; p < size_t(nw) * nh; ++p) {
-    const uint8_t* a = &nat[p * 3];
-    const uint8_t* b = &add[p * 3];
-    const bool la = a[0] + a[1] + a[2] > 24, lb = b[0] + b[1] + b[2] > 24;
-    lit_native += la, lit_addon += lb;
-    if (!(la || lb)) continue;
-    if (*std::max_element(a, a + 3) >= 250 || *std::max_element(b, b + 3) >= 250) continue;
-    for (int c = 0; c < 3; ++c) d.push_back(std::abs(int(a[c]) - int(b[c]))), sum_n += a[c], sum_a += b[c];
-  }
-  ASSERT_FALSE(d.empty());
-  double mean = 0;
-  for (int v : d) mean += v;
-  mean /= double(d.size());
-  std::sort(d.begin(), d.end());
-  const auto q = [&](double f) { return d[size_t(f * double(d.size() - 1))]; };
+  const ahd_test::Rgb8Difference diff = ahd_test::rgb8_difference(nat, add, size_t(nw) * nh, true);
+  ASSERT_FALSE(diff.d.empty());
+  const size_t lit_native = diff.lit_a, lit_addon = diff.lit_b;
+  const double sum_n = diff.sum_a, sum_a = diff.sum_b, mean = diff.mean();
+  const auto q = [&](double f) { return diff.quantile(f); };
   std::printf("Godot LightmapGI vs the add-on (%dx%d, %zu/%zu lit pixels, sum ratio native/add-on %.4f): |difference| "
               "mean %.2f, p50 %d, p90 %d, p99 %d, max %d (of 255)\n",
-              nw, nh, lit_native, lit_addon, sum_n / sum_a, mean, q(0.5), q(0.9), q(0.99), d.back());
+              nw, nh, lit_native, lit_addon, sum_n / sum_a, mean, q(0.5), q(0.9), q(0.99), diff.d.back());
   // Measured (2026-12-04): 55 971 / 56 164 lit pixels of 172 800, sum ratio 0.9989, mean 0.15,
   // p50 0, p90 0, p99 2, max 67 (a pixel on an edge). Before the add-on wrote its emission for the
   // Compatibility renderer's sRGB decode (ahd_compat_encode), the add-on's image was about 20x darker in the mid-tones.

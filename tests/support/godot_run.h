@@ -4,7 +4,9 @@
 #pragma once
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
 #include <cstdint>
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <utility>
@@ -65,6 +67,37 @@ inline std::vector<uint8_t> read_rgb8(const std::filesystem::path& p, int* w, in
   std::vector<uint8_t> px(size_t(s.width) * s.height * 3);
   if (!in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, px.data())) return {};
   return px;
+}
+
+// Two 8-bit RGB images of one size compared over the pixels lit (channel sum > 24) in either:
+// per-channel |a - b| sorted, the lit counts, the channel sums. With `skip_clipped`, pixels with a
+// channel ≥ 250 in either image are counted as lit but left out of the differences and sums.
+struct Rgb8Difference {
+  std::vector<int> d;  // sorted
+  size_t lit_a = 0, lit_b = 0;
+  double sum_a = 0, sum_b = 0;
+  double mean() const {
+    double m = 0;
+    for (int v : d) m += v;
+    return d.empty() ? 0 : m / double(d.size());
+  }
+  int quantile(double f) const { return d[size_t(f * double(d.size() - 1))]; }
+};
+
+inline Rgb8Difference rgb8_difference(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b, size_t pixels,
+                                      bool skip_clipped) {
+  Rgb8Difference r;
+  for (size_t p = 0; p < pixels; ++p) {
+    const uint8_t* x = &a[p * 3];
+    const uint8_t* y = &b[p * 3];
+    const bool lx = x[0] + x[1] + x[2] > 24, ly = y[0] + y[1] + y[2] > 24;
+    r.lit_a += lx, r.lit_b += ly;
+    if (!(lx || ly)) continue;
+    if (skip_clipped && (*std::max_element(x, x + 3) >= 250 || *std::max_element(y, y + 3) >= 250)) continue;
+    for (int c = 0; c < 3; ++c) r.d.push_back(std::abs(int(x[c]) - int(y[c]))), r.sum_a += x[c], r.sum_b += y[c];
+  }
+  std::sort(r.d.begin(), r.d.end());
+  return r;
 }
 
 }  // namespace ahd_test
