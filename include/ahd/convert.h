@@ -29,9 +29,9 @@ struct ConversionOptions {
   std::string profile_json;
   // The ratio plane's form; unset: the profile's (luminance unless the profile says rgb).
   std::optional<RatioForm> ratio;
-  // How d is chosen: Refined (the default) picks it on each texel's 3×3 window for the lowest
-  // hemisphere error, which tracks real, noisy bakes best (docs/accuracy-real-lighting.md); Linear
-  // is the paper's choice, about a third of the fit's time.
+  // How d is chosen: Refined (the default) picks, texel by texel, the d and ratio of lowest
+  // hemisphere error, which tracks path-traced lighting best, noisy bakes included
+  // (docs/accuracy-real-lighting.md); Linear is the paper's choice, about a third of the fit's time.
   DirectionFit direction_fit = DirectionFit::Refined;
   Bc6hQuality bc6h_quality = Bc6hQuality::Default;  // for profiles with BC6H planes
   int threads = 0;            // worker threads, 0 = all hardware threads

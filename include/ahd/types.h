@@ -49,8 +49,8 @@ enum class RatioForm : uint8_t { Luminance, Rgb };
 
 // How the fit chooses d (and, in the luminance form, the ratio): Linear — the optimal linear
 // direction of the luminance L1 band (the paper's choice); Refined — the direction and the one ratio
-// that minimise the constrained fit's hemisphere error, d chosen on each texel's 3×3 window (the
-// default: more accurate on real bakes, about 3× the linear fit's time; docs/accuracy-real-lighting.md).
+// that minimise the constrained fit's hemisphere error, texel by texel (the default: more accurate
+// against path-traced lighting, about 3× the linear fit's time; docs/accuracy-real-lighting.md).
 enum class DirectionFit : uint8_t { Linear, Refined };
 
 // Whether the direction and ratio planes are written. Auto drops them when decoding I_z alone stays

@@ -34,10 +34,17 @@ import mathutils
 import numpy as np
 
 
+# The scenes (docs/accuracy-real-lighting.md "The corpus"): the room lit by an area light or a sun
+# through a window; a Cornell box (open front) with a ceiling area light or a sun and sky through
+# its open side; the room lit by several small coloured lamps; the room lit only by emissive
+# surfaces with saturated walls (coloured bounce).
+SCENES = ["area", "sun", "cornell_area", "cornell_sun", "lamps", "emissive"]
+
+
 def args():
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
     p = argparse.ArgumentParser()
-    p.add_argument("--scene", choices=["area", "sun"], required=True)
+    p.add_argument("--scene", choices=SCENES, required=True)
     p.add_argument("--out", required=True)
     p.add_argument("--size", type=int, default=64)
     p.add_argument("--samples", type=int, default=128)
@@ -57,7 +64,7 @@ def tangent_normals(count, min_z):
     return out
 
 
-def material(name, albedo):
+def material(name, albedo, emission=None, strength=0.0):
     mat = bpy.data.materials.new(name)
     mat.use_nodes = True
     nt = mat.node_tree
@@ -74,7 +81,16 @@ def material(name, albedo):
     nt.links.new(path.outputs["Is Camera Ray"], mix.inputs["Fac"])
     nt.links.new(other.outputs[0], mix.inputs[1])
     nt.links.new(seen.outputs[0], mix.inputs[2])
-    nt.links.new(mix.outputs[0], out.inputs["Surface"])
+    if emission is None:
+        nt.links.new(mix.outputs[0], out.inputs["Surface"])
+        return mat
+    em = nt.nodes.new("ShaderNodeEmission")  # lights the others; a DIFFUSE bake leaves it out
+    em.inputs["Color"].default_value = (*emission, 1.0)
+    em.inputs["Strength"].default_value = strength
+    add = nt.nodes.new("ShaderNodeAddShader")
+    nt.links.new(mix.outputs[0], add.inputs[0])
+    nt.links.new(em.outputs[0], add.inputs[1])
+    nt.links.new(add.outputs[0], out.inputs["Surface"])
     return mat
 
 
@@ -107,10 +123,90 @@ def add_box(verts, faces, mats, lo, hi, mat, cuts):
         add_quad(verts, faces, mats, q, mat, cuts)
 
 
+def add_turned_box(verts, faces, mats, centre, size, angle, mat, cuts):
+    """A box standing on z = 0, turned by angle (radians) about its vertical axis."""
+    cx, cy = centre
+    sx, sy, sz = size
+    ca, sa = math.cos(angle), math.sin(angle)
+
+    def p(x, y, z):
+        return (cx + ca * x - sa * y, cy + sa * x + ca * y, z)
+    x0, x1, y0, y1 = -sx / 2, sx / 2, -sy / 2, sy / 2
+    quads = [
+        [p(x0, y0, sz), p(x1, y0, sz), p(x1, y1, sz), p(x0, y1, sz)],
+        [p(x0, y0, 0), p(x1, y0, 0), p(x1, y0, sz), p(x0, y0, sz)],
+        [p(x1, y1, 0), p(x0, y1, 0), p(x0, y1, sz), p(x1, y1, sz)],
+        [p(x0, y1, 0), p(x0, y0, 0), p(x0, y0, sz), p(x0, y1, sz)],
+        [p(x1, y0, 0), p(x1, y1, 0), p(x1, y1, sz), p(x1, y0, sz)],
+    ]
+    for q in quads:
+        add_quad(verts, faces, mats, q, mat, cuts)
+
+
+def finish_mesh(verts, faces, fmat, mats):
+    me = bpy.data.meshes.new("room")
+    me.from_pydata(verts, [], faces)
+    for m in mats:
+        me.materials.append(m)
+    for p, m in zip(me.polygons, fmat):
+        p.material_index = m
+        p.use_smooth = True
+    me.use_auto_smooth = True
+    me.auto_smooth_angle = math.radians(30)
+    ob = bpy.data.objects.new("room", me)
+    bpy.context.scene.collection.objects.link(ob)
+    return ob
+
+
+def set_world(sky):
+    world = bpy.data.worlds.new("world")
+    world.color = sky
+    bpy.context.scene.world = world
+
+
+def build_cornell(kind):
+    """A Cornell box 2 x 2 x 2 (Z up, open at -y), red left and green right walls, a tall and a
+    short box turned; a ceiling area light, or a low sun and a blue sky through the open side."""
+    mats = [material("white", (0.73, 0.73, 0.73)), material("red", (0.63, 0.065, 0.05)),
+            material("green", (0.14, 0.45, 0.09))]
+    verts, faces, fmat = [], [], []
+    W, H, cuts = 1.0, 2.0, 6
+    add_quad(verts, faces, fmat, [(-W, -W, 0), (W, -W, 0), (W, W, 0), (-W, W, 0)], 0, cuts)   # floor
+    add_quad(verts, faces, fmat, [(-W, W, H), (W, W, H), (W, -W, H), (-W, -W, H)], 0, cuts)   # ceiling
+    add_quad(verts, faces, fmat, [(-W, W, 0), (-W, -W, 0), (-W, -W, H), (-W, W, H)], 1, cuts)  # -x red
+    add_quad(verts, faces, fmat, [(W, -W, 0), (W, W, 0), (W, W, H), (W, -W, H)], 2, cuts)      # +x green
+    add_quad(verts, faces, fmat, [(W, W, 0), (-W, W, 0), (-W, W, H), (W, W, H)], 0, cuts)      # +y back
+    add_turned_box(verts, faces, fmat, (-0.35, 0.35), (0.6, 0.6, 1.2), math.radians(17), 0, 3)
+    add_turned_box(verts, faces, fmat, (0.37, -0.3), (0.6, 0.6, 0.6), math.radians(-18), 0, 3)
+    ob = finish_mesh(verts, faces, fmat, mats)
+    if kind == "cornell_sun":
+        bpy.ops.object.light_add(type="SUN", rotation=(math.radians(62), 0, math.radians(-25)))
+        bpy.context.active_object.data.energy = 5.0
+        bpy.context.active_object.data.angle = math.radians(0.5)
+        set_world((0.15, 0.22, 0.4))
+    else:
+        bpy.ops.object.light_add(type="AREA", location=(0.0, 0.0, H - 0.005))
+        bpy.context.active_object.data.size = 0.5
+        bpy.context.active_object.data.energy = 60.0
+        set_world((0.0, 0.0, 0.0))
+    return ob
+
+
 def build_scene(kind):
+    if kind.startswith("cornell"):
+        return build_cornell(kind)
+    return build_room(kind)
+
+
+def build_room(kind):
     """The room (4 x 4 x 2.5, Z up, inward faces), two boxes, and the scene's light."""
     mats = [material("white", (0.8, 0.8, 0.8)), material("red", (0.8, 0.12, 0.1)),
             material("green", (0.12, 0.7, 0.15))]
+    if kind == "emissive":  # saturated walls for coloured bounce, two glowing surfaces
+        mats = [material("orange", (0.85, 0.45, 0.1)), material("blue", (0.1, 0.2, 0.8)),
+                material("magenta", (0.7, 0.1, 0.6)), material("white", (0.8, 0.8, 0.8)),
+                material("strip", (0.8, 0.8, 0.8), (1.0, 0.85, 0.6), 12.0),
+                material("glow", (0.8, 0.8, 0.8), (0.2, 0.9, 1.0), 6.0)]
     verts, faces, fmat = [], [], []
     W, H, cuts = 2.0, 2.5, 8
     add_quad(verts, faces, fmat, [(-W, -W, 0), (W, -W, 0), (W, W, 0), (-W, W, 0)], 0, cuts)   # floor
@@ -128,17 +224,25 @@ def build_scene(kind):
         add_quad(verts, faces, fmat, [(-W, -W, 0), (W, -W, 0), (W, -W, H), (-W, -W, H)], 0, cuts)
     add_box(verts, faces, fmat, (-1.2, -0.2, 0), (-0.2, 0.8, 1.4), 0, 4)
     add_box(verts, faces, fmat, (0.3, -1.0, 0), (1.1, -0.2, 0.7), 0, 4)
-    me = bpy.data.meshes.new("room")
-    me.from_pydata(verts, [], faces)
-    for m in mats:
-        me.materials.append(m)
-    for p, m in zip(me.polygons, fmat):
-        p.material_index = m
-        p.use_smooth = True
-    me.use_auto_smooth = True
-    me.auto_smooth_angle = math.radians(30)
-    ob = bpy.data.objects.new("room", me)
-    bpy.context.scene.collection.objects.link(ob)
+    if kind == "emissive":  # a glowing strip high on the back wall and a glowing cube on the floor
+        add_quad(verts, faces, fmat, [(0.9, W - 0.02, 1.9), (-0.9, W - 0.02, 1.9), (-0.9, W - 0.02, 2.1),
+                                      (0.9, W - 0.02, 2.1)], 4, 1)
+        add_box(verts, faces, fmat, (0.9, 0.6, 0), (1.3, 1.0, 0.4), 5, 2)
+        fmat[:] = [{0: 3, 1: 1, 2: 2}.get(m, m) if i < 6 * cuts * cuts else m for i, m in enumerate(fmat)]
+        fmat[:cuts * cuts] = [0] * (cuts * cuts)  # the floor orange
+    ob = finish_mesh(verts, faces, fmat, mats)
+    if kind == "lamps":  # four small lamps of different colours and heights (sharp shadows)
+        for loc, col, watts in [((-1.4, -1.3, 0.5), (1.0, 0.55, 0.25), 40.0), ((1.5, 1.2, 2.1), (0.35, 0.5, 1.0), 70.0),
+                                ((0.8, -1.5, 1.5), (0.5, 1.0, 0.45), 25.0), ((-0.6, 1.4, 2.3), (1.0, 1.0, 1.0), 50.0)]:
+            bpy.ops.object.light_add(type="POINT", location=loc)
+            bpy.context.active_object.data.energy = watts
+            bpy.context.active_object.data.color = col
+            bpy.context.active_object.data.shadow_soft_size = 0.03
+        set_world((0.0, 0.0, 0.0))
+        return ob
+    if kind == "emissive":
+        set_world((0.0, 0.0, 0.0))
+        return ob
     if kind == "sun":
         bpy.ops.object.light_add(type="SUN", rotation=(math.radians(55), 0, math.radians(20)))
         bpy.context.active_object.data.energy = 4.0

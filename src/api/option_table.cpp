@@ -224,9 +224,9 @@ std::vector<OptionRow> make_table() {
   t.push_back(enum_option(
       "direction_fit", &CO::direction_fit, &ahd_options::direction_fit, kDirectionFits,
       {.flag = "--direction-fit",
-       .help = "d and luminance ratio: refined (default: lowest hemisphere error on a 3x3 window) or linear (the paper's)",
+       .help = "d and luminance ratio: refined (default: lowest hemisphere error, per texel) or linear (the paper's)",
        .fit_only = true,
-       .doc = "d and the luminance ratio for the lowest hemisphere error on each texel's 3×3 window; `Linear` is the "
+       .doc = "d and the luminance ratio for the lowest hemisphere error, texel by texel; `Linear` is the "
               "paper's direction ([fit.md](fit.md))"}));
   t.push_back(enum_option("bc6h_quality", &CO::bc6h_quality, &ahd_options::bc6h_quality, kBc6hQualities,
                           {.flag = "--quality",

@@ -21,7 +21,7 @@
 namespace ahd {
 
 // Raise when the fields below, or the bytes the same inputs give, change without a version bump.
-inline constexpr int kKeyFormat = 2;  // 2: manifests list a placed scene's instances; plain maps keep their scale
+inline constexpr int kKeyFormat = 3;  // 3: refined d per texel (issue 43); 2: manifests list instances; plain maps keep their scale
 
 // The text the key hashes, one "field value" per line: conversion_options_text, then
 // input_files_text of the files read. Reads every recorded file again to hash it; throws

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <zstd.h>
 
 #include "core/error.h"
 #include "sh/sh.h"
@@ -70,7 +71,19 @@ TruthSet load_truth_set(const std::string& dir) {
     throw file_error(jpath, std::string("malformed: ") + e.what());
   }
   const size_t n3 = t.texels() * 3, planes = count + 3;
-  const std::string raw = read_small_file(bpath, planes * n3 * 2);
+  // truth.bin, or truth.bin.zst (zstd: the larger bakes are committed compressed).
+  std::string raw;
+  std::error_code ec;
+  if (!std::filesystem::exists(bpath, ec) && std::filesystem::exists(bpath + ".zst", ec)) {
+    const std::string zpath = bpath + ".zst";
+    const std::string z = read_small_file(zpath, planes * n3 * 2 + (1 << 20));
+    raw.resize(planes * n3 * 2);
+    const size_t got = ZSTD_decompress(raw.data(), raw.size(), z.data(), z.size());
+    if (ZSTD_isError(got)) throw file_error(zpath, std::string("not a zstd frame of truth.bin (") + ZSTD_getErrorName(got) + ")");
+    if (got != raw.size()) throw file_error(zpath, "size does not match truth.json");
+  } else {
+    raw = read_small_file(bpath, planes * n3 * 2);
+  }
   if (raw.size() != planes * n3 * 2) throw file_error(bpath, "size does not match truth.json");
   std::vector<Imath::half> bin(planes * n3);
   std::memcpy(bin.data(), raw.data(), raw.size());  // little-endian halves (the script writes <f2)

@@ -6,8 +6,9 @@
 
 namespace ahd {
 
-// Reads DIR/truth.json and DIR/truth.bin (the script's format, version 1). Throws ahd::Error naming
-// the file on anything malformed; sizes are checked against the file before any allocation.
+// Reads DIR/truth.json and DIR/truth.bin (or truth.bin.zst: the same bytes, zstd-compressed; the
+// script's format, version 1). Throws ahd::Error naming the file on anything malformed; sizes are
+// checked against the file before any allocation.
 TruthSet load_truth_set(const std::string& dir);
 
 }  // namespace ahd

@@ -142,6 +142,37 @@ TruthErrors truth_errors(const TruthSet& t, const TruthEval& eval) {
   return {num / den, bnum / bden};
 }
 
+TruthPairEval mean_of_pair(const TruthEval& eval) {
+  return [eval](size_t i, size_t j, const double n[3], double out[3]) {
+    double a[3], b[3];
+    eval(i, n, a);
+    eval(j, n, b);
+    for (int c = 0; c < 3; ++c) out[c] = 0.5 * (a[c] + b[c]);
+  };
+}
+
+double truth_between_error(const TruthSet& t, const TruthPairEval& eval) {
+  double num = 0, den = 0;
+  const size_t w = size_t(t.width);
+  for (size_t i = 0; i < t.texels(); ++i) {
+    if (!t.coverage[i]) continue;
+    const size_t x = i % w;
+    for (const size_t j : {x + 1 < w ? i + 1 : i, i + w < t.texels() ? i + w : i}) {
+      if (j == i || !t.coverage[j]) continue;
+      for (size_t k = 0; k < t.normals.size(); ++k) {
+        if (!t.held_out[k]) continue;
+        double out[3];
+        eval(i, j, t.normals[k].data(), out);
+        for (int c = 0; c < 3; ++c) {
+          const double e = 0.5 * (t.e[k][i * 3 + c] + t.e[k][j * 3 + c]);
+          num += std::fabs(out[c] - e), den += std::fabs(e);
+        }
+      }
+    }
+  }
+  return den > 0 ? num / den : 0.0;
+}
+
 AhdImage searched_direction_fit(const ShImage& sh, const FitOptions& opt, int count) {
   AhdImage a = make_ahd_image(sh.width, sh.height, opt.ratio_form == RatioForm::Luminance);
   a.coverage = sh.coverage;

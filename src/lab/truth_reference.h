@@ -45,6 +45,17 @@ struct TruthErrors {
 };
 TruthErrors truth_errors(const TruthSet& t, const TruthEval& eval);
 
+// What a representation shows halfway between two adjacent texels i and j (a GPU's bilinear filter
+// there: the stored planes averaged, then decoded), for the tangent-space unit normal n.
+using TruthPairEval = std::function<void(size_t i, size_t j, const double n[3], double out[3])>;
+// A linear representation's pair: the mean of its two texels' values.
+TruthPairEval mean_of_pair(const TruthEval& eval);
+// Relative L1 error Σ|I − E| / Σ|E| halfway between every two horizontally or vertically adjacent
+// covered texels, at the held-out normals, against the mean of the two texels' path-traced values
+// (the lighting between texel centres as a bilinear lightmap would hold it): what filtering the
+// stored planes costs, which the texel-centre errors do not see.
+double truth_between_error(const TruthSet& t, const TruthPairEval& eval);
+
 // The constrained AHD with d searched per texel (the reference a direction choice is judged by):
 // of `count` directions (Fibonacci over the hemisphere, horizon rule applied) the one with the
 // lowest constrained hemisphere error against the SH, colours by fit_colours (I_z exact, C ≥ 0;

@@ -21,7 +21,9 @@
 namespace ahd {
 namespace {
 
-const char* const kScenes[] = {"area", "sun"};
+// The corpus (scripts/truth/bake_corpus.sh): the fit's choices were tuned on "area" and "sun"; the
+// others are held out (docs/accuracy-real-lighting.md "The corpus").
+const char* const kScenes[] = {"area", "sun", "cornell_area", "cornell_sun", "lamps", "emissive", "cornell_sun_256", "lamps_256"};
 
 std::string scene_dir(const char* name) { return ahd_test::test_data(std::string("truth/") + name).string(); }
 
@@ -54,10 +56,29 @@ TEST(Truth, TheBakerSHReproducesTheTrainingNormals) {
   }
 }
 
+TruthPairEval fit_pair_eval(const AhdImage& a) {
+  return [&a](size_t i, size_t j, const double n[3], double out[3]) {
+    const AhdFit f = a.texel(i), g = a.texel(j);
+    float iz[3], d[3], r[3];
+    for (int c = 0; c < 3; ++c)
+      iz[c] = 0.5f * (f.iz[c] + g.iz[c]), d[c] = 0.5f * (f.d[c] + g.d[c]), r[c] = 0.5f * (f.ratio[c] + g.ratio[c]);
+    decode_irradiance(iz, d, r, n, FitOptions{}.dz_min, out);
+  };
+}
+
 TEST(Truth, DefaultConversionIsWithinFivePercentOfTheSearchedDirection) {
   for (const char* name : kScenes) {
     const TruthSet t = load_truth_set(scene_dir(name));
     const ShImage sh = baker_sh(t, 9, 0);
+    ShImage l1 = make_sh_image(t.width, t.height, 4);
+    l1.coverage = sh.coverage;
+    for (size_t i = 0; i < t.texels(); ++i)
+      for (int k = 0; k < 12; ++k) l1.texel(i)[k] = sh.texel(i)[k];
+    const double l1_error = truth_errors(t, [&l1](size_t i, const double n[3], double out[3]) {
+                              IrradiancePoly q[3];
+                              local_polys(l1, i, q);
+                              for (int c = 0; c < 3; ++c) out[c] = eval_irradiance(q[c], n);
+                            }).held_out;
     ConversionOptions co;
     co.profile = "pc-bc";
     const ResolvedOptions defaults_all = resolve_options(co, "truth");
@@ -75,14 +96,15 @@ TEST(Truth, DefaultConversionIsWithinFivePercentOfTheSearchedDirection) {
                           decode_irradiance(&p.iz[i * 3], &p.d[i * 3], &p.ratio[i * 3], n, FitOptions{}.dz_min, out);
                         }).held_out;
     EXPECT_LE(ours, 1.05 * reference) << name << ": default pc-bc " << ours << ", searched d " << reference;
+    EXPECT_LT(ours, l1_error) << name << ": default pc-bc " << ours << ", float L1 SH " << l1_error;
 
-    // The fitted planes before quantisation: I_z exact, and neighbour directions no less coherent
-    // than the linear fit's.
+    // The fitted planes before quantisation: I_z exact, and halfway between texels (the planes
+    // filtered, where neighbouring directions may differ) no worse than the linear fit's.
     const AhdImage fit = fit_image(sh, defaults, 0);
     FitOptions linear = defaults;
     linear.direction_fit = DirectionFit::Linear;
     const AhdImage lin = fit_image(sh, linear, 0);
-    EXPECT_LE(direction_p99_angle_deg(fit), direction_p99_angle_deg(lin)) << name;
+    EXPECT_LE(truth_between_error(t, fit_pair_eval(fit)), truth_between_error(t, fit_pair_eval(lin))) << name;
     double worst = 0;
     for (size_t i = 0; i < t.texels(); ++i) {
       if (!sh.coverage[i]) continue;

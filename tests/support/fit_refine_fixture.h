@@ -10,13 +10,15 @@
 #include "sh/sh_image.h"
 
 namespace ahd::fit_refine_fixture {
-// Issue 18's refined fit, each texel's d chosen on its own SH (direction_window 0): what these tests
-// pin down. The windowed fit (issue 27) has its own tests (FitWindow.*).
+// Issue 18's refined fit, each texel's d chosen on its own SH (direction_window 0), with its pair
+// guard at 4° (off by default since issue 43, still an option): what these tests pin down. The
+// windowed fit (issue 27) has its own tests (FitWindow.*).
 inline FitOptions options(RatioForm form, DirectionFit dir) {
   FitOptions o;
   o.ratio_form = form;
   o.direction_fit = dir;
   o.direction_window = 0;
+  o.pair_guard_deg = 4.0;
   return o;
 }
 

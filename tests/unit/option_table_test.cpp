@@ -43,9 +43,10 @@ std::vector<const OptionRow*> rows_in_c_order() {
 }  // namespace
 
 // The key of today's default options, byte for byte as the table was introduced but for the format
-// line (kKeyFormat 2: the same inputs give other bytes since the instances and plain scale).
+// line (kKeyFormat 3: the same inputs give other bytes since the instances and plain scale (2) and
+// the per-texel refined d (3)).
 TEST(OptionTable, KeyTextOfTheDefaultsIsUnchanged) {
-  const std::string want = std::string("ahdpack-conversion-key 2\nversion ") + AHD_VERSION_STRING +
+  const std::string want = std::string("ahdpack-conversion-key 3\nversion ") + AHD_VERSION_STRING +
                            "\nname s\ncontainer ktx2\nprofile uncompressed\n"
                            "profile_json e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855\n"
                            "ratio profile\ndirection_fit 1\nbc6h_quality 1\neps 0.050000000000000003\nclosed_loop 1\n"

@@ -53,6 +53,32 @@ Eval ahd_eval(const AhdImage& a, double dz_min) {
   };
 }
 
+// The planes halfway between texels i and j: each plane averaged (d unnormalised: decode_irradiance
+// normalises it, as the shaders do after the filter).
+void mid_planes(const float* iz, const float* d, const float* r, size_t i, size_t j, size_t rs, float m[9]) {
+  for (int c = 0; c < 3; ++c) {
+    m[c] = 0.5f * (iz[i * 3 + c] + iz[j * 3 + c]);
+    m[3 + c] = 0.5f * (d[i * 3 + c] + d[j * 3 + c]);
+    m[6 + c] = 0.5f * (r[i * rs + (rs == 3 ? c : 0)] + r[j * rs + (rs == 3 ? c : 0)]);
+  }
+}
+
+TruthPairEval ahd_pair_eval(const AhdImage& a, double dz_min) {
+  return [&a, dz_min](size_t i, size_t j, const double n[3], double out[3]) {
+    float m[9];
+    mid_planes(a.iz.data(), a.d.data(), a.ratio.data(), i, j, a.one_ratio ? 1 : 3, m);
+    decode_irradiance(m, m + 3, m + 6, n, dz_min, out);
+  };
+}
+
+TruthPairEval planes_pair_eval(const DecodedPlanes& p, double dz_min) {
+  return [&p, dz_min](size_t i, size_t j, const double n[3], double out[3]) {
+    float m[9];
+    mid_planes(p.iz.data(), p.d.data(), p.ratio.data(), i, j, 3, m);
+    decode_irradiance(m, m + 3, m + 6, n, dz_min, out);
+  };
+}
+
 Eval planes_eval(const DecodedPlanes& p, double dz_min) {
   return [&p, dz_min](size_t i, const double n[3], double out[3]) {
     decode_irradiance(&p.iz[i * 3], &p.d[i * 3], &p.ratio[i * 3], n, dz_min, out);
@@ -70,19 +96,22 @@ struct Row {
   double bytes;
   TruthErrors err;
   double p99 = -1;
+  double between = -1;  // truth_between_error, where the representation filters as planes or SH
 };
 
 void print_rows(const TruthSet& t, const std::vector<Row>& rows) {
   std::printf("\n%s (%d² texels, %zu held-out normals):\n\n", t.name.c_str(), t.width,
               size_t(std::count(t.held_out.begin(), t.held_out.end(), 1)));
-  std::printf("| representation | bytes/texel (level 0) | held-out normals | normal-mapped | neighbour angle p99 (°) |\n|---|---|---|---|---|\n");
+  std::printf("| representation | bytes/texel (level 0) | held-out normals | normal-mapped | between texels | neighbour angle p99 (°) |\n|---|---|---|---|---|---|\n");
   for (const Row& r : rows) {
-    std::printf("| %s | %s | %.4f | %.4f | %s |\n", r.name.c_str(), r.bytes > 0 ? std::to_string(r.bytes).substr(0, 5).c_str() : "—",
-                r.err.held_out, r.err.bumped, r.p99 >= 0 ? std::to_string(r.p99).substr(0, 5).c_str() : "–");
+    std::printf("| %s | %s | %.4f | %.4f | %s | %s |\n", r.name.c_str(), r.bytes > 0 ? std::to_string(r.bytes).substr(0, 5).c_str() : "—",
+                r.err.held_out, r.err.bumped, r.between >= 0 ? std::to_string(r.between).substr(0, 6).c_str() : "–",
+                r.p99 >= 0 ? std::to_string(r.p99).substr(0, 5).c_str() : "–");
   }
 }
 
-void report_truth(const std::vector<std::string>& dirs, const std::vector<std::string>& profiles, int search, double guard) {
+void report_truth(const std::vector<std::string>& dirs, const std::vector<std::string>& profiles, int search, double guard,
+                  int window, double coherence) {
   for (const std::string& dir : dirs) {
     const TruthSet t = load_truth_set(dir);
     const ShImage l2 = baker_sh(t, 9, 0);
@@ -91,9 +120,11 @@ void report_truth(const std::vector<std::string>& dirs, const std::vector<std::s
     for (size_t i = 0; i < t.texels(); ++i)
       for (int k = 0; k < 12; ++k) l1.texel(i)[k] = l2.texel(i)[k];
     std::vector<Row> rows;
-    rows.push_back({"L2 SH, float", 108, truth_errors(t, sh_eval(l2))});
-    rows.push_back({"L1 SH (the same SH truncated), float", 48, truth_errors(t, sh_eval(l1))});
-    rows.push_back({"plain lightmap (I_z only), float", 0, truth_errors(t, plain_eval(l2))});
+    rows.push_back({"L2 SH, float", 108, truth_errors(t, sh_eval(l2)), -1, truth_between_error(t, mean_of_pair(sh_eval(l2)))});
+    rows.push_back({"L1 SH (the same SH truncated), float", 48, truth_errors(t, sh_eval(l1)), -1,
+                    truth_between_error(t, mean_of_pair(sh_eval(l1)))});
+    rows.push_back({"plain lightmap (I_z only), float", 0, truth_errors(t, plain_eval(l2)), -1,
+                    truth_between_error(t, mean_of_pair(plain_eval(l2)))});
     // The bakers' own directional formats from the same SH's L1 part, at their shipped bytes.
     for (bool q : {false, true}) {
       for (const BakerFormatEval& f : baker_formats(l2, q))
@@ -101,29 +132,36 @@ void report_truth(const std::vector<std::string>& dirs, const std::vector<std::s
     }
     FitOptions lum;
     lum.pair_guard_deg = guard;
+    if (window >= 0) lum.direction_window = window;
+    if (coherence >= 0) lum.coherence_tolerance = coherence;
     for (const EnumName<DirectionFit>& df : kDirectionFits) {
       FitOptions o = lum;
       o.direction_fit = df.value;
       const AhdImage a = fit_image(l2, o, 0);
       rows.push_back({std::string("AHD float, ") + df.name + " d", 0,
-                      truth_errors(t, ahd_eval(a, o.dz_min)), direction_p99_angle_deg(a)});
+                      truth_errors(t, ahd_eval(a, o.dz_min)), direction_p99_angle_deg(a),
+                      truth_between_error(t, ahd_pair_eval(a, o.dz_min))});
     }
     const AhdImage bf = searched_direction_fit(l2, lum, search);
     rows.push_back({"constrained AHD float, d searched per texel (" + std::to_string(search) + " directions)", 0,
-                    truth_errors(t, ahd_eval(bf, lum.dz_min)), direction_p99_angle_deg(bf)});
+                    truth_errors(t, ahd_eval(bf, lum.dz_min)), direction_p99_angle_deg(bf),
+                    truth_between_error(t, ahd_pair_eval(bf, lum.dz_min))});
     for (const std::string& name : profiles) {
       for (const EnumName<DirectionFit>& df : kDirectionFits) {
         const Profile prof = load_profile(name);
         PipelineOptions opt;
         opt.fit.direction_fit = df.value;
         opt.fit.pair_guard_deg = guard;
+        if (window >= 0) opt.fit.direction_window = window;
+        if (coherence >= 0) opt.fit.coherence_tolerance = coherence;
         opt.fit.ratio_form = prof.ratio_rgb ? RatioForm::Rgb : RatioForm::Luminance;
         opt.max_levels = 1;
         opt.direction = DirectionPlanes::Keep;
         const PipelineResult r = run_conversion(l2, prof, opt);
         const DecodedPlanes p = decode_planes(r.planes, prof.ratio_rgb, 0);
         rows.push_back({"ahdpack " + name + ", " + df.name + " d",
-                        level0_bytes_per_texel(r), truth_errors(t, planes_eval(p, opt.fit.dz_min))});
+                        level0_bytes_per_texel(r), truth_errors(t, planes_eval(p, opt.fit.dz_min)), -1,
+                        truth_between_error(t, planes_pair_eval(p, opt.fit.dz_min))});
       }
     }
     print_rows(t, rows);
@@ -142,7 +180,13 @@ void add_report_truth_command(CLI::App* report) {
   c->add_option("--profiles", *profiles, "Profiles to convert with");
   c->add_option("--search", *search, "Directions of the per-texel brute-force search")->check(CLI::Range(1, 100000));
   c->add_option("--guard", *guard, "Refined: pair guard angle T in degrees (0 = off)")->check(CLI::Range(0.0, 90.0));
-  c->callback([dirs, profiles, search, guard]() { report_truth(*dirs, *profiles, *search, *guard); });
+  auto window = std::make_shared<int>(-1);
+  c->add_option("--window", *window, "Refined: direction window radius (default: the fit's own)")->check(CLI::Range(0, 8));
+  auto coherence = std::make_shared<double>(-1);
+  c->add_option("--coherence", *coherence, "Refined, per texel: coherence tolerance (default: the fit's own)")->check(CLI::Range(0.0, 1.0));
+  c->callback([dirs, profiles, search, guard, window, coherence]() {
+    report_truth(*dirs, *profiles, *search, *guard, *window, *coherence);
+  });
 }
 
 }  // namespace ahd::cli
