@@ -29,7 +29,33 @@ BakerFormatEval mono_sh_format(const ShImage& sh, bool quantised);
 // 4 bytes a texel); otherwise float.
 BakerFormatEval godot_l1_format(const ShImage& sh, bool quantised);
 
-// The bakers' own directional formats above, in the order `report truth` lists them.
+// Godot's LDR directional lightmap (PR #100790, open; after Frostbite's GDC 2018 "Precomputed
+// Global Illumination in Frostbite"): L0 RGB stays an HDR layer (BC6H, 1 byte a texel) and one
+// direction texture, the luminance's L1 over the luminance's L0, is saved as an 8-bit PNG and
+// imported as BC1/DXT1 RGB (0.5 bytes a texel): t = Y(L1)/(8·Y(L0)) + 0.5 clamped to [0, 1],
+// decoded like Godot's packed L1 with t shared by the channels, E_c(n) = max(0, L0_c + 8·(t − 0.5)·L0_c · n).
+// `dir_scale` 2 is PR #108405's directional texture at half the lightmap's resolution
+// (0.5 / 4 bytes a texel; baked over each 2×2 footprint, sampled bilinearly, clamp to edge).
+// Quantised: L0 in BC6H, t in 8 bits then BC1 (our encoder, codecs/bc1.h); otherwise float
+// (at dir_scale 1 the float format is MonoSH's: one shared L1, a different constant).
+BakerFormatEval godot_ldr_format(const ShImage& sh, bool quantised, int dir_scale);
+
+// Unity's Directional mode, which is Enlighten's "directional irradiance" (one dominant direction
+// for all channels): a lightmap C (the irradiance along the surface normal, as a non-directional
+// lightmap holds it) and an RGBA texture (v·0.5 + 0.5, w), decoded by Unity's
+// DecodeDirectionalLightmap: E_c(n) = C_c · (dot(n, rgb − 0.5) + 0.5) / max(1e-4, w).
+// v is the luminance's L1 over its L0 (|v| clamped to 1: the half-Lambert can hold no more), w the
+// same half-Lambert at the baking normal, so n = normal gives C back. Quantised: C in BC6H
+// (1 byte), the direction texture in RGBA8 standing in for Unity's BC7 (1 byte a texel too; 8
+// bits a channel is at least as good as BC7, so this favours the anchor); otherwise float.
+BakerFormatEval unity_directional_format(const ShImage& sh, bool quantised);
+
+// A plain (non-directional) lightmap: the irradiance along the surface normal, max(0, I_z), in
+// BC6H (unsigned, default quality), 1 byte a texel, the same at every normal.
+BakerFormatEval plain_bc6h_format(const ShImage& sh);
+
+// The bakers' own directional formats above, in the order `report truth` lists them: quantised,
+// every format at its shipped bytes; float, the ones whose float form differs from the others'.
 std::vector<BakerFormatEval> baker_formats(const ShImage& sh, bool quantised);
 
 }  // namespace ahd

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "cli/commands.h"
+#include "cli/lab/truth_plot.h"
 #include "core/option_enums.h"
 #include "lab/truth_baker_formats.h"
 #include "lab/truth_reference.h"
@@ -18,6 +19,7 @@
 #include "fit/ahd_fit.h"
 #include "fit/fit_image.h"
 #include "lab/fit_quality.h"
+#include "files/output_set.h"
 #include "files/profile_file.h"
 #include "pipeline/convert.h"
 #include "sh/sh_image.h"
@@ -82,7 +84,8 @@ void print_rows(const TruthSet& t, const std::vector<Row>& rows) {
   }
 }
 
-void report_truth(const std::vector<std::string>& dirs, const std::vector<std::string>& profiles, int search, double guard) {
+void report_truth(const std::vector<std::string>& dirs, const std::vector<std::string>& profiles, int search, double guard,
+                  const std::string& plot) {
   for (const std::string& dir : dirs) {
     const TruthSet t = load_truth_set(dir);
     const ShImage l2 = baker_sh(t, 9, 0);
@@ -127,6 +130,13 @@ void report_truth(const std::vector<std::string>& dirs, const std::vector<std::s
       }
     }
     print_rows(t, rows);
+    if (!plot.empty()) {
+      std::vector<TruthPlotRow> points;
+      for (const Row& r : rows) points.push_back({r.name, r.bytes, r.err.held_out});
+      const std::string path = truth_plot_path(plot, t.name, dirs.size());
+      write_file_atomic(path, truth_plot_svg(t.name, points));
+      std::printf("\nplot: %s\n", path.c_str());
+    }
   }
 }
 
@@ -138,11 +148,13 @@ void add_report_truth_command(CLI::App* report) {
   auto profiles = std::make_shared<std::vector<std::string>>(std::vector<std::string>{"pc-bc", "uncompressed"});
   auto search = std::make_shared<int>(300);
   auto guard = std::make_shared<double>(FitOptions{}.pair_guard_deg);
+  auto plot = std::make_shared<std::string>();
   c->add_option("DIR", *dirs, "Reference folders (truth.json + truth.bin, scripts/truth/bake_truth.py)")->required();
   c->add_option("--profiles", *profiles, "Profiles to convert with");
   c->add_option("--search", *search, "Directions of the per-texel brute-force search")->check(CLI::Range(1, 100000));
   c->add_option("--guard", *guard, "Refined: pair guard angle T in degrees (0 = off)")->check(CLI::Range(0.0, 90.0));
-  c->callback([dirs, profiles, search, guard]() { report_truth(*dirs, *profiles, *search, *guard); });
+  c->add_option("--plot", *plot, "Also plot error against bytes per texel: OUT.svg, or a folder (one SVG per scene)");
+  c->callback([dirs, profiles, search, guard, plot]() { report_truth(*dirs, *profiles, *search, *guard, *plot); });
 }
 
 }  // namespace ahd::cli
