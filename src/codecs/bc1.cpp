@@ -132,7 +132,7 @@ void bc1_decode_block_unorm8(const uint8_t block[8], uint8_t out[16 * 3]) {
       if (code == 0) v = a;
       else if (code == 1) v = b;
       else if (c0 > c1) v = code == 2 ? (2 * a + b) / 3 : (a + 2 * b) / 3;
-      else v = code == 2 ? (a + b) / 2 : 0;
+      else v = code == 2 ? (a + b + 1) / 2 : 0;
       out[i * 3 + ch] = uint8_t(v);
     }
   }

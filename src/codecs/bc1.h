@@ -19,10 +19,11 @@ void bc1_palette(uint16_t color0, uint16_t color1, float palette[4][3]);
 // Decodes to floats in [0,1] (exact spec values), 16 texels × RGB. Safe on any 8 bytes.
 void bc1_decode_block(const uint8_t block[8], float out[16 * 3]);
 
-// Decodes to 8 bits the way Mesa's software S3TC decoder does (util/format/texcompress_s3tc_tmp.h:
-// endpoints widened by bit replication, then (2·a + b)/3 and (a + b)/2 in integers, truncated):
-// within 1.37 8-bit steps of the exact palette (every endpoint pair). Used to compare our bit parsing and mode selection
-// with Mesa bit for bit (tests/judges/gl/bc1_mesa_test.cpp); the lab uses the exact decode.
+// Decodes to 8 bits with the integer arithmetic of a software decoder: endpoints widened by bit
+// replication, the three-colour midpoint (a + b + 1)/2, the four-colour thirds (2·a + b)/3
+// truncated; within 1.37 8-bit steps of the exact palette (every endpoint pair). Mesa's llvmpipe
+// returns exactly these values except for the four-colour thirds, which it rounds its own way
+// (within one step of these; tests/judges/gl/bc1_mesa_test.cpp). The lab uses the exact decode.
 void bc1_decode_block_unorm8(const uint8_t block[8], uint8_t out[16 * 3]);
 
 // Encodes 16 RGB texels in [0,1] (row-major 4×4, 3 floats each; out-of-range values are clamped)

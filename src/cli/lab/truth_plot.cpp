@@ -1,6 +1,7 @@
 #include "cli/lab/truth_plot.h"
 
 #include <filesystem>
+#include <utility>
 
 #include "cli/lab/svg_plot.h"
 #include "core/error.h"
@@ -13,8 +14,18 @@ bool ends_with(const std::string& s, const std::string& tail) {
   return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
 }
 
-// A point's label: the row name up to its first ": " (the storage details stay in the table).
-std::string short_label(const std::string& name) { return name.substr(0, name.find(": ")); }
+// A point's label: the row name up to its first ": " (the storage details stay in the table),
+// with the longest phrases shortened to fit beside a point.
+std::string short_label(const std::string& name) {
+  std::string s = name.substr(0, name.find(": "));
+  for (const auto& [from, to] : {std::pair<std::string, std::string>{" = Enlighten directional irradiance", " / Enlighten"},
+                                 {", direction at 1/2 resolution", ", half-res direction"},
+                                 {" (the same SH truncated)", ""}}) {
+    const size_t at = s.find(from);
+    if (at != std::string::npos) s.replace(at, from.size(), to);
+  }
+  return s;
+}
 
 }  // namespace
 
@@ -23,7 +34,8 @@ std::string truth_plot_svg(const std::string& scene, const std::vector<TruthPlot
   plot.title = "Against path-traced lighting: " + scene + " (ahdpack report truth)";
   plot.x_label = "bytes per texel (level 0)";
   plot.y_label = "relative L1 error at held-out normals";
-  plot.note = "tests/data/truth/" + scene + "; lines: ahdpack's profiles per direction fit; docs/accuracy-real-lighting.md";
+  plot.note = "tests/data/truth/" + scene + "; lines: ahdpack's profiles per direction fit; " +
+              "docs/accuracy-real-lighting.md \"Engine anchors at their shipped bytes\"";
   plot.log_y = false;
   PlotSeries refined{"ahdpack profiles, refined d", "point ours", "#1f77b4", 'o', {}};
   PlotSeries linear{"ahdpack profiles, linear d", "point ours", "#7fb3e0", 'o', {}};
