@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <string>
 #include <vector>
 
+#include "codecs/bc1.h"
 #include "codecs/bc6h/bc6h_codec.h"
 #include "sh/sh.h"
 
@@ -77,6 +79,75 @@ ImageF image_of(const std::vector<float>& v, int w, int h, size_t stride, size_t
   return img;
 }
 
+// Texels without coverage take the mean of their covered 8-neighbours, pass after pass (as a
+// baker dilates its charts into the gutters before compressing); what no chart reaches gets `fill`.
+void dilate(ImageF& img, std::vector<uint8_t> covered, float fill) {
+  const int w = img.width, h = img.height, ch = img.channels;
+  for (bool grew = true; grew;) {
+    grew = false;
+    std::vector<uint8_t> next = covered;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        if (covered[size_t(y) * size_t(w) + size_t(x)]) continue;
+        std::vector<double> sum(size_t(ch), 0.0);
+        int count = 0;
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int nx = x + dx, ny = y + dy;
+            if (nx < 0 || ny < 0 || nx >= w || ny >= h || !covered[size_t(ny) * size_t(w) + size_t(nx)]) continue;
+            for (int c = 0; c < ch; ++c) sum[size_t(c)] += img.at(nx, ny)[c];
+            ++count;
+          }
+        if (count == 0) continue;
+        for (int c = 0; c < ch; ++c) img.at(x, y)[c] = float(sum[size_t(c)] / count);
+        next[size_t(y) * size_t(w) + size_t(x)] = 1;
+        grew = true;
+      }
+    covered = std::move(next);
+  }
+  for (size_t i = 0; i < img.texels(); ++i)
+    if (!covered[i])
+      for (int c = 0; c < ch; ++c) img.data[i * size_t(ch) + size_t(c)] = fill;
+}
+
+// Samples `lo` (the texture at 1/scale of w×h) bilinearly at the w×h texel centres, clamp to edge:
+// what the GPU returns when the shader samples the smaller texture with the lightmap's UV.
+ImageF upsample_bilinear(const ImageF& lo, int w, int h) {
+  ImageF out(w, h, lo.channels);
+  auto coord = [](int x, int full, int small, int& i0, int& i1, float& f) {
+    const double u = (x + 0.5) * double(small) / double(full) - 0.5;
+    const double fl = std::floor(u);
+    f = float(u - fl);
+    i0 = std::clamp(int(fl), 0, small - 1);
+    i1 = std::clamp(int(fl) + 1, 0, small - 1);
+  };
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      int x0, x1, y0, y1;
+      float fx, fy;
+      coord(x, w, lo.width, x0, x1, fx);
+      coord(y, h, lo.height, y0, y1, fy);
+      for (int c = 0; c < lo.channels; ++c)
+        out.at(x, y)[c] = (1 - fy) * ((1 - fx) * lo.at(x0, y0)[c] + fx * lo.at(x1, y0)[c]) +
+                          fy * ((1 - fx) * lo.at(x0, y1)[c] + fx * lo.at(x1, y1)[c]);
+    }
+  return out;
+}
+
+// The irradiance along the surface normal, max(0, I_z), of the full SH (a plain lightmap's value).
+std::vector<float> normal_irradiance(const ShImage& sh) {
+  std::vector<float> c(sh.texels() * 3);
+  const double z[3] = {0, 0, 1};
+  for (size_t i = 0; i < sh.texels(); ++i) {
+    IrradiancePoly p[3];
+    local_polys(sh, i, p);
+    for (int ch = 0; ch < 3; ++ch) c[i * 3 + size_t(ch)] = float(std::max(0.0, eval_irradiance(p[ch], z)));
+  }
+  return c;
+}
+
+double luma(const float* rgb) { return kLuma[0] * rgb[0] + kLuma[1] * rgb[1] + kLuma[2] * rgb[2]; }
+
 }  // namespace
 
 BakerFormatEval mono_sh_format(const ShImage& sh, bool quantised) {
@@ -134,10 +205,103 @@ BakerFormatEval godot_l1_format(const ShImage& sh, bool quantised) {
           quantised ? "L1 SH as Godot stores it: 4 BC6H layers" : "L1 SH as Godot stores it, float"};
 }
 
+BakerFormatEval godot_ldr_format(const ShImage& sh, bool quantised, int dir_scale) {
+  const LinearIrradiance li = linear_part(sh);
+  const int w = sh.width, h = sh.height;
+  const int lw = (w + dir_scale - 1) / dir_scale, lh = (h + dir_scale - 1) / dir_scale;
+  // The direction texture as the baker writes it at its own resolution: over each texel's
+  // footprint (dir_scale² lightmap texels, the covered ones), Y(L1) / (8·Y(L0)) + 0.5.
+  ImageF dir(lw, lh, 3);
+  std::vector<uint8_t> covered(size_t(lw) * size_t(lh), 0);
+  for (int y = 0; y < lh; ++y)
+    for (int x = 0; x < lw; ++x) {
+      double y0 = 0, y1[3] = {0, 0, 0};
+      for (int dy = 0; dy < dir_scale; ++dy)
+        for (int dx = 0; dx < dir_scale; ++dx) {
+          const int fx = x * dir_scale + dx, fy = y * dir_scale + dy;
+          if (fx >= w || fy >= h) continue;
+          const size_t i = size_t(fy) * size_t(w) + size_t(fx);
+          if (!sh.coverage[i]) continue;
+          y0 += luma(&li.e0[i * 3]);
+          for (int a = 0; a < 3; ++a)
+            for (int c = 0; c < 3; ++c) y1[a] += kLuma[c] * li.e[i * 9 + size_t(c) * 3 + size_t(a)];
+        }
+      if (y0 <= 0) continue;
+      covered[size_t(y) * size_t(lw) + size_t(x)] = 1;
+      for (int a = 0; a < 3; ++a) dir.at(x, y)[a] = std::clamp(float(y1[a] / (8.0 * y0) + 0.5), 0.0f, 1.0f);
+    }
+  dilate(dir, covered, 0.5f);
+  if (quantised) {
+    for (float& v : dir.data) v = to_unorm8(v);  // the PNG Godot saves
+    const std::vector<uint8_t> blocks = bc1_encode_image(dir);
+    dir = bc1_decode_image(blocks.data(), lw, lh);
+  }
+  const ImageF full = dir_scale == 1 ? dir : upsample_bilinear(dir, w, h);
+  auto f = std::make_shared<TFormat>();
+  f->k = 4.0;  // 8·(t − 0.5)·L0, Godot's packed-L1 decode
+  f->l0 = quantised ? through_bc6h(image_of(li.e0, w, h, 3, 0)).data : li.e0;
+  f->t = full.data;
+  const std::string name = dir_scale == 1 ? "Godot LDR directional (PR #100790)"
+                                           : "Godot LDR directional, direction at 1/" + std::to_string(dir_scale) +
+                                                 " resolution (PR #108405)";
+  return {t_format_eval(f), quantised ? 1.0 + 0.5 / double(dir_scale * dir_scale) : 0.0,
+          name + (quantised ? ": L0 BC6H + direction BC1" : ", float")};
+}
+
+BakerFormatEval unity_directional_format(const ShImage& sh, bool quantised) {
+  const LinearIrradiance li = linear_part(sh);
+  const size_t n = sh.texels();
+  struct Unity {
+    std::vector<float> c, dir;  // texels × 3 (C), texels × 4 (rgb = v·0.5 + 0.5, w)
+  };
+  auto u = std::make_shared<Unity>();
+  u->c = normal_irradiance(sh);
+  u->dir.resize(n * 4);
+  for (size_t i = 0; i < n; ++i) {
+    const double y0 = luma(&li.e0[i * 3]);
+    double v[3] = {0, 0, 0};
+    if (y0 > 0)
+      for (int a = 0; a < 3; ++a)
+        for (int c = 0; c < 3; ++c) v[a] += kLuma[c] * li.e[i * 9 + size_t(c) * 3 + size_t(a)] / y0;
+    const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    if (len > 1)
+      for (double& x : v) x /= len;
+    for (int a = 0; a < 3; ++a) u->dir[i * 4 + size_t(a)] = float(v[a] * 0.5 + 0.5);
+    u->dir[i * 4 + 3] = float(0.5 + 0.5 * v[2]);  // the half-Lambert at the baking normal (0, 0, 1)
+  }
+  if (quantised) {
+    u->c = through_bc6h(image_of(u->c, sh.width, sh.height, 3, 0)).data;
+    for (float& x : u->dir) x = to_unorm8(x);
+  }
+  TruthEval eval = [u](size_t i, const double n[3], double out[3]) {
+    const float* d = &u->dir[i * 4];
+    double half_lambert = 0.5;
+    for (int a = 0; a < 3; ++a) half_lambert += n[a] * (d[a] - 0.5);
+    const double scale = half_lambert / std::max(1e-4, double(d[3]));
+    for (int c = 0; c < 3; ++c) out[c] = u->c[i * 3 + size_t(c)] * scale;
+  };
+  return {eval, quantised ? 2.0 : 0.0,
+          quantised ? "Unity Directional = Enlighten directional irradiance: BC6H + RGBA8 (for BC7, favours it)"
+                    : "Unity Directional = Enlighten directional irradiance, float"};
+}
+
+BakerFormatEval plain_bc6h_format(const ShImage& sh) {
+  auto c = std::make_shared<std::vector<float>>(
+      through_bc6h(image_of(normal_irradiance(sh), sh.width, sh.height, 3, 0)).data);
+  TruthEval eval = [c](size_t i, const double*, double out[3]) {
+    for (int ch = 0; ch < 3; ++ch) out[ch] = (*c)[i * 3 + size_t(ch)];
+  };
+  return {eval, 1.0, "plain lightmap (I_z only): BC6H"};
+}
+
 std::vector<BakerFormatEval> baker_formats(const ShImage& sh, bool quantised) {
   std::vector<BakerFormatEval> f;
   f.push_back(mono_sh_format(sh, quantised));
   f.push_back(godot_l1_format(sh, quantised));
+  if (quantised) f.push_back(godot_ldr_format(sh, quantised, 1));  // float: MonoSH's above
+  f.push_back(godot_ldr_format(sh, quantised, 2));
+  f.push_back(unity_directional_format(sh, quantised));
+  if (quantised) f.push_back(plain_bc6h_format(sh));  // float: `report truth`'s plain row
   return f;
 }
 

@@ -29,7 +29,42 @@ BakerFormatEval mono_sh_format(const ShImage& sh, bool quantised);
 // 4 bytes a texel); otherwise float.
 BakerFormatEval godot_l1_format(const ShImage& sh, bool quantised);
 
-// The bakers' own directional formats above, in the order `report truth` lists them.
+// Godot's LDR directional lightmap (godotengine/godot PR #100790, open; its description: the
+// directional data leave the HDR lightmap array for a separate 8-bit "_directional.png" imported as
+// DXT1/ETC2 RGB, after Frostbite's GDC 2018 "Precomputed Global Illumination in Frostbite"): L0 RGB
+// stays an HDR layer (BC6H, 1 byte a texel) and one direction texture, the luminance's L1 over the
+// luminance's L0, becomes BC1 (0.5 bytes a texel). The PR's shader was not readable here: t is
+// modelled on Godot's packed L1 (PR #96114; scene_forward_mobile.glsl multiplies (t − 0.5)·2 by
+// L0·4), t = Y(L1)/(8·Y(L0)) + 0.5 clamped to [0, 1], decoded with t shared by the channels,
+// E_c(n) = max(0, L0_c + 8·(t − 0.5)·L0_c · n); the constant's effect is measured in
+// docs/accuracy-real-lighting.md "Engine anchors at their shipped bytes".
+// `dir_scale` 2 is PR #108405's directional texture at half the lightmap's resolution (its
+// `directional_scale_ratio` 0.5: 0.5 / 4 bytes a texel; baked over each 2×2 footprint, dilated,
+// sampled bilinearly at the lightmap's texel centres, clamp to edge).
+// Quantised: L0 in BC6H, t in 8 bits then BC1 (our encoder, codecs/bc1.h); otherwise float
+// (at dir_scale 1 the float format is MonoSH's: one shared L1, a different constant).
+BakerFormatEval godot_ldr_format(const ShImage& sh, bool quantised, int dir_scale);
+
+// Unity's Directional mode, which is Enlighten's "directional irradiance" (one dominant direction
+// for all channels): a lightmap C (the irradiance along the surface normal, as a non-directional
+// lightmap holds it) and an RGBA texture (v·0.5 + 0.5, w), decoded by Unity's
+// DecodeDirectionalLightmap (UnityCG.cginc): E_c(n) = C_c · (dot(n, rgb − 0.5) + 0.5) / max(1e-4, w).
+// Sources: Unity's manual "Lightmap Directional Modes" (2018.x: baked by Enlighten; the second map
+// holds the dominant direction and a factor for how much light comes along it, the rest uniform);
+// TheRealMJP/BakingLab PR #10 (Enlighten's format after the Enlighten 3.08 SDK documentation: the
+// same decode, w = the half-Lambert at the baking normal). From L1 SH: v = Y(L1)/Y(L0), the
+// luminance's irradiance gradient over its mean (|v| clamped to 1, the most the half-Lambert holds;
+// BakingLab's baker always normalises it), w = (1 + v_z)/2, so n = normal gives C back. Quantised: C in BC6H
+// (1 byte), the direction texture in RGBA8 standing in for Unity's BC7 (1 byte a texel too; 8
+// bits a channel is at least as good as BC7, so this favours the anchor); otherwise float.
+BakerFormatEval unity_directional_format(const ShImage& sh, bool quantised);
+
+// A plain (non-directional) lightmap: the irradiance along the surface normal, max(0, I_z), in
+// BC6H (unsigned, default quality), 1 byte a texel, the same at every normal.
+BakerFormatEval plain_bc6h_format(const ShImage& sh);
+
+// The bakers' own directional formats above, in the order `report truth` lists them: quantised,
+// every format at its shipped bytes; float, the ones whose float form differs from the others'.
 std::vector<BakerFormatEval> baker_formats(const ShImage& sh, bool quantised);
 
 }  // namespace ahd

@@ -69,5 +69,67 @@ TEST(TruthFormats, FloatFormatsAreTheL1ShAndQuantisedOnesStayClose) {
   EXPECT_GT(worst(mono_sh_format(sh, false)), 0.2);
 }
 
+// The engine anchors added for issue 43 (Godot's LDR directional texture, at full and half
+// resolution; Unity's/Enlighten's dominant direction; the plain lightmap): float, the formats that
+// are L1 SH for one-colour light equal it; quantised, their errors stay bounded; bytes as shipped.
+TEST(TruthFormats, EngineAnchorsDecodeTheL1ShTheyStore) {
+  const int w = 16, h = 16;
+  const double tint[3] = {1.0, 0.6, 0.3};
+  auto make = [&](bool constant_direction) {
+    ShImage sh = make_sh_image(w, h, 4);
+    for (size_t i = 0; i < sh.texels(); ++i) {
+      const double u = double(i % w) / w, v = double(i / w) / h;
+      double c[4] = {1.0 + u, 0.3 * std::sin(6 * v), 0.4 * v, -0.25 * u};
+      if (constant_direction) c[1] = 0.3 * (1.0 + u), c[2] = 0.2 * (1.0 + u), c[3] = -0.1 * (1.0 + u);
+      for (int k = 0; k < 4; ++k)
+        for (int ch = 0; ch < 3; ++ch) sh.texel(i)[k * 3 + ch] = float(c[k] * tint[ch]);
+    }
+    return sh;
+  };
+  const double normals[3][3] = {{0, 0, 1}, {0.6, 0, 0.8}, {-0.48, 0.6, 0.64}};
+  auto worst = [&](const ShImage& sh, const BakerFormatEval& f) {
+    double rel = 0;
+    for (size_t i = 0; i < sh.texels(); ++i)
+      for (const auto& n : normals) {
+        IrradiancePoly p[3];
+        local_polys(sh, i, p);
+        double got[3];
+        f.eval(i, n, got);
+        for (int ch = 0; ch < 3; ++ch) {
+          const double want = std::max(0.0, eval_irradiance(p[ch], n));
+          rel = std::max(rel, std::abs(got[ch] - want) / std::max(want, 1e-3));
+        }
+      }
+    return rel;
+  };
+  const ShImage sh = make(false), flat = make(true);
+  EXPECT_LT(worst(sh, godot_ldr_format(sh, false, 1)), 1e-5);
+  EXPECT_LT(worst(sh, unity_directional_format(sh, false)), 1e-5);
+  // Half resolution loses nothing where the direction does not change, and something where it does.
+  EXPECT_LT(worst(flat, godot_ldr_format(flat, false, 2)), 1e-5);
+  const double half = worst(sh, godot_ldr_format(sh, false, 2));
+  EXPECT_GT(half, 1e-4);
+  EXPECT_LT(half, 0.08);  // measured 0.050
+  // Quantised (BC6H, 8 bits then BC1 / RGBA8).
+  // BC1 holds t = Y(L1)/(8·Y(L0)) + 0.5 on 5- and 6-bit endpoints; the decode multiplies t − 0.5 by 8:
+  // one 5-bit step is 0.26·L0 at a normal along that axis. Measured 0.145 and 0.181.
+  EXPECT_LT(worst(sh, godot_ldr_format(sh, true, 1)), 0.2);
+  EXPECT_LT(worst(sh, godot_ldr_format(sh, true, 2)), 0.25);
+  EXPECT_LT(worst(sh, unity_directional_format(sh, true)), 0.05);
+  // The plain lightmap is right along the normal only.
+  const BakerFormatEval plain = plain_bc6h_format(sh);
+  double got[3];
+  IrradiancePoly p[3];
+  local_polys(sh, 5, p);
+  plain.eval(5, normals[0], got);
+  EXPECT_NEAR(got[0], eval_irradiance(p[0], normals[0]), 0.02 * eval_irradiance(p[0], normals[0]));
+  EXPECT_GT(worst(sh, plain), 0.1);
+  EXPECT_EQ(godot_ldr_format(sh, true, 1).bytes_per_texel, 1.5);
+  EXPECT_EQ(godot_ldr_format(sh, true, 2).bytes_per_texel, 1.125);
+  EXPECT_EQ(unity_directional_format(sh, true).bytes_per_texel, 2.0);
+  EXPECT_EQ(plain.bytes_per_texel, 1.0);
+  EXPECT_EQ(baker_formats(sh, true).size(), 6u);
+}
+
 }  // namespace
 }  // namespace ahd

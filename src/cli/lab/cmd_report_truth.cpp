@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "cli/commands.h"
+#include "cli/lab/truth_plot.h"
 #include "core/option_enums.h"
 #include "lab/truth_baker_formats.h"
 #include "lab/truth_reference.h"
@@ -18,6 +19,7 @@
 #include "fit/ahd_fit.h"
 #include "fit/fit_image.h"
 #include "lab/fit_quality.h"
+#include "files/output_set.h"
 #include "files/profile_file.h"
 #include "pipeline/convert.h"
 #include "sh/sh_image.h"
@@ -111,7 +113,7 @@ void print_rows(const TruthSet& t, const std::vector<Row>& rows) {
 }
 
 void report_truth(const std::vector<std::string>& dirs, const std::vector<std::string>& profiles, int search, double guard,
-                  int window, double coherence) {
+                  int window, double coherence, const std::string& plot) {
   for (const std::string& dir : dirs) {
     const TruthSet t = load_truth_set(dir);
     const ShImage l2 = baker_sh(t, 9, 0);
@@ -165,6 +167,13 @@ void report_truth(const std::vector<std::string>& dirs, const std::vector<std::s
       }
     }
     print_rows(t, rows);
+    if (!plot.empty()) {
+      std::vector<TruthPlotRow> points;
+      for (const Row& r : rows) points.push_back({r.name, r.bytes, r.err.held_out});
+      const std::string path = truth_plot_path(plot, t.name, dirs.size());
+      write_file_atomic(path, truth_plot_svg(t.name, points));
+      std::printf("\nplot: %s\n", path.c_str());
+    }
   }
 }
 
@@ -176,6 +185,7 @@ void add_report_truth_command(CLI::App* report) {
   auto profiles = std::make_shared<std::vector<std::string>>(std::vector<std::string>{"pc-bc", "uncompressed"});
   auto search = std::make_shared<int>(300);
   auto guard = std::make_shared<double>(FitOptions{}.pair_guard_deg);
+  auto plot = std::make_shared<std::string>();
   c->add_option("DIR", *dirs, "Reference folders (truth.json + truth.bin, scripts/truth/bake_truth.py)")->required();
   c->add_option("--profiles", *profiles, "Profiles to convert with");
   c->add_option("--search", *search, "Directions of the per-texel brute-force search")->check(CLI::Range(1, 100000));
@@ -184,8 +194,9 @@ void add_report_truth_command(CLI::App* report) {
   c->add_option("--window", *window, "Refined: direction window radius (default: the fit's own)")->check(CLI::Range(0, 8));
   auto coherence = std::make_shared<double>(-1);
   c->add_option("--coherence", *coherence, "Refined, per texel: coherence tolerance (default: the fit's own)")->check(CLI::Range(0.0, 1.0));
-  c->callback([dirs, profiles, search, guard, window, coherence]() {
-    report_truth(*dirs, *profiles, *search, *guard, *window, *coherence);
+  c->add_option("--plot", *plot, "Also plot error against bytes per texel: OUT.svg, or a folder (one SVG per scene)");
+  c->callback([dirs, profiles, search, guard, window, coherence, plot]() {
+    report_truth(*dirs, *profiles, *search, *guard, *window, *coherence, *plot);
   });
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <utility>
 
 #include "cli/markup.h"
 
@@ -136,6 +137,17 @@ std::string plot_svg(const Plot& plot) {
   };
   for (const PlotSeries& s : plot.series) {
     o += "<g class=\"series\" data-series=\"" + xml_escape(s.name) + "\">\n";
+    if (s.joined) {
+      std::vector<std::pair<double, double>> line;
+      for (const PlotPoint& p : s.points)
+        if (usable(p.x, plot.log_x) && usable(p.y, plot.log_y)) line.emplace_back(ax.map(p.x), ay.map(p.y));
+      std::sort(line.begin(), line.end());
+      std::string pts;
+      for (const auto& [x, y] : line) pts += (pts.empty() ? "" : " ") + num(x) + "," + num(y);
+      if (line.size() > 1)
+        o += "<polyline class=\"line\" points=\"" + pts + "\" fill=\"none\" stroke=\"" + xml_escape(s.colour) +
+             "\" stroke-width=\"1.5\"/>\n";
+    }
     for (const PlotPoint& p : s.points) {
       if (!usable(p.x, plot.log_x) || !usable(p.y, plot.log_y)) {
         ++dropped;

@@ -17,6 +17,7 @@ struct PlotSeries {
   std::string colour;  // CSS colour
   char marker = 'o';   // 'o' circle, 's' square, 'd' diamond
   std::vector<PlotPoint> points;
+  bool joined = false;  // also a line through the points in order of x
 };
 
 struct Plot {
