@@ -234,3 +234,140 @@ double lowres_ratio_objective(const RatioQuadratics& q, int lw, int lh, const st
 }
 
 }  // namespace ahd
+
+namespace ahd {
+
+namespace {
+
+// Hemi-octahedral uv in [0,1]² → unit direction, as the decoder reads a direction plane
+// (pipeline/plane_decode.cpp unit_uv_to_dir: the same formula, here without the pipeline).
+void uv_to_dir(double u01, double v01, double d[3]) {
+  const double u = u01 * 2.0 - 1.0, v = v01 * 2.0 - 1.0;
+  const double px = (u + v) * 0.5, py = (u - v) * 0.5;
+  d[0] = px, d[1] = py, d[2] = std::max(0.0, 1.0 - std::abs(px) - std::abs(py));
+  const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+  for (int i = 0; i < 3; ++i) d[i] /= len;
+}
+
+}  // namespace
+
+void lowres_direction_sweeps(const ShImage& sh, const float* iz, int lw, int lh, std::vector<float>& uv,
+                             std::vector<float>& ratio, const FitOptions& opt, int sweeps, int threads) {
+  const int w = sh.width, h = sh.height;
+  const int ch = opt.ratio_form == RatioForm::Rgb ? 3 : 1;
+  const std::vector<BilinearTap> tx = taps_of(w, lw), ty = taps_of(h, lh);
+  std::vector<int> xlo, xhi, ylo, yhi;
+  reach_of(tx, lw, &xlo, &xhi);
+  reach_of(ty, lh, &ylo, &yhi);
+  auto at = [&](const std::vector<float>& img, int n, int X, int Y, int c) {
+    return double(img[(size_t(Y) * size_t(lw) + size_t(X)) * size_t(n) + size_t(c)]);
+  };
+  // Bilinear sample of img (n channels) at full-res (x, y), with texel (X, Y)'s own contribution
+  // left out; *wk = that texel's weight.
+  auto sample_without = [&](const std::vector<float>& img, int n, int x, int y, int X, int Y, int c, double* wk) {
+    const BilinearTap &a = tx[size_t(x)], &b = ty[size_t(y)];
+    double v = 0, own = 0;
+    const int xs[2] = {a.x0, a.x1}, ys[2] = {b.x0, b.x1};
+    const double wx[2] = {1.0 - a.w1, a.w1}, wy[2] = {1.0 - b.w1, b.w1};
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i < 2; ++i) {
+        const double wt = wx[i] * wy[j];
+        if (xs[i] == X && ys[j] == Y) own += wt;
+        else v += wt * at(img, n, xs[i], ys[j], c);
+      }
+    *wk = own;
+    return v;
+  };
+  struct Reached {
+    IrradiancePoly p[3];
+    double f0[3], I[3];
+    double wk, uv_base[2], r_base[3];
+  };
+  double step = 1.0 / 32.0;
+  for (int s = 0; s < sweeps; ++s, step *= 0.5)
+    for (int parity = 0; parity < 4; ++parity) {
+      const int px = parity & 1, py = parity >> 1;
+      const int nx = (lw - px + 1) / 2, ny = (lh - py + 1) / 2;
+      if (nx <= 0 || ny <= 0) continue;
+      parallel_for(size_t(nx) * size_t(ny), threads, 1, [&](size_t j) {
+        const int X = px + 2 * int(j % size_t(nx)), Y = py + 2 * int(j / size_t(nx));
+        std::vector<Reached> reached;
+        for (int y = ylo[size_t(Y)]; y < yhi[size_t(Y)]; ++y)
+          for (int x = xlo[size_t(X)]; x < xhi[size_t(X)]; ++x) {
+            const size_t i = size_t(y) * size_t(w) + size_t(x);
+            if (!sh.coverage[i]) continue;
+            Reached r;
+            r.uv_base[0] = sample_without(uv, 2, x, y, X, Y, 0, &r.wk);
+            r.uv_base[1] = sample_without(uv, 2, x, y, X, Y, 1, &r.wk);
+            if (r.wk == 0.0) continue;
+            for (int c = 0; c < ch; ++c) r.r_base[c] = sample_without(ratio, ch, x, y, X, Y, c, &r.wk);
+            local_polys(sh, i, r.p);
+            for (int c = 0; c < 3; ++c) {
+              r.f0[c] = hemisphere_integral(r.p[c]);
+              r.I[c] = std::max(0.0f, iz[i * 3 + size_t(c)]);
+            }
+            reached.push_back(r);
+          }
+        if (reached.empty()) return;
+        // The summed error (up to a constant) of candidate uv (cu, cv), with this texel's ratio
+        // re-solved (clamped to [0,1]) into rk.
+        auto evaluate = [&](double cu, double cv, double rk[3]) {
+          double A[3] = {0, 0, 0}, B[3] = {0, 0, 0}, sum = 0;
+          std::vector<double> a(reached.size() * size_t(ch)), n(reached.size() * size_t(ch));
+          for (size_t t = 0; t < reached.size(); ++t) {
+            const Reached& r = reached[t];
+            double d[3];
+            uv_to_dir(r.uv_base[0] + r.wk * cu, r.uv_base[1] + r.wk * cv, d);
+            tilt_above_horizon(d, opt.dz_min);
+            const LuneMoments m = lune_moments(r.p, d);
+            const double k = 1.0 / d[2];
+            const double hh = 2.0 * kPi - 2.0 * k * m.g1 + k * k * m.g2;
+            for (int c = 0; c < 3; ++c) {
+              const double I = r.I[c];
+              if (!(I > 0.0)) continue;
+              const int q = ch == 3 ? c : 0;
+              a[t * size_t(ch) + size_t(q)] += I * I * hh;
+              n[t * size_t(ch) + size_t(q)] += I * (I * (k * k * m.g2 - k * m.g1) + r.f0[c] - k * m.f1[c]);
+              sum += I * I * k * k * m.g2 - 2.0 * I * k * m.f1[c];  // the r-independent part
+            }
+            for (int q = 0; q < ch; ++q) {
+              const double aq = a[t * size_t(ch) + size_t(q)], nq = n[t * size_t(ch) + size_t(q)];
+              A[q] += aq * r.wk * r.wk;
+              B[q] += r.wk * (nq - aq * r.r_base[q]);
+            }
+          }
+          for (int q = 0; q < ch; ++q) rk[q] = A[q] > 0.0 ? std::clamp(B[q] / A[q], 0.0, 1.0) : at(ratio, ch, X, Y, q);
+          for (size_t t = 0; t < reached.size(); ++t)
+            for (int q = 0; q < ch; ++q) {
+              const double r = reached[t].r_base[q] + reached[t].wk * rk[q];
+              sum += a[t * size_t(ch) + size_t(q)] * r * r - 2.0 * n[t * size_t(ch) + size_t(q)] * r;
+            }
+          return sum;
+        };
+        const double u0 = at(uv, 2, X, Y, 0), v0 = at(uv, 2, X, Y, 1);
+        double best_r[3], r_try[3];
+        double best = evaluate(u0, v0, best_r), bu = u0, bv = v0;
+        auto consider = [&](double cu, double cv) {
+          cu = std::clamp(cu, 0.0, 1.0), cv = std::clamp(cv, 0.0, 1.0);
+          if (cu == bu && cv == bv) return;
+          const double e = evaluate(cu, cv, r_try);
+          if (e < best) {
+            best = e, bu = cu, bv = cv;
+            for (int q = 0; q < ch; ++q) best_r[q] = r_try[q];
+          }
+        };
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int XX = X + dx, YY = Y + dy;
+            if ((dx || dy) && XX >= 0 && YY >= 0 && XX < lw && YY < lh) consider(at(uv, 2, XX, YY, 0), at(uv, 2, XX, YY, 1));
+          }
+        const double cu = bu, cv = bv;  // the pattern around the best so far
+        consider(cu + step, cv), consider(cu - step, cv), consider(cu, cv + step), consider(cu, cv - step);
+        const size_t k = size_t(Y) * size_t(lw) + size_t(X);
+        uv[k * 2] = float(bu), uv[k * 2 + 1] = float(bv);
+        for (int q = 0; q < ch; ++q) ratio[k * size_t(ch) + size_t(q)] = float(best_r[q]);
+      });
+    }
+}
+
+}  // namespace ahd

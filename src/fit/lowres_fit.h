@@ -63,6 +63,16 @@ std::vector<float> lowres_box_ratio(const RatioQuadratics& q, int lw, int lh);
 // class is updated in parallel with the same bytes at any thread count. Never raises the error.
 void lowres_ratio_sweeps(const RatioQuadratics& q, int lw, int lh, std::vector<float>& ratio, int sweeps, int threads);
 
+// Pattern-search sweeps on the low-res direction plane `uv` (hemi-octahedral in [0,1]², lw·lh·2,
+// in/out) with its ratio plane `ratio` (lw·lh·channels, in/out): each low-res texel in turn takes,
+// among its current uv, its 8 neighbours' and its uv moved by ±step along u and v (step 1/32, halved
+// each sweep), the one whose bilinearly sampled directions give the lowest summed hemisphere error
+// of the full-res texels its taps reach — each with its own I_z (iz: w·h·3) and with the texel's
+// ratio re-solved for that candidate. Parity classes as lowres_ratio_sweeps: thread-count
+// independent. Texels whose taps reach no covered texel keep their values.
+void lowres_direction_sweeps(const ShImage& sh, const float* iz, int lw, int lh, std::vector<float>& uv,
+                             std::vector<float>& ratio, const FitOptions& opt, int sweeps, int threads);
+
 // The summed error Σ (a r² − 2 n r) over the full-res texels of the bilinearly sampled plane (for
 // tests and measurement).
 double lowres_ratio_objective(const RatioQuadratics& q, int lw, int lh, const std::vector<float>& ratio);

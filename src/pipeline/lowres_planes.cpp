@@ -50,7 +50,29 @@ LowResPlanes lowres_level_planes(const FittedLevel& lv, const TextureLevel& iz, 
     const float df[3] = {float(d[0]), float(d[1]), float(d[2])};
     unit_uv_of(df, &uv.data[k * 2]);
   }
-  // 2. The direction as the decoder reads it at every full-res texel: the coded plane's values
+  // 2. I_z as the decoder reads it (closed loop) or as fitted (open loop).
+  std::vector<float> iz_full(size_t(w) * size_t(h) * 3);
+  if (opt.closed_loop) {
+    const ImageF izd = decode_plane(profile.iz, iz);
+    for (size_t i = 0; i < sh.texels(); ++i)
+      for (int c = 0; c < 3; ++c) iz_full[i * 3 + size_t(c)] = std::max(0.0f, izd.data[i * size_t(izd.channels) + size_t(c)]);
+  } else {
+    for (size_t i = 0; i < sh.texels(); ++i) fitted_iz(lv, i, &iz_full[i * 3]);
+  }
+  std::vector<float> uv_full(size_t(w) * size_t(h) * 2);
+  std::vector<float> d_full(size_t(w) * size_t(h) * 3);
+  // 3. The directions moved to what lowers the error of the bilinearly sampled planes (with the
+  //    ratio solved alongside; the ratio is solved again below against the coded direction).
+  if (kLowResDirectionSweeps > 0) {
+    bilinear_upsample(uv.data.data(), lw, lh, 2, w, h, uv_full.data());
+    parallel_for(sh.texels(), threads, 4096, [&](size_t i) { unit_uv_to_dir(&uv_full[i * 2], &d_full[i * 3]); });
+    const RatioQuadratics q0 = ratio_quadratics(sh, iz_full.data(), d_full.data(), opt.fit, threads);
+    ImageF r0(lw, lh, q0.channels);
+    r0.data = lowres_box_ratio(q0, lw, lh);
+    dilate(r0, dirs.coverage, threads);
+    lowres_direction_sweeps(sh, iz_full.data(), lw, lh, uv.data, r0.data, opt.fit, kLowResDirectionSweeps, threads);
+  }
+  // 4. The direction as the decoder reads it at every full-res texel: the coded plane's values
   //    sampled bilinearly (the packed RGBA8 plane: the uv's 8-bit rounding).
   ImageF uv_dec;
   if (profile.packed_dir_ratio) {
@@ -60,20 +82,10 @@ LowResPlanes lowres_level_planes(const FittedLevel& lv, const TextureLevel& iz, 
     out.dir = encode_plane(profile.dir, uv, codec, nullptr);
     uv_dec = decode_plane(profile.dir, out.dir);
   }
-  std::vector<float> uv_full(size_t(w) * size_t(h) * 2);
-  std::vector<float> d_full(size_t(w) * size_t(h) * 3);
   bilinear_upsample(uv_dec.data.data(), lw, lh, 2, w, h, uv_full.data());
   parallel_for(sh.texels(), threads, 4096, [&](size_t i) { unit_uv_to_dir(&uv_full[i * 2], &d_full[i * 3]); });
   uv_full = {};
-  // 3. The ratio against each texel's DECODED I_z (closed loop) or its fitted one (open loop).
-  std::vector<float> iz_full(size_t(w) * size_t(h) * 3);
-  if (opt.closed_loop) {
-    const ImageF izd = decode_plane(profile.iz, iz);
-    for (size_t i = 0; i < sh.texels(); ++i)
-      for (int c = 0; c < 3; ++c) iz_full[i * 3 + size_t(c)] = std::max(0.0f, izd.data[i * size_t(izd.channels) + size_t(c)]);
-  } else {
-    for (size_t i = 0; i < sh.texels(); ++i) fitted_iz(lv, i, &iz_full[i * 3]);
-  }
+  // 5. The ratio against the decoded I_z and direction, from its box least squares, then sweeps.
   const RatioQuadratics q = ratio_quadratics(sh, iz_full.data(), d_full.data(), opt.fit, threads);
   iz_full = {};
   d_full = {};

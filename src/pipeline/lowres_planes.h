@@ -11,6 +11,9 @@ namespace ahd {
 // Projected Gauss–Seidel sweeps on the low-res ratio after its box least-squares start
 // (fit/lowres_fit.h lowres_ratio_sweeps).
 constexpr int kLowResRatioSweeps = 4;
+// Pattern-search sweeps on the low-res direction before it is coded (fit/lowres_fit.h
+// lowres_direction_sweeps); 0 keeps the box fit's direction.
+constexpr int kLowResDirectionSweeps = 3;
 
 struct LowResPlanes {
   TextureLevel dir, ratio, dirratio;  // dir + ratio, or dirratio when the profile packs them

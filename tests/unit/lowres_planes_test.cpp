@@ -216,3 +216,66 @@ TEST(LowResPlanes, ManifestAcceptsScaledSidePlanesOnly) {
   EXPECT_THROW(manifest_from_json(manifest(10, 6, 3), "m.json"), Error);  // s = 3
   EXPECT_THROW(manifest_from_json(manifest(15, 5, 3), "m.json"), Error);  // two scales
 }
+
+namespace {
+
+// Σ over covered texels of the hemisphere MSE of the full-res texels decoded from I_z and the
+// bilinearly sampled low-res uv and ratio (luminance form), as an engine decodes them.
+double sampled_error(const ShImage& sh, const std::vector<float>& iz, const std::vector<float>& uv,
+                     const std::vector<float>& ratio, int lw, int lh, double dz_min) {
+  std::vector<float> uvf(sh.texels() * 2), rf(sh.texels());
+  bilinear_upsample(uv.data(), lw, lh, 2, sh.width, sh.height, uvf.data());
+  bilinear_upsample(ratio.data(), lw, lh, 1, sh.width, sh.height, rf.data());
+  double sum = 0;
+  for (size_t i = 0; i < sh.texels(); ++i) {
+    if (!sh.coverage[i]) continue;
+    float d[3];
+    unit_uv_to_dir(&uvf[i * 2], d);
+    const float r3[3] = {rf[i], rf[i], rf[i]};
+    double ca[3], cd[3], u[3];
+    decode_colours(&iz[i * 3], d, r3, dz_min, ca, cd, u);
+    IrradiancePoly p[3];
+    local_polys(sh, i, p);
+    for (int c = 0; c < 3; ++c) sum += hemisphere_mse(hemisphere_moments(p[c], u), ca[c], cd[c]);
+  }
+  return sum;
+}
+
+}  // namespace
+
+TEST(LowResPlanes, DirectionSweepsLowerTheSampledErrorAtAnyThreadCount) {
+  const ShImage sh = scene(24, 20);
+  FitOptions fit;
+  fit.direction_fit = DirectionFit::Refined;
+  const int lw = 6, lh = 5;
+  const LowResDirections dirs = lowres_directions(sh, lw, lh, fit, 1);
+  std::vector<float> uv(size_t(lw) * lh * 2), iz(sh.texels() * 3), d(sh.texels() * 3), uvf(sh.texels() * 2);
+  for (size_t k = 0; k < size_t(lw) * lh; ++k) {  // every box is covered in the analytic scene
+    ASSERT_TRUE(dirs.coverage[k]);
+    // The hemi-octahedral uv of the unit d (d_z ≥ dz_min > 0): p = d.xy / |d|₁, uv = (px+py, px−py).
+    const float* dk = &dirs.d[k * 3];
+    const double l1 = std::abs(dk[0]) + std::abs(dk[1]) + std::abs(dk[2]);
+    const double px = dk[0] / l1, py = dk[1] / l1;
+    uv[k * 2] = float((px + py) * 0.5 + 0.5), uv[k * 2 + 1] = float((px - py) * 0.5 + 0.5);
+  }
+  for (size_t i = 0; i < sh.texels(); ++i) {
+    IrradiancePoly p[3];
+    local_polys(sh, i, p);
+    const AhdFit f = fit_texel(p, fit);
+    for (int c = 0; c < 3; ++c) iz[i * 3 + c] = f.iz[c];
+  }
+  bilinear_upsample(uv.data(), lw, lh, 2, sh.width, sh.height, uvf.data());
+  for (size_t i = 0; i < sh.texels(); ++i) unit_uv_to_dir(&uvf[i * 2], &d[i * 3]);
+  const std::vector<float> ratio = lowres_box_ratio(ratio_quadratics(sh, iz.data(), d.data(), fit, 1), lw, lh);
+  const double before = sampled_error(sh, iz, uv, ratio, lw, lh, fit.dz_min);
+  std::vector<float> uv1 = uv, r1 = ratio, uv2 = uv, r2 = ratio;
+  lowres_direction_sweeps(sh, iz.data(), lw, lh, uv1, r1, fit, 3, 1);
+  lowres_direction_sweeps(sh, iz.data(), lw, lh, uv2, r2, fit, 3, 2);
+  EXPECT_EQ(uv1, uv2);
+  EXPECT_EQ(r1, r2);
+  EXPECT_NE(uv1, uv);  // it moved
+  const double after = sampled_error(sh, iz, uv1, r1, lw, lh, fit.dz_min);
+  EXPECT_LT(after, before);
+  for (float v : uv1) ASSERT_TRUE(v >= 0.0f && v <= 1.0f);
+  for (float v : r1) ASSERT_TRUE(v >= 0.0f && v <= 1.0f);
+}
