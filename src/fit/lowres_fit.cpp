@@ -311,9 +311,11 @@ void lowres_direction_sweeps(const ShImage& sh, const float* iz, int lw, int lh,
         if (reached.empty()) return;
         // The summed error (up to a constant) of candidate uv (cu, cv), with this texel's ratio
         // re-solved (clamped to [0,1]) into rk.
+        std::vector<double> a(reached.size() * size_t(ch)), n(reached.size() * size_t(ch));
         auto evaluate = [&](double cu, double cv, double rk[3]) {
           double A[3] = {0, 0, 0}, B[3] = {0, 0, 0}, sum = 0;
-          std::vector<double> a(reached.size() * size_t(ch)), n(reached.size() * size_t(ch));
+          std::fill(a.begin(), a.end(), 0.0);
+          std::fill(n.begin(), n.end(), 0.0);
           for (size_t t = 0; t < reached.size(); ++t) {
             const Reached& r = reached[t];
             double d[3];
