@@ -233,10 +233,6 @@ double lowres_ratio_objective(const RatioQuadratics& q, int lw, int lh, const st
   return sum;
 }
 
-}  // namespace ahd
-
-namespace ahd {
-
 namespace {
 
 // Hemi-octahedral uv in [0,1]² → unit direction, as the decoder reads a direction plane
