@@ -22,8 +22,8 @@
 namespace ahd {
 
 struct ConversionOptions {
-  // Output profile: a standard one by name ("uncompressed", "uncompressed-rgb", "pc-bc",
-  // "packed-float", "packed-rgb9e5"; docs/container-format.md "Outputs"), or, when `profile_json` is not empty, that
+  // Output profile: a standard one by name ("uncompressed", "uncompressed-rgb", "pc-bc", "pc-bc-half",
+  // "pc-bc-quarter", "packed-float", "packed-rgb9e5"; docs/container-format.md "Outputs"), or, when `profile_json` is not empty, that
   // definition (the format of formats/profiles/*.json).
   std::string profile = "uncompressed";
   std::string profile_json;

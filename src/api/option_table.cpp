@@ -209,7 +209,7 @@ std::vector<OptionRow> make_table() {
                           {.flag = "--profile",
                            .help = "Output profile name or .json file (formats/profiles)",
                            .doc = "a standard profile by name (compiled in): `uncompressed`, `uncompressed-rgb`, "
-                                  "`pc-bc`, `packed-float`, `packed-rgb9e5`"}));
+                                  "`pc-bc`, `pc-bc-half`, `pc-bc-quarter`, `packed-float`, `packed-rgb9e5`"}));
   t.push_back(text_option("profile_json", &CO::profile_json, &ahd_options::profile_json,
                           {.key = KeyForm::Hash,
                            .doc = "or, when not empty, a profile definition in the format of `formats/profiles/*.json`"}));

@@ -9,7 +9,9 @@
 #include "core/parallel.h"
 #include "fit/ahd_decode.h"
 #include "mips/mips.h"
+#include "pipeline/lowres_planes.h"
 #include "pipeline/manifest.h"
+#include "pipeline/plane_scale.h"
 
 namespace ahd {
 namespace {
@@ -119,8 +121,10 @@ struct LevelPlanes {
   TextureLevel ratio_open, dirratio_open;          // open loop, for the report
 };
 
+// side_w × side_h: the size of the direction and ratio planes at this level when the profile stores
+// them at a lower resolution (dir_ratio_scale > 1; 0 × 0: their chain has ended, pipeline/plane_scale.h).
 LevelPlanes quantise_level(const FittedLevel& lv, const Profile& profile, const PipelineOptions& opt, bool directional,
-                           PlaneCodecStats* stats) {
+                           PlaneCodecStats* stats, int side_w = 0, int side_h = 0) {
   const ShImage& sh = lv.sh;
   const int w = sh.width, h = sh.height;
   const bool ratio_rgb = opt.fit.ratio_form == RatioForm::Rgb;
@@ -139,6 +143,13 @@ LevelPlanes quantise_level(const FittedLevel& lv, const Profile& profile, const 
     });
   });
   if (!directional) return out;
+  if (profile.dir_ratio_scale > 1) {  // low-res planes (pipeline/lowres_planes.h)
+    if (side_w == 0) return out;
+    LowResPlanes lp = lowres_level_planes(lv, out.iz, profile, opt, side_w, side_h);
+    out.dir = std::move(lp.dir), out.ratio = std::move(lp.ratio), out.dirratio = std::move(lp.dirratio);
+    if (opt.measuring_baselines()) out.ratio_open = out.ratio, out.dirratio_open = out.dirratio;  // no open loop apart
+    return out;
+  }
   // The direction and ratio planes are made a band of rows at a time too: no float image of the
   // whole level beside the fit (8 + 4 bytes a texel at level 0).
   auto uv_rows = [&](int y0, ImageF& band, int threads) {
@@ -217,7 +228,8 @@ std::vector<Plane> planes_of(const Profile& profile, std::vector<LevelPlanes>&& 
   auto texture = [&](PixelFormat f, TextureLevel LevelPlanes::*member) {
     Texture t;
     t.format = f;
-    for (auto& l : lv) t.levels.push_back(std::move(l.*member));
+    for (auto& l : lv)
+      if ((l.*member).width != 0) t.levels.push_back(std::move(l.*member));  // a low-res chain may end first
     return t;
   };
   std::vector<Plane> planes;
@@ -232,12 +244,15 @@ std::vector<Plane> planes_of(const Profile& profile, std::vector<LevelPlanes>&& 
   return planes;
 }
 
-// One level's coded planes as the decoder reads them; open_loop: with the open-loop ratio.
-CodedLevel coded_level(const Profile& profile, const LevelPlanes& p, bool directional, bool open_loop) {
+// One level's coded planes as the decoder reads them; open_loop: with the open-loop ratio. `side`:
+// the level holding the direction and ratio planes when it is not `p` (a low-res chain that ended).
+CodedLevel coded_level(const Profile& profile, const LevelPlanes& iz_level, bool directional, bool open_loop,
+                       const LevelPlanes* side = nullptr) {
   CodedLevel c;
   c.iz_format = profile.iz;
-  c.iz = &p.iz;
+  c.iz = &iz_level.iz;
   if (!directional) return c;
+  const LevelPlanes& p = side ? *side : iz_level;
   if (profile.packed_dir_ratio) {
     c.dirratio_format = profile.dirratio;
     c.dirratio = open_loop ? &p.dirratio_open : &p.dirratio;
@@ -363,7 +378,17 @@ class ChainEncoder {
       t0 = Clock::now();
     }
     opt_.step("encode", done_ / all_);
-    levels_.push_back(quantise_level(level, profile_, opt_, r_->directional, &r_->codec_stats));
+    int side_w = 0, side_h = 0;  // the low-res direction and ratio planes' size at this level
+    if (profile_.dir_ratio_scale > 1) {
+      if (levels_.empty()) {
+        side_w0_ = scaled_plane_size(uint32_t(level.sh.width), profile_.dir_ratio_scale);
+        side_h0_ = scaled_plane_size(uint32_t(level.sh.height), profile_.dir_ratio_scale);
+      }
+      const uint32_t l = uint32_t(levels_.size());
+      if (l < full_mip_count(side_w0_, side_h0_))
+        side_w = int(std::max(1u, side_w0_ >> l)), side_h = int(std::max(1u, side_h0_ >> l));
+    }
+    levels_.push_back(quantise_level(level, profile_, opt_, r_->directional, &r_->codec_stats, side_w, side_h));
     if (opt_.coverage_plane) {
       const Image8 c = coverage_plane(level.sh.width, level.sh.height, level.sh.coverage);
       coverage_.levels.push_back({uint32_t(c.width), uint32_t(c.height), c.data});
@@ -373,7 +398,11 @@ class ChainEncoder {
     if (!opt_.measuring()) return;
     t0 = Clock::now();
     const LevelPlanes& p = levels_.back();
-    r_->level_error.push_back(measure_coded(level.sh, coded_level(profile_, p, r_->directional, false), opt_));
+    // A low-res chain that ended: this level reads its last level (pipeline/plane_scale.h).
+    const LevelPlanes* side = nullptr;
+    if (profile_.dir_ratio_scale > 1 && levels_.size() > full_mip_count(side_w0_, side_h0_))
+      side = &levels_[full_mip_count(side_w0_, side_h0_) - 1];
+    r_->level_error.push_back(measure_coded(level.sh, coded_level(profile_, p, r_->directional, false, side), opt_));
     if (levels_.size() == 1 && opt_.measuring_baselines() && r_->directional)
       r_->open_loop_error = measure_coded(level.sh, coded_level(profile_, p, true, true), opt_);
     measure_ += seconds_since(t0);
@@ -400,6 +429,7 @@ class ChainEncoder {
   std::vector<LevelPlanes> levels_;
   Texture coverage_;
   double all_, done_ = 0;
+  uint32_t side_w0_ = 0, side_h0_ = 0;  // level 0's low-res direction and ratio planes (dir_ratio_scale > 1)
   double decide_ = 0, quantise_ = 0, measure_ = 0;
 };
 

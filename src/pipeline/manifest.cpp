@@ -13,6 +13,7 @@
 #include "containers/sha256.h"
 #include "core/error.h"
 #include "core/json_number.h"
+#include "pipeline/plane_scale.h"
 
 namespace ahd {
 
@@ -126,7 +127,11 @@ Manifest manifest_from_json(const std::string& text, const std::string& path) {
       mp.width = uint32_t(json_whole(p.at("width"), 0, UINT32_MAX, path, "plane width"));
       mp.height = uint32_t(json_whole(p.at("height"), 0, UINT32_MAX, path, "plane height"));
       mp.levels = uint32_t(json_whole(p.at("levels"), 0, 64, path, "plane levels"));
-      if (mp.width != m.width || mp.height != m.height || mp.levels != m.levels)
+      // The direction and ratio planes may be ceil(W/s) x ceil(H/s) (s = 2, 4) with their own chain.
+      const bool side = mp.name == "dir" || mp.name == "ratio" || mp.name == "dirratio";
+      const bool scaled_ok = side && side_plane_scale(m.width, m.height, mp.width, mp.height) > 1 &&
+                             mp.levels == scaled_plane_levels(m.levels, mp.width, mp.height);
+      if (!scaled_ok && (mp.width != m.width || mp.height != m.height || mp.levels != m.levels))
         throw file_error(path, "plane " + mp.name + " is " + std::to_string(mp.width) + "x" + std::to_string(mp.height) +
                                    " with " + std::to_string(mp.levels) + " level(s), the manifest says " +
                                    std::to_string(m.width) + "x" + std::to_string(m.height) + " with " +

@@ -28,6 +28,12 @@ Profile profile_from_json(const std::string& text, const std::string& path) {
     const std::string form = j.value("ratio_form", "luminance");
     if (form != "luminance" && form != "rgb") throw file_error(path, "ratio_form must be 'luminance' or 'rgb'");
     p.ratio_rgb = form == "rgb";
+    if (j.contains("dir_ratio_scale")) {
+      const auto& s = j.at("dir_ratio_scale");
+      if (!s.is_number_integer() || (s.get<int64_t>() != 1 && s.get<int64_t>() != 2 && s.get<int64_t>() != 4))
+        throw file_error(path, "dir_ratio_scale must be 1, 2 or 4");
+      p.dir_ratio_scale = int(s.get<int64_t>());
+    }
     const auto& planes = j.at("planes");
     p.iz = format("iz");
     if (planes.contains("dirratio")) {

@@ -19,6 +19,10 @@ struct Profile {
   PixelFormat ratio = PixelFormat::R8_UNORM;
   PixelFormat dirratio = PixelFormat::RGBA8_UNORM;
   bool ratio_rgb = false;  // "ratio_form": "rgb" — C_a/I_z per channel instead of L(C_a)/L(I_z)
+  // "dir_ratio_scale": 1, 2 or 4 (absent = 1). The dir and ratio planes (or the packed dirratio) are
+  // ceil(W/s) x ceil(H/s), their mip chains starting there; I_z stays W x H. Decoders sample them
+  // with the same UV (pipeline/lowres_planes.h; docs/engine-integration.md "The planes").
+  int dir_ratio_scale = 1;
 };
 
 // Parses a profile's JSON text (untrusted: every field is checked). Throws

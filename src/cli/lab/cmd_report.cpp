@@ -69,7 +69,8 @@ void report_profiles(int size, const std::string& plot_path) {
       const FormatInfo& i = format_info(f);
       return double(i.bytes_per_block) / (i.block_width * i.block_height);
     };
-    bpt = bytes(p.iz) + (p.packed_dir_ratio ? bytes(p.dirratio) : bytes(p.dir) + bytes(p.ratio));
+    bpt = bytes(p.iz) + (p.packed_dir_ratio ? bytes(p.dirratio) : bytes(p.dir) + bytes(p.ratio)) /
+                            double(p.dir_ratio_scale * p.dir_ratio_scale);
     for (int s = 0; s < 2; ++s) {
       PipelineOptions opt;
       opt.measure = Measure::Full;
