@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include <ahd/convert.h>
+
 #include "cli/commands.h"
 #include "cli/lab/truth_plot.h"
 #include "core/option_enums.h"
@@ -99,7 +101,27 @@ struct Row {
   TruthErrors err;
   double p99 = -1;
   double between = -1;  // truth_between_error, where the representation filters as planes or SH
+  enum Kind { Reference, Anchor, Default, Other } kind = Reference;  // Anchor: an engine's shipped format
 };
+
+// Each engine anchor's budget against ahdpack's default-fit profiles of no more bytes: the best of
+// them, and whether its held-out error is lower (issue 43's "every byte budget").
+void print_budgets(const std::vector<Row>& rows) {
+  std::printf("\nAt each anchor's bytes, the best ahdpack profile (default fit) of no more bytes:\n\n");
+  std::printf("| anchor | bytes/texel | its error | ahdpack | bytes/texel | error | lower |\n|---|---|---|---|---|---|---|\n");
+  for (const Row& a : rows) {
+    if (a.kind != Row::Anchor) continue;
+    const Row* best = nullptr;
+    for (const Row& r : rows)
+      if (r.kind == Row::Default && r.bytes <= a.bytes + 1e-9 && (!best || r.err.held_out < best->err.held_out)) best = &r;
+    if (!best) {
+      std::printf("| %s | %.3f | %.4f | — | — | — | no profile |\n", a.name.c_str(), a.bytes, a.err.held_out);
+      continue;
+    }
+    std::printf("| %s | %.3f | %.4f | %s | %.3f | %.4f | %s |\n", a.name.c_str(), a.bytes, a.err.held_out, best->name.c_str(),
+                best->bytes, best->err.held_out, best->err.held_out < a.err.held_out ? "yes" : "NO");
+  }
+}
 
 void print_rows(const TruthSet& t, const std::vector<Row>& rows) {
   std::printf("\n%s (%d² texels, %zu held-out normals):\n\n", t.name.c_str(), t.width,
@@ -130,7 +152,8 @@ void report_truth(const std::vector<std::string>& dirs, const std::vector<std::s
     // The bakers' own directional formats from the same SH's L1 part, at their shipped bytes.
     for (bool q : {false, true}) {
       for (const BakerFormatEval& f : baker_formats(l2, q))
-        rows.push_back({f.label, f.bytes_per_texel, truth_errors(t, f.eval)});
+        rows.push_back({f.label, f.bytes_per_texel, truth_errors(t, f.eval), -1, -1,
+                        f.bytes_per_texel > 0 ? Row::Anchor : Row::Reference});
     }
     FitOptions lum;
     lum.pair_guard_deg = guard;
@@ -163,10 +186,12 @@ void report_truth(const std::vector<std::string>& dirs, const std::vector<std::s
         const DecodedPlanes p = decode_planes(r.planes, prof.ratio_rgb, 0);
         rows.push_back({"ahdpack " + name + ", " + df.name + " d",
                         level0_bytes_per_texel(r), truth_errors(t, planes_eval(p, opt.fit.dz_min)), -1,
-                        truth_between_error(t, planes_pair_eval(p, opt.fit.dz_min))});
+                        truth_between_error(t, planes_pair_eval(p, opt.fit.dz_min)),
+                        df.value == ConversionOptions{}.direction_fit ? Row::Default : Row::Other});
       }
     }
     print_rows(t, rows);
+    print_budgets(rows);
     if (!plot.empty()) {
       std::vector<TruthPlotRow> points;
       for (const Row& r : rows) points.push_back({r.name, r.bytes, r.err.held_out});
@@ -182,7 +207,7 @@ void report_truth(const std::vector<std::string>& dirs, const std::vector<std::s
 void add_report_truth_command(CLI::App* report) {
   CLI::App* c = report->add_subcommand("truth", "Every representation against path-traced lighting (tests/data/truth/*)");
   auto dirs = std::make_shared<std::vector<std::string>>();
-  auto profiles = std::make_shared<std::vector<std::string>>(std::vector<std::string>{"pc-bc", "uncompressed"});
+  auto profiles = std::make_shared<std::vector<std::string>>(std::vector<std::string>{"pc-bc", "pc-bc-half", "pc-bc-quarter", "uncompressed"});
   auto search = std::make_shared<int>(300);
   auto guard = std::make_shared<double>(FitOptions{}.pair_guard_deg);
   auto plot = std::make_shared<std::string>();
