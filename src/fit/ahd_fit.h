@@ -38,9 +38,9 @@ struct FitOptions {
   // Refined only, over an image (fit_image): after the coherence pass, any two adjacent texels whose
   // directions turn by more than max(this, their linear directions' angle) in degrees both fall back
   // to the linear fit, until no pair does (direction_guard.h; 0 = off). Off by default since issue
-  // 43: on the eight path-traced scenes of docs/accuracy-real-lighting.md it reverted most texels of
-  // the Cornell boxes to the linear fit (+8–17 % error), and the error between texels (the planes
-  // filtered) is no lower with it.
+  // 43: on the path-traced scenes of docs/accuracy-real-lighting.md it reverted most texels of the
+  // Cornell boxes to the linear fit (with the window, up to +22 % error), and the error between
+  // texels (the planes filtered) is no lower with it.
   double pair_guard_deg = 0.0;
   // Refined only, over an image (fit_image): d is chosen on the mean SH of the texel's covered
   // (2r+1)² window of this radius r and the colours on the texel's own SH (direction_filter.h; 0 =
