@@ -37,7 +37,7 @@ BakerFormatEval godot_l1_format(const ShImage& sh, bool quantised);
 // modelled on Godot's packed L1 (PR #96114; scene_forward_mobile.glsl multiplies (t − 0.5)·2 by
 // L0·4), t = Y(L1)/(8·Y(L0)) + 0.5 clamped to [0, 1], decoded with t shared by the channels,
 // E_c(n) = max(0, L0_c + 8·(t − 0.5)·L0_c · n); the constant's effect is measured in
-// docs/accuracy-real-lighting.md "Engine anchors at their shipped bytes".
+// docs/accuracy-real-lighting.md "The engine anchors, and where their facts come from".
 // `dir_scale` 2 is PR #108405's directional texture at half the lightmap's resolution (its
 // `directional_scale_ratio` 0.5: 0.5 / 4 bytes a texel; baked over each 2×2 footprint, dilated,
 // sampled bilinearly at the lightmap's texel centres, clamp to edge).

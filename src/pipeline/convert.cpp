@@ -22,14 +22,6 @@ double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-// Direction → hemi-octahedral uv in [0,1]² (what UNORM planes store).
-void dir_to_unit_uv(const float d[3], float uv01[2]) {
-  const double dd[3] = {d[0], d[1], std::max(0.0f, d[2])};
-  double uv[2];
-  hemi_oct_encode(dd, uv);
-  uv01[0] = float(uv[0] * 0.5 + 0.5);
-  uv01[1] = float(uv[1] * 0.5 + 0.5);
-}
 
 // I_z alone: d = z, ratio = 1, so I(n) = I_z for every normal.
 AhdLobe ambient_only_lobe(const AhdFit& f) {
@@ -155,7 +147,7 @@ LevelPlanes quantise_level(const FittedLevel& lv, const Profile& profile, const 
   auto uv_rows = [&](int y0, ImageF& band, int threads) {
     const size_t first = size_t(y0) * size_t(w);
     parallel_for(band.texels(), threads, 4096,
-                 [&](size_t j) { dir_to_unit_uv(fitted_texel(lv, first + j).d, &band.data[j * 2]); });
+                 [&](size_t j) { hemi_oct_unit_uv(fitted_texel(lv, first + j).d, &band.data[j * 2]); });
   };
   if (!profile.packed_dir_ratio) out.dir = encode_banded(profile.dir, w, h, 2, codec, nullptr, uv_rows);
   const int rch = ratio_rgb ? 3 : 1;

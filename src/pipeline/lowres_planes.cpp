@@ -10,18 +10,6 @@
 #include "mips/dilate.h"
 
 namespace ahd {
-namespace {
-
-// Direction → hemi-octahedral uv in [0,1]², as convert.cpp stores full-resolution directions.
-void unit_uv_of(const float d[3], float uv01[2]) {
-  const double dd[3] = {d[0], d[1], std::max(0.0f, d[2])};
-  double uv[2];
-  hemi_oct_encode(dd, uv);
-  uv01[0] = float(uv[0] * 0.5 + 0.5);
-  uv01[1] = float(uv[1] * 0.5 + 0.5);
-}
-
-}  // namespace
 
 LowResPlanes lowres_level_planes(const FittedLevel& lv, const TextureLevel& iz, const Profile& profile,
                                  const PipelineOptions& opt, int lw, int lh) {
@@ -48,7 +36,7 @@ LowResPlanes lowres_level_planes(const FittedLevel& lv, const TextureLevel& iz, 
     }
     tilt_above_horizon(d, opt.fit.dz_min);
     const float df[3] = {float(d[0]), float(d[1]), float(d[2])};
-    unit_uv_of(df, &uv.data[k * 2]);
+    hemi_oct_unit_uv(df, &uv.data[k * 2]);
   }
   // 2. I_z as the decoder reads it (closed loop) or as fitted (open loop).
   std::vector<float> iz_full(size_t(w) * size_t(h) * 3);

@@ -22,6 +22,18 @@ struct TruthRow {
   double held_out = -1, bumped = -1;
 };
 
+// The cells of a Markdown table row "| a | b | … |", trimmed.
+std::vector<std::string> table_cells(const std::string& line) {
+  std::vector<std::string> cells;
+  std::istringstream ls(line.substr(2));
+  for (std::string cell; std::getline(ls, cell, '|');) {
+    while (!cell.empty() && cell.back() == ' ') cell.pop_back();
+    while (!cell.empty() && cell.front() == ' ') cell.erase(0, 1);
+    cells.push_back(cell);
+  }
+  return cells;
+}
+
 // The table's rows by name: "| name | bytes | held-out | normal-mapped | p99 |".
 std::map<std::string, TruthRow> parse_rows(const std::string& out) {
   std::map<std::string, TruthRow> rows;
@@ -29,13 +41,7 @@ std::map<std::string, TruthRow> parse_rows(const std::string& out) {
   for (std::string line; std::getline(in, line);) {
     if (line.rfind("At each anchor", 0) == 0) break;  // the budget table after it has other columns
     if (line.rfind("| ", 0) != 0 || line.find("---") != std::string::npos) continue;
-    std::vector<std::string> cells;
-    std::istringstream ls(line.substr(2));
-    for (std::string cell; std::getline(ls, cell, '|');) {
-      while (!cell.empty() && cell.back() == ' ') cell.pop_back();
-      while (!cell.empty() && cell.front() == ' ') cell.erase(0, 1);
-      cells.push_back(cell);
-    }
+    const std::vector<std::string> cells = table_cells(line);
     if (cells.size() < 4 || cells[0] == "representation") continue;
     rows[cells[0]] = {cells[1], std::stod(cells[2]), std::stod(cells[3])};
   }
@@ -122,13 +128,7 @@ TEST(ReportTruthBudgets, EveryAnchorHasALowerProfileOfNoMoreBytes) {
     size_t anchors = 0;
     for (std::string line; std::getline(in, line);) {
       if (line.rfind("| ", 0) != 0 || line.rfind("| anchor", 0) == 0) continue;
-      std::vector<std::string> cells;
-      std::istringstream ls(line.substr(2));
-      for (std::string cell; std::getline(ls, cell, '|');) {
-        while (!cell.empty() && cell.back() == ' ') cell.pop_back();
-        while (!cell.empty() && cell.front() == ' ') cell.erase(0, 1);
-        cells.push_back(cell);
-      }
+      const std::vector<std::string> cells = table_cells(line);
       ASSERT_GE(cells.size(), 7u) << line;
       if (std::stod(cells[1]) < 1.1) {
         EXPECT_EQ(cells[6], "no profile") << name << ": " << line;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <functional>
 #include <string>
 #include <vector>
@@ -137,7 +138,12 @@ void print_rows(const TruthSet& t, const std::vector<Row>& rows) {
 void report_truth(const std::vector<std::string>& dirs, const std::vector<std::string>& profiles, int search, double guard,
                   int window, double coherence, const std::string& plot) {
   for (const std::string& dir : dirs) {
-    const TruthSet t = load_truth_set(dir);
+    TruthSet t = load_truth_set(dir);
+    // Named by its folder (the corpus has two bakes of one scene at different sizes).
+    std::filesystem::path fp = std::filesystem::path(dir).lexically_normal();
+    if (fp.filename().empty()) fp = fp.parent_path();  // "…/area/"
+    const std::string folder = fp.filename().string();
+    if (!folder.empty() && folder != "." && folder != "..") t.name = folder;
     const ShImage l2 = baker_sh(t, 9, 0);
     ShImage l1 = make_sh_image(t.width, t.height, 4);
     l1.coverage = l2.coverage;

@@ -35,7 +35,7 @@ std::string truth_plot_svg(const std::string& scene, const std::vector<TruthPlot
   plot.x_label = "bytes per texel (level 0)";
   plot.y_label = "relative L1 error at held-out normals";
   plot.note = "tests/data/truth/" + scene + "; lines: ahdpack's profiles per direction fit; " +
-              "docs/accuracy-real-lighting.md \"Engine anchors at their shipped bytes\"";
+              "docs/accuracy-real-lighting.md \"Every byte budget\"";
   plot.log_y = false;
   PlotSeries refined{"ahdpack profiles, refined d", "point ours", "#1f77b4", 'o', {}};
   PlotSeries linear{"ahdpack profiles, linear d", "point ours", "#7fb3e0", 'o', {}};
