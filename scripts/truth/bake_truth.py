@@ -48,6 +48,7 @@ def args():
     p.add_argument("--out", required=True)
     p.add_argument("--size", type=int, default=64)
     p.add_argument("--samples", type=int, default=128)
+    p.add_argument("--margin", type=float, default=0.04, help="smart UV project's island margin (gutters between charts)")
     p.add_argument("--glb", help="also export the scene as glTF (TEXCOORD_1 = lightmap UVs)")
     return p.parse_args(argv)
 
@@ -259,7 +260,7 @@ def build_room(kind):
     return ob
 
 
-def lightmap_uvs(ob):
+def lightmap_uvs(ob, margin):
     me = ob.data
     me.uv_layers.new(name="uv")
     lm = me.uv_layers.new(name="lightmap")
@@ -268,7 +269,7 @@ def lightmap_uvs(ob):
     ob.select_set(True)
     bpy.ops.object.mode_set(mode="EDIT")
     bpy.ops.mesh.select_all(action="SELECT")
-    bpy.ops.uv.smart_project(angle_limit=math.radians(66), island_margin=0.04)
+    bpy.ops.uv.smart_project(angle_limit=math.radians(66), island_margin=margin)
     bpy.ops.object.mode_set(mode="OBJECT")
 
 
@@ -363,7 +364,7 @@ def main():
     sc.cycles.seed = 1
     sc.render.bake.use_pass_color = False
     ob = build_scene(a.scene)
-    lightmap_uvs(ob)
+    lightmap_uvs(ob, a.margin)
     me = ob.data
     fr = frames(me)
     img = bpy.data.images.new("bake", a.size, a.size, float_buffer=True)
@@ -396,7 +397,7 @@ def main():
     np.concatenate([p.reshape(-1) for p in planes]).astype("<f2").tofile(os.path.join(a.out, "truth.bin"))
     meta = {
         "format": "ahdpack-truth", "version": 1, "scene": a.scene, "width": a.size, "height": a.size,
-        "samples": a.samples, "value": "E/pi (Cycles DIFFUSE pass, direct + indirect, no colour)",
+        "samples": a.samples, "margin": a.margin, "value": "E/pi (Cycles DIFFUSE pass, direct + indirect, no colour)",
         "frame": "tangent frame of the lightmap UVs (x = dP/du, y = dP/dv, z = normal)",
         "normals": [list(n) for n in normals], "held_out": held_out,
         "planes": ["normal %d" % k for k in range(len(normals))] + ["bumped", "bumped_normals", "coverage"],

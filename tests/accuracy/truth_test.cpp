@@ -24,10 +24,10 @@ namespace {
 // The corpus (scripts/truth/bake_corpus.sh): the fit's choices were tuned on "area" and "sun"; the
 // others are held out (docs/accuracy-real-lighting.md "The corpus"). The two 256² scenes are
 // measured by `ahdpack report truth` only (a minute or two each, too long for the suite).
-const char* const kScenes[] = {"area", "sun", "cornell_area", "cornell_sun", "lamps", "emissive"};
+const char* const kScenes[] = {"area", "sun", "cornell_area", "cornell_sun", "lamps", "emissive", "cornell_tight"};
 // Bakes with ≥ 128 samples a texel: their SH reproduces the training normals within 15 %; at 16
 // (emissive) the Monte-Carlo noise alone is more than L2 holds (measured 0.18).
-const char* const kCleanScenes[] = {"area", "sun", "cornell_area", "cornell_sun", "lamps"};
+const char* const kCleanScenes[] = {"area", "sun", "cornell_area", "cornell_sun", "lamps", "cornell_tight"};
 
 std::string scene_dir(const char* name) { return ahd_test::test_data(std::string("truth/") + name).string(); }
 
