@@ -1,6 +1,8 @@
 #include "files/input_file.h"
 
+#include <algorithm>
 #include <cerrno>
+#include <cstdint>
 #include <cstring>
 
 #include <fcntl.h>
@@ -8,6 +10,7 @@
 #include <unistd.h>
 
 #include "core/error.h"
+#include "core/large_buffer.h"
 #include "files/input_record.h"
 
 namespace ahd {
@@ -38,6 +41,11 @@ std::string errno_text(int e) { return std::strerror(e); }
 }  // namespace
 
 std::vector<uint8_t> read_input_bytes(const std::string& path, size_t max_bytes) {
+  return read_input_head(path, max_bytes, SIZE_MAX, nullptr);
+}
+
+std::vector<uint8_t> read_input_head(const std::string& path, size_t max_bytes, size_t head_bytes,
+                                     uint64_t* file_bytes) {
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0) {
     const int e = errno;
@@ -59,7 +67,10 @@ std::vector<uint8_t> read_input_bytes(const std::string& path, size_t max_bytes)
   if (size > max_bytes)
     throw file_error(path, "file too large (" + std::to_string(size) + " bytes, at most " + std::to_string(max_bytes) +
                                " are read)");
-  std::vector<uint8_t> bytes(static_cast<size_t>(size));
+  if (file_bytes) *file_bytes = size;
+  // Advised for huge pages: a 1024² L1 canonical EXR is 42 MB, 10 000 page faults in 4 KB pages.
+  std::vector<uint8_t> bytes;
+  assign_large(bytes, static_cast<size_t>(std::min<uint64_t>(size, head_bytes)), uint8_t(0));
   size_t got = 0;
   while (got < bytes.size()) {
     const ssize_t n = ::read(f.fd, bytes.data() + got, bytes.size() - got);

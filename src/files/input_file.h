@@ -33,6 +33,12 @@ inline std::vector<uint8_t> read_input_bytes(const std::string& path, InputKind 
   return read_input_bytes(path, input_file_bound(kind));
 }
 
+// read_input_bytes of the first `head_bytes` only (the whole file when it is shorter), with the
+// same checks and errors, the file's size in `*file_bytes` (may be null): a header read without
+// reading a whole file (image_io.h's read_image_info; the pixels are read whole later). Thread safe.
+std::vector<uint8_t> read_input_head(const std::string& path, size_t max_bytes, size_t head_bytes,
+                                     uint64_t* file_bytes);
+
 // Whether `path` exists (following symlinks), for readers deciding what to read: false when it is
 // absent, ahd::Error("<path>: symbolic links loop …") for a symlink loop (std::filesystem::exists
 // threw, which surfaced as an internal error), never blocks. Noted in the input record as an

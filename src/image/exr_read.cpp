@@ -152,7 +152,7 @@ struct ExrReader::Impl {
   MemStream stream;
   std::unique_ptr<Imf::MultiPartInputFile> file;
   std::vector<std::unique_ptr<Imf::InputPart>> parts;
-  Impl(const std::string& p, const std::vector<uint8_t>& b) : path(p), file_bytes(b.size()), stream(p, b) {}
+  Impl(const std::string& p, const std::vector<uint8_t>& b, uint64_t n) : path(p), file_bytes(n), stream(p, b) {}
 
   const Imf::Header& header(int part) const {
     if (part < 0 || part >= file->parts())
@@ -163,7 +163,10 @@ struct ExrReader::Impl {
 };
 
 ExrReader::ExrReader(const std::string& path, const std::vector<uint8_t>& bytes)
-    : impl_(std::make_unique<Impl>(path, bytes)) {
+    : ExrReader(path, bytes, bytes.size()) {}
+
+ExrReader::ExrReader(const std::string& path, const std::vector<uint8_t>& bytes, uint64_t file_bytes)
+    : impl_(std::make_unique<Impl>(path, bytes, file_bytes)) {
   configure_openexr();
   try {
     impl_->file = std::make_unique<Imf::MultiPartInputFile>(impl_->stream, Imf::globalThreadCount());

@@ -21,6 +21,10 @@ class ExrReader {
   // Opens the file's headers (every part). Throws ahd::Error("<path>: cannot read image (…)") on a
   // malformed file. Sizes are checked by info() (check_declared_image) before pixels are sized.
   ExrReader(const std::string& path, const std::vector<uint8_t>& bytes);
+  // The headers from the first bytes of a file of `file_bytes` bytes (`bytes` may be the whole
+  // file or its beginning): info() checks sizes against the whole file's size, as above. Reading
+  // pixels past the bytes given throws. Throws as above when the headers are not within `bytes`.
+  ExrReader(const std::string& path, const std::vector<uint8_t>& bytes, uint64_t file_bytes);
   ~ExrReader();
 
   // Every part's name ("" when unnamed), in file order.

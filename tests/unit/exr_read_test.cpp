@@ -129,4 +129,46 @@ TEST(ExrRead, ReorderedChannelsWindowsTilesAndPartsMatchOpenImageIO) {
     }
 }
 
+// read_image_info answers from the file's first 256 KB when the headers are within them, and from
+// the whole file when they are not (a 300 KB header attribute): either way what OpenImageIO reads.
+TEST(ExrRead, InfoOfLargeFilesFromTheirHeadMatchesOpenImageIO) {
+  for (bool big_header : {false, true}) {
+    const std::string path = (fs::temp_directory_path() / ("ahd_exr_info_" + std::to_string(::getpid()) +
+                                                           (big_header ? "_h" : "") + ".exr"))
+                                 .string();
+    auto out = OIIO::ImageOutput::create(path);
+    OIIO::ImageSpec specs[2];
+    for (int p = 0; p < 2; ++p) {
+      specs[p] = OIIO::ImageSpec(300 + p, 200, p == 0 ? 9 : 3, OIIO::TypeDesc::FLOAT);
+      specs[p].channelnames = p == 0 ? std::vector<std::string>{"sh0.R", "sh0.G", "sh0.B", "sh1.R", "sh1.G", "sh1.B",
+                                                                "sh2.R", "sh2.G", "sh2.B"}
+                                     : std::vector<std::string>{"R", "G", "B"};
+      specs[p].full_width = 301, specs[p].full_height = 200;  // parts share their display window
+      specs[p].attribute("compression", "none");
+      specs[p].attribute("oiio:subimagename", p == 0 ? "sh" : "rgb");
+      if (big_header) specs[p].attribute("comments", std::string(300 << 10, 'x'));
+    }
+    ASSERT_TRUE(out->open(path, 2, specs)) << out->geterror();
+    for (int p = 0; p < 2; ++p) {
+      if (p) ASSERT_TRUE(out->open(path, specs[p], OIIO::ImageOutput::AppendSubimage));
+      std::vector<float> px(size_t(specs[p].width) * specs[p].height * specs[p].nchannels, 0.5f);
+      ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, px.data())) << out->geterror();
+    }
+    ASSERT_TRUE(out->close());
+    ASSERT_GT(fs::file_size(path), uintmax_t(1) << 20);
+    for (int part : {0, 1}) {
+      SCOPED_TRACE(path + " part " + std::to_string(part));
+      const OiioView ref = oiio_read(path, part);
+      const ahd::ImageFileInfo info = ahd::read_image_info(path, part);
+      EXPECT_EQ(info.width, ref.info.width);
+      EXPECT_EQ(info.height, ref.info.height);
+      EXPECT_EQ(info.channel_names, ref.info.channel_names);
+      EXPECT_EQ(info.parts, ref.info.parts);
+      EXPECT_EQ(info.color_space, ref.info.color_space);
+    }
+    EXPECT_THROW(ahd::read_image_info(path, 2), ahd::Error);
+    fs::remove(path);
+  }
+}
+
 }  // namespace
