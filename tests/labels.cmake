@@ -21,7 +21,9 @@
 #                CLI cases: 190 s of the 800 s the instrumented suite took, 2026-12-04); the runs on
 #                files we did not write (BadInput*, Cook, OutputFaults, OutputSet, Godot*) stay; the
 #                strace comparison of files read and keyed (KeyedReadsCli: strace around CLI runs); `report
-#                truth` on the path-traced scenes (ReportTruth*: lab code whose formats TruthFormats runs)
+#                truth` on the path-traced scenes (ReportTruth*: lab code whose formats TruthFormats runs);
+#                the low-resolution profiles through the CLI (LowResProfiles: 28 s instrumented, their fit and
+#                planes run in process in LowResPlanes)
 # The script tests (add_test in tests/CMakeLists.txt: Consumer.*, Python.*, Docs.*, Layering.*) are
 # labelled there, beside their add_test: ctest includes this file before it defines them.
 
@@ -31,7 +33,7 @@ set(_as_integration "^$")
 set(_as_judge "^$")
 set(_as_accuracy "^$")
 set(_slow "^(Consumer|BenchConvert|Truth|GodotAddon|GodotAddonScene)\\.|^Atlas\\.FourPageGodotAtlas|^Cli\\.(BatchOfSmallFiles|EveryProfileAndContainer)|^Bc6h\\.MaxOnCrops|^OutputSet\\.KilledBeforeEachRename|^OutputFaults\\.(HundredPairs|SignalBetweenRenames|KilledAtEveryRename)|^Cook\\.KeyCoversEveryInput|^(Verify|Preview|Preview3d)\\.GodotProject")
-set(_nosan "^(KeyedReadsCli|Consumer|PreviewChromium|ThreeRender|ThreeScene|GodotAddon|GodotAddonScene|Truth|ReportTruthAnchors|ReportTruthBudgets|Cli|BakerBevy|Preview3d|Plot|Preview|Verify|Atlas)\\.|^MeshRaster\\.(BadMeshes|ConvertWithMesh|MeshAxes)|^ColourSpace\\.(Numpy|Cli)|^OutputFaults\\.HundredPairsOfConcurrentConversions|^Bc6h\\.(MaxOnCropsOfTheSharedImages|SharedImagesBeatTheFastestPublicEncoder)$|^Fit\\.ClosedFormTMatchesBruteForceSearch$")
+set(_nosan "^(KeyedReadsCli|Consumer|PreviewChromium|ThreeRender|ThreeScene|GodotAddon|GodotAddonScene|Truth|ReportTruthAnchors|ReportTruthBudgets|LowResProfiles|Cli|BakerBevy|Preview3d|Plot|Preview|Verify|Atlas)\\.|^MeshRaster\\.(BadMeshes|ConvertWithMesh|MeshAxes)|^ColourSpace\\.(Numpy|Cli)|^OutputFaults\\.HundredPairsOfConcurrentConversions|^Bc6h\\.(MaxOnCropsOfTheSharedImages|SharedImagesBeatTheFastestPublicEncoder)$|^Fit\\.ClosedFormTMatchesBruteForceSearch$")
 
 foreach(_kind unit integration judge accuracy)
   foreach(_t IN LISTS ahd_${_kind}_tests_TESTS)
