@@ -173,6 +173,29 @@ double truth_between_error(const TruthSet& t, const TruthPairEval& eval) {
   return den > 0 ? num / den : 0.0;
 }
 
+TruthEval ahd_image_eval(const AhdImage& a, double dz_min) {
+  return [&a, dz_min](size_t i, const double n[3], double out[3]) {
+    const AhdFit f = a.texel(i);
+    decode_irradiance(f.iz, f.d, f.ratio, n, dz_min, out);
+  };
+}
+
+void truth_mid_planes(const float* iz, const float* d, const float* r, size_t i, size_t j, size_t rs, float m[9]) {
+  for (int c = 0; c < 3; ++c) {
+    m[c] = 0.5f * (iz[i * 3 + c] + iz[j * 3 + c]);
+    m[3 + c] = 0.5f * (d[i * 3 + c] + d[j * 3 + c]);
+    m[6 + c] = 0.5f * (r[i * rs + (rs == 3 ? c : 0)] + r[j * rs + (rs == 3 ? c : 0)]);
+  }
+}
+
+TruthPairEval ahd_image_pair_eval(const AhdImage& a, double dz_min) {
+  return [&a, dz_min](size_t i, size_t j, const double n[3], double out[3]) {
+    float m[9];
+    truth_mid_planes(a.iz.data(), a.d.data(), a.ratio.data(), i, j, a.one_ratio ? 1 : 3, m);
+    decode_irradiance(m, m + 3, m + 6, n, dz_min, out);
+  };
+}
+
 AhdImage searched_direction_fit(const ShImage& sh, const FitOptions& opt, int count) {
   AhdImage a = make_ahd_image(sh.width, sh.height, opt.ratio_form == RatioForm::Luminance);
   a.coverage = sh.coverage;

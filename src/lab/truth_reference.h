@@ -56,6 +56,15 @@ TruthPairEval mean_of_pair(const TruthEval& eval);
 // stored planes costs, which the texel-centre errors do not see.
 double truth_between_error(const TruthSet& t, const TruthPairEval& eval);
 
+// A fitted image's irradiance at texel i (decode_irradiance of its planes).
+TruthEval ahd_image_eval(const AhdImage& a, double dz_min);
+// The planes of texels i and j averaged (what a bilinear filter holds halfway between them) into m:
+// I_z 0–2, d 3–5 (not normalised: the decoder normalises it, as the shaders do after the filter),
+// ratio 6–8. iz and d hold 3 floats a texel, r `rs` (1 or 3).
+void truth_mid_planes(const float* iz, const float* d, const float* r, size_t i, size_t j, size_t rs, float m[9]);
+// A fitted image halfway between texels i and j (truth_mid_planes, then decode_irradiance).
+TruthPairEval ahd_image_pair_eval(const AhdImage& a, double dz_min);
+
 // The constrained AHD with d searched per texel (the reference a direction choice is judged by):
 // of `count` directions (Fibonacci over the hemisphere, horizon rule applied) the one with the
 // lowest constrained hemisphere error against the SH, colours by fit_colours (I_z exact, C ≥ 0;

@@ -31,13 +31,6 @@ const char* const kCleanScenes[] = {"area", "sun", "cornell_area", "cornell_sun"
 
 std::string scene_dir(const char* name) { return ahd_test::test_data(std::string("truth/") + name).string(); }
 
-TruthEval fit_eval(const AhdImage& a) {
-  return [&a](size_t i, const double n[3], double out[3]) {
-    const AhdFit f = a.texel(i);
-    decode_irradiance(f.iz, f.d, f.ratio, n, FitOptions{}.dz_min, out);
-  };
-}
-
 TEST(Truth, TheBakerSHReproducesTheTrainingNormals) {
   // The SH is what a baker would store: its irradiance at the normals it was made from is close
   // to Cycles' (not exact: L2 cannot hold every detail, and radiance is kept non-negative).
@@ -60,16 +53,6 @@ TEST(Truth, TheBakerSHReproducesTheTrainingNormals) {
   }
 }
 
-TruthPairEval fit_pair_eval(const AhdImage& a) {
-  return [&a](size_t i, size_t j, const double n[3], double out[3]) {
-    const AhdFit f = a.texel(i), g = a.texel(j);
-    float iz[3], d[3], r[3];
-    for (int c = 0; c < 3; ++c)
-      iz[c] = 0.5f * (f.iz[c] + g.iz[c]), d[c] = 0.5f * (f.d[c] + g.d[c]), r[c] = 0.5f * (f.ratio[c] + g.ratio[c]);
-    decode_irradiance(iz, d, r, n, FitOptions{}.dz_min, out);
-  };
-}
-
 TEST(Truth, DefaultConversionIsWithinFivePercentOfTheSearchedDirection) {
   for (const char* name : kScenes) {
     const TruthSet t = load_truth_set(scene_dir(name));
@@ -88,7 +71,7 @@ TEST(Truth, DefaultConversionIsWithinFivePercentOfTheSearchedDirection) {
     const ResolvedOptions defaults_all = resolve_options(co, "truth");
     const FitOptions defaults = defaults_all.convert.fit;
     const AhdImage searched = searched_direction_fit(sh, defaults, 300);
-    const double reference = truth_errors(t, fit_eval(searched)).held_out;
+    const double reference = truth_errors(t, ahd_image_eval(searched, defaults.dz_min)).held_out;
 
     PipelineOptions opt = defaults_all.convert;
     opt.max_levels = 1;
@@ -109,7 +92,8 @@ TEST(Truth, DefaultConversionIsWithinFivePercentOfTheSearchedDirection) {
     FitOptions linear = defaults;
     linear.direction_fit = DirectionFit::Linear;
     const AhdImage lin = fit_image(sh, linear, 0);
-    EXPECT_LE(truth_between_error(t, fit_pair_eval(fit)), 1.01 * truth_between_error(t, fit_pair_eval(lin))) << name;
+    EXPECT_LE(truth_between_error(t, ahd_image_pair_eval(fit, defaults.dz_min)),
+              1.01 * truth_between_error(t, ahd_image_pair_eval(lin, defaults.dz_min))) << name;
     double worst = 0;
     for (size_t i = 0; i < t.texels(); ++i) {
       if (!sh.coverage[i]) continue;

@@ -51,35 +51,12 @@ Eval plain_eval(const ShImage& sh) {
   };
 }
 
-Eval ahd_eval(const AhdImage& a, double dz_min) {
-  return [&a, dz_min](size_t i, const double n[3], double out[3]) {
-    const AhdFit f = a.texel(i);
-    decode_irradiance(f.iz, f.d, f.ratio, n, dz_min, out);
-  };
-}
-
-// The planes halfway between texels i and j: each plane averaged (d unnormalised: decode_irradiance
-// normalises it, as the shaders do after the filter).
-void mid_planes(const float* iz, const float* d, const float* r, size_t i, size_t j, size_t rs, float m[9]) {
-  for (int c = 0; c < 3; ++c) {
-    m[c] = 0.5f * (iz[i * 3 + c] + iz[j * 3 + c]);
-    m[3 + c] = 0.5f * (d[i * 3 + c] + d[j * 3 + c]);
-    m[6 + c] = 0.5f * (r[i * rs + (rs == 3 ? c : 0)] + r[j * rs + (rs == 3 ? c : 0)]);
-  }
-}
-
-TruthPairEval ahd_pair_eval(const AhdImage& a, double dz_min) {
-  return [&a, dz_min](size_t i, size_t j, const double n[3], double out[3]) {
-    float m[9];
-    mid_planes(a.iz.data(), a.d.data(), a.ratio.data(), i, j, a.one_ratio ? 1 : 3, m);
-    decode_irradiance(m, m + 3, m + 6, n, dz_min, out);
-  };
-}
-
+// The decoded planes halfway between texels i and j (each plane averaged; d unnormalised, as
+// decode_irradiance and the shaders normalise it after the filter).
 TruthPairEval planes_pair_eval(const DecodedPlanes& p, double dz_min) {
   return [&p, dz_min](size_t i, size_t j, const double n[3], double out[3]) {
     float m[9];
-    mid_planes(p.iz.data(), p.d.data(), p.ratio.data(), i, j, 3, m);
+    truth_mid_planes(p.iz.data(), p.d.data(), p.ratio.data(), i, j, 3, m);
     decode_irradiance(m, m + 3, m + 6, n, dz_min, out);
   };
 }
@@ -170,13 +147,13 @@ void report_truth(const std::vector<std::string>& dirs, const std::vector<std::s
       o.direction_fit = df.value;
       const AhdImage a = fit_image(l2, o, 0);
       rows.push_back({std::string("AHD float, ") + df.name + " d", 0,
-                      truth_errors(t, ahd_eval(a, o.dz_min)), direction_p99_angle_deg(a),
-                      truth_between_error(t, ahd_pair_eval(a, o.dz_min))});
+                      truth_errors(t, ahd_image_eval(a, o.dz_min)), direction_p99_angle_deg(a),
+                      truth_between_error(t, ahd_image_pair_eval(a, o.dz_min))});
     }
     const AhdImage bf = searched_direction_fit(l2, lum, search);
     rows.push_back({"constrained AHD float, d searched per texel (" + std::to_string(search) + " directions)", 0,
-                    truth_errors(t, ahd_eval(bf, lum.dz_min)), direction_p99_angle_deg(bf),
-                    truth_between_error(t, ahd_pair_eval(bf, lum.dz_min))});
+                    truth_errors(t, ahd_image_eval(bf, lum.dz_min)), direction_p99_angle_deg(bf),
+                    truth_between_error(t, ahd_image_pair_eval(bf, lum.dz_min))});
     for (const std::string& name : profiles) {
       for (const EnumName<DirectionFit>& df : kDirectionFits) {
         const Profile prof = load_profile(name);
