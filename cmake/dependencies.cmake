@@ -13,6 +13,7 @@ endif()
 
 # EXR files are read by OpenEXR directly (src/image/exr_read.cpp): no OpenImageIO start-up for them.
 find_package(OpenEXR CONFIG REQUIRED)
+if(AHD_OIIO_MODULE)
 find_package(OpenImageIO CONFIG REQUIRED)
 # Debian's OpenImageIO config names /usr/include/opencv4 even when OpenCV's headers are not
 # installed; we never include OpenCV, so drop paths that do not exist.
@@ -24,6 +25,7 @@ foreach(_d ${_oiio_inc})
   endif()
 endforeach()
 set_target_properties(OpenImageIO::OpenImageIO PROPERTIES INTERFACE_INCLUDE_DIRECTORIES "${_oiio_inc_ok}")
+endif()
 # Meshes (--mesh). pkg-config (-lassimp) rather than Debian's assimpConfig.cmake, which adds
 # draco::draco, minizip and a static librt.a to every consumer's link line although the shared
 # libassimp.so already carries its own dependencies.

@@ -25,7 +25,9 @@ install(FILES ${CMAKE_CURRENT_BINARY_DIR}/ahdpackConfig.cmake ${CMAKE_CURRENT_BI
   ${CMAKE_CURRENT_SOURCE_DIR}/cmake/ahdpack_lightmaps.cmake DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/ahdpack)
 # OpenImageIO's module, opened relative to ahdpack's bin/ folder or to libahd_bakers.so's lib/ folder
 # (image/oiio_loader.cpp).
-install(TARGETS ahd_oiio LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/ahdpack)
+if(AHD_OIIO_MODULE)
+  install(TARGETS ahd_oiio LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/ahdpack)
+endif()
 # The profiles and layout presets, found the same way (files/paths.cpp).
 install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/formats/ DESTINATION ${CMAKE_INSTALL_DATADIR}/ahdpack/formats)
 if(AHD_BUILD_CLI)

@@ -8,6 +8,10 @@
 #include "image/oiio_module.h"
 #include "files/paths.h"
 
+#ifdef AHD_NO_OIIO_MODULE
+#define AHD_INSTALL_OIIO_MODULE "libahd_oiio.so"  // never opened: load() stops first
+#endif
+
 namespace ahd {
 
 namespace {
@@ -46,6 +50,10 @@ struct Loaded {
 
 Loaded load() {
   Loaded l;
+#ifdef AHD_NO_OIIO_MODULE
+  l.error = "this ahdpack was built without it: AHD_OIIO_MODULE=OFF; EXR inputs are read without it";
+  return l;
+#endif
   l.path = module_path();
   // RTLD_LOCAL: OpenImageIO's symbols stay out of the process's global scope.
   void* so = ::dlopen(l.path.c_str(), RTLD_NOW | RTLD_LOCAL);
