@@ -47,21 +47,29 @@ constexpr int kTried = 8, kRefined = 2, kPasses = 2;
 
 // Issue 45, the path-traced bakes (docs/bc6h-real.md "A wider real corpus: the path-traced
 // bakes' I_z"): on their small, noisy blocks nearly every block passed kGate and the search above
-// cost 2.5 µs a block (lamps_256: 7 MPix/s against Basis HQ's 27). Two kinds of block take a
-// cheaper way there:
-//  * Colour noise: the texels do not lie near any one line (the share of the weighted variance
-//    off the principal axis above kColourNoise) and the one-region fit already leaves more than
-//    1/kExplained of the variance: two regions (two lines, 3-bit indices) cannot follow noise in
-//    three directions either, and gained least there (best/one-region error 0.47–0.78 on
-//    lamps_256, 0.33–0.54 on lightmap_noisy's colour-noise blocks, which kExplained keeps: its
-//    variance/error ratios are 8.4–15, lamps_256's 3.6–10.5). Skipped.
-//  * Edges: a texel kEdge times darker than the brightest (a black gutter, a lamp's rim): the
+// cost 2.5 µs a block (lamps_256: 7 MPix/s against Basis HQ's 27). A gated block now takes one of
+// four routes (route()):
+//  * Edge: a texel kEdge times darker than the brightest (a black gutter, a lamp's rim): the
 //    brightness split decides the regions, so the partition whose mask is nearest to it (Hamming
 //    distance) is the only one tried, with kEdgeRefined least-squares passes; no ranking.
-// Measured on the 14-image corpus (fast, log-RMSE; MPix/s in the commit): lightmap_noisy 0.04630 →
-// 0.04631, lamps_256 0.06897 → 0.07912, emissive 0.05179 → 0.05361, all below Basis HQ's.
-constexpr float kColourNoise = 1.0f / 16, kExplained = 8.0f, kEdge = 64.0f, kClusters = 0.75f;
-constexpr int kEdgeRefined = 1;
+//  * Skip, colour noise: the texels do not lie near one line (the share of the weighted variance
+//    off the principal axis above kColourNoise), the one-region fit leaves more than
+//    1/kExplained of the variance, and a split along the principal axis puts less than kClusters
+//    of it between the halves (not two clusters of different colour, which two regions fit):
+//    two lines with 3-bit indices cannot follow noise in three directions either, and gained
+//    least there (best/one-region error 0.47–0.78 on lamps_256, against 0.33–0.54 on
+//    lightmap_noisy's colour-noise blocks, which kExplained keeps: variance/error 8.4–15 there,
+//    3.6–10.5 on lamps_256).
+//  * Narrow, the other colour-noise blocks: the kNarrowTried best-ranked partitions,
+//    kNarrowRefined of them refined.
+//  * Search, the rest (texels near one line, or two clusters): the eight partitions as before.
+// Measured on the 14-image corpus (fast, log-RMSE; MPix/s in the commit and the doc):
+// lightmap_noisy 0.04630 → 0.04632 (Basis HQ 0.04633), lamps_256 0.06897 → 0.07910 (0.08810),
+// emissive 0.05179 → 0.05316 (0.06460). Tried: colour noise from 1/16 (lamps_256 28.5 instead
+// of 29.7 MPix/s, same errors); three narrow partitions (lamps_256 26.8, noisy unchanged);
+// kExplained 9 (noisy 0.04634, above HQ).
+constexpr float kColourNoise = 1.0f / 32, kExplained = 8.0f, kEdge = 64.0f, kClusters = 0.75f;
+constexpr int kEdgeRefined = 1, kNarrowTried = 2, kNarrowRefined = 1;
 
 // Two-region modes (0-based) by endpoint precision, most precise first; the last has absolute
 // endpoints and always fits.
@@ -246,7 +254,7 @@ int nearest_to_brightness_split(const Planes& f) {
 
 // Which way a gated block goes (see kColourNoise): from the weighted covariance of its half bits
 // (trace and principal eigenvalue, as the one-region fit's axis) and the range of its values.
-enum class Route { Search, Edge, Skip };
+enum class Route { Search, Narrow, Edge, Skip };
 Route route(const Planes& f, const float x[48], float one_err) {
   float lo = 1e30f, hi = 0, w = 0, mean[3] = {0, 0, 0};
   for (int t = 0; t < 16; ++t) {
@@ -271,7 +279,8 @@ Route route(const Planes& f, const float x[48], float one_err) {
                         ax[1] * (cov[3] * ax[0] + cov[1] * ax[1] + cov[5] * ax[2]) +
                         ax[2] * (cov[4] * ax[0] + cov[5] * ax[1] + cov[2] * ax[2])) / len2;
   const float trace = cov[0] + cov[1] + cov[2];
-  if (!(trace - lambda > kColourNoise * trace && trace < kExplained * one_err)) return Route::Search;
+  if (!(trace - lambda > kColourNoise * trace)) return Route::Search;
+  if (!(trace < kExplained * one_err)) return Route::Narrow;
   // Noise, or two clusters of different colour (which two regions fit)? The texels split at the
   // midpoint of their projections on the principal axis: two clusters put nearly all of the
   // variance between the halves, noise at most kClusters of it.
@@ -499,6 +508,8 @@ bool improve_with_two_regions(const uint16_t h[48], const float x[48], const uin
     pack(c, p, out);
     return true;
   }
+  const int tried = way == Route::Narrow ? kNarrowTried : kTried;
+  const int refined = way == Route::Narrow ? kNarrowRefined : kRefined;
   int parts[32];
   rank_partitions(f, kTried, parts);
   // Every ranked partition from its axes; least squares only on the kRefined best of them.
@@ -506,24 +517,24 @@ bool improve_with_two_regions(const uint16_t h[48], const float x[48], const uin
   float targets[kTried][2][2][3];
   int order[kTried];
   if (wide) axis_targets_avx512(f, parts, targets);
-  for (int i = 0; i < kTried; ++i) {
+  for (int i = 0; i < tried; ++i) {
     const uint16_t mask = kPartitions[parts[i]];
     if (!wide)
       for (int r = 0; r < 2; ++r) axis_targets(f, mask, r, targets[i][r][0], targets[i][r][1]);
     cand[i] = make(f, parts[i], targets[i], wide);
     order[i] = i;
   }
-  std::stable_sort(order, order + kTried, [&](int a, int b) { return cand[a].err < cand[b].err; });
+  std::stable_sort(order, order + tried, [&](int a, int b) { return cand[a].err < cand[b].err; });
   Cand best;
   int best_p = 0;
-  for (int j = 0; j < kTried; ++j) {
+  for (int j = 0; j < tried; ++j) {
     const int i = order[j], p = parts[i];
     Cand c = cand[i];
     if (c.mode < 0) continue;
     const uint16_t mask = kPartitions[p];
     float(&t)[2][2][3] = targets[i];
     // Least-squares passes on both regions' indices, each kept when it lowers the error.
-    for (int pass = 0; pass < (j < kRefined ? kPasses : 0); ++pass) {
+    for (int pass = 0; pass < (j < refined ? kPasses : 0); ++pass) {
       bool ok = true;
       for (int r = 0; r < 2 && ok; ++r) ok = refit_region(f, mask, r, c.idx, t[r][0], t[r][1]);
       if (!ok) break;
