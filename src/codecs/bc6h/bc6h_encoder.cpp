@@ -745,14 +745,14 @@ bool polish_steps(const Block& b, Candidate& best, int rounds, double* gain = nu
     }
     for (auto& m : gm) m[i] = gn[i] > 0 ? m[i] / gn[i] : 0.0f;
   }
-  // The groups' weights and regions as float lanes.
-  alignas(32) float fwa[16], fwb[16], fr[16];
+  // The groups' weights and regions as float lanes (read by the SSE2/AVX2 code only).
+  [[maybe_unused]] alignas(32) float fwa[16], fwb[16], fr[16];
   for (int i = 0; i < ng8; ++i) fwa[i] = float(gwa[i]), fwb[i] = float(gwb[i]), fr[i] = float(greg[i] / 2);
   [[maybe_unused]] const bool simd = cpu::has(cpu::kSse2);
 #if defined(__SSE2__) && defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
   const bool wide = cpu::has(cpu::kSse2 | cpu::kAvx2);
 #else
-  const bool wide = false;
+  [[maybe_unused]] const bool wide = false;
 #endif
   Candidate& c = best;
   bool moved = false;
