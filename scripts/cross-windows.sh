@@ -48,7 +48,7 @@ fetch_sources() {  # apt-get source, adding a deb-src line for the system's suit
   fi
   (cd "$deps" && apt-get source -q "$@" >/dev/null)
 }
-source_dir() { find "$deps" -maxdepth 1 -type d -name "$1-*" | sort | tail -1; }
+source_dir() { find "$deps" -maxdepth 1 -type d -name "$1-[0-9]*" | sort | tail -1; }
 cmake_dep() {  # cmake_dep NAME SOURCE_DIR [CMAKE ARGS...]: configure, build and install one dependency
   local name=$1 src=$2; shift 2
   local start; start=$(date +%s)
@@ -92,12 +92,17 @@ if [ $library_only = 0 ] && [ ! -f "$deps/assimp.stamp" ]; then
   # Debian's source uses the system's utf8cpp (header-only; the host's libutfcpp-dev, copied so
   # that no host header shadows MinGW's).
   mkdir -p "$prefix/include/utf8cpp" && cp -r /usr/include/utf8cpp/. "$prefix/include/utf8cpp/"
+  # Its patch use-system-libdraco asks for draco's CMake package whether or not glTF's Draco
+  # decoding is on (it is off here: ASSIMP_ENABLE_DRACO undefined): an empty package answers.
+  mkdir -p "$deps/no-draco" && : > "$deps/no-draco/dracoConfig.cmake"
   cmake_dep assimp "$(source_dir assimp)" -DASSIMP_BUILD_TESTS=OFF -DASSIMP_BUILD_ASSIMP_TOOLS=OFF \
     -DASSIMP_BUILD_SAMPLES=OFF -DASSIMP_BUILD_ZLIB=OFF -DASSIMP_NO_EXPORT=ON -DASSIMP_INSTALL_PDB=OFF \
     -DASSIMP_WARNINGS_AS_ERRORS=OFF -DASSIMP_BUILD_ALL_IMPORTERS_BY_DEFAULT=OFF -DASSIMP_BUILD_OBJ_IMPORTER=ON \
     -DASSIMP_BUILD_GLTF_IMPORTER=ON -DASSIMP_BUILD_FBX_IMPORTER=ON -DASSIMP_BUILD_DRACO=OFF \
     -DZLIB_LIBRARY=/usr/x86_64-w64-mingw32/lib/libz.a -DCMAKE_CXX_FLAGS="-I$prefix/include/utf8cpp" \
-    -DCMAKE_C_FLAGS="-I$prefix/include/minizip"
+    -DCMAKE_C_FLAGS="-I$prefix/include/minizip" -Ddraco_DIR="$deps/no-draco"
+  # A static libassimp needs its own dependencies on the link line; its assimp.pc names neither.
+  sed -i 's/^Libs: \(.*-lassimp[^ ]*\)$/Libs: \1 -lminizip -lz/' "$prefix/lib/pkgconfig/assimp.pc"
 fi
 
 [ $deps_only = 0 ] || exit 0
@@ -125,10 +130,11 @@ echo "cross-windows: library build $(( $(date +%s) - start )) s"
 # MinGW build here (EXR inputs are read through OpenEXR; docs/platforms.md "Windows").
 if [ $library_only = 0 ]; then
   start=$(date +%s)
-  cmake -S . -B $build/cli -G Ninja -DCMAKE_BUILD_TYPE=Release -DAHD_UNITY_BUILD=ON -DAHD_BUILD_TESTS=OFF \
+  cmake -S . -B $build-cli -G Ninja -DCMAKE_BUILD_TYPE=Release -DAHD_UNITY_BUILD=ON -DAHD_BUILD_TESTS=OFF \
     -DAHD_BUILD_BENCH=OFF -DAHD_OIIO_MODULE=OFF -DAHD_OCIO=OFF -DCMAKE_TOOLCHAIN_FILE="$toolchain" \
-    -DAHD_WIN_DEPS_PREFIX="$prefix" "${launcher[@]}" "${werror[@]}" >/dev/null
-  nice -n 19 cmake --build $build/cli -j2 --target ahdpack
+    -DAHD_WIN_DEPS_PREFIX="$prefix" -DZLIB_LIBRARY=/usr/x86_64-w64-mingw32/lib/libz.a "${launcher[@]}" \
+    "${werror[@]}" >/dev/null
+  nice -n 19 cmake --build $build-cli -j2 --target ahdpack
   echo "cross-windows: ahdpack.exe build $(( $(date +%s) - start )) s"
 fi
 
@@ -160,7 +166,7 @@ if [ $library_only = 0 ] && [ $bytes = 1 ]; then
   rm -rf $build/cli-bytes
   bash scripts/platform-cli-bytes.sh run $build/cli-bytes/x86-64 build/ahdpack
   start=$(date +%s)
-  bash scripts/platform-cli-bytes.sh run $build/cli-bytes/windows "${run[@]}" $build/cli/ahdpack.exe
+  bash scripts/platform-cli-bytes.sh run $build/cli-bytes/windows "${run[@]}" $build-cli/ahdpack.exe
   echo "windows CLI conversions under wine: $(( $(date +%s) - start )) s"
   bash scripts/platform-cli-bytes.sh compare $build/cli-bytes/x86-64 $build/cli-bytes/windows
   # Z: is Wine's drive for /; folder and file names with non-ASCII letters (UTF-8 on the Linux side).
@@ -172,7 +178,7 @@ if [ $library_only = 0 ] && [ $bytes = 1 ]; then
   odd=$build/cli-bytes/utf8-x86-64/"drive é 光"
   build/ahdpack convert "$odd/$name.exr" -o "$odd/$name.ktx2" --profile pc-bc >/dev/null
   winpath="Z:$(cd "$build/cli-bytes/utf8-windows/drive é 光" && pwd | tr / '\\')"
-  "${run[@]}" $build/cli/ahdpack.exe convert "$winpath\\$name.exr" -o "$winpath\\$name.ktx2" --profile pc-bc >/dev/null
+  "${run[@]}" $build-cli/ahdpack.exe convert "$winpath\\$name.exr" -o "$winpath\\$name.ktx2" --profile pc-bc >/dev/null
   rm -f "$build"/cli-bytes/utf8-*/*/*.report.json
   bash scripts/compare-platform-bytes.sh compare $build/cli-bytes/utf8-x86-64 $build/cli-bytes/utf8-windows
   echo "windows CLI: a drive-letter path with a UTF-8 file name converts to the same bytes"
