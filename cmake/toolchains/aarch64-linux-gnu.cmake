@@ -17,6 +17,18 @@ set(CMAKE_FIND_ROOT_PATH_MODE_INCLUDE BOTH)
 set(CMAKE_FIND_ROOT_PATH_MODE_PACKAGE BOTH)
 # pkg-config (zstd): the arm64 .pc files, never the host's.
 set(ENV{PKG_CONFIG_LIBDIR} /usr/lib/aarch64-linux-gnu/pkgconfig:/usr/share/pkgconfig)
+# AHD_ARM64_SYSROOT: arm64 -dev packages that multiarch cannot install beside the host's amd64 ones
+# (libopenexr-dev, libopencolorio-dev: same files, different contents), unpacked there with dpkg -x
+# by scripts/cross-arm64.sh. Their runtime libraries are installed through multiarch as usual.
+# (Passed on to try_compile, which reads this file again: else it resets PKG_CONFIG_LIBDIR.)
+list(APPEND CMAKE_TRY_COMPILE_PLATFORM_VARIABLES AHD_ARM64_SYSROOT)
+if(AHD_ARM64_SYSROOT)
+  list(APPEND CMAKE_FIND_ROOT_PATH ${AHD_ARM64_SYSROOT})
+  set(ENV{PKG_CONFIG_LIBDIR} ${AHD_ARM64_SYSROOT}/usr/lib/aarch64-linux-gnu/pkgconfig:$ENV{PKG_CONFIG_LIBDIR})
+  set(CMAKE_EXE_LINKER_FLAGS_INIT "-Wl,-rpath-link,${AHD_ARM64_SYSROOT}/usr/lib/aarch64-linux-gnu")
+  set(CMAKE_SHARED_LINKER_FLAGS_INIT "-Wl,-rpath-link,${AHD_ARM64_SYSROOT}/usr/lib/aarch64-linux-gnu")
+  set(CMAKE_MODULE_LINKER_FLAGS_INIT "-Wl,-rpath-link,${AHD_ARM64_SYSROOT}/usr/lib/aarch64-linux-gnu")
+endif()
 # The loader and libc of libc6:arm64 (multiarch, /lib/aarch64-linux-gnu), not the cross sysroot's: the
 # arm64 -dev packages pull in libc6:arm64, and a process mixing the two glibc builds (ld.so of
 # libc6-arm64-cross 2.36-8, libc.so.6 of libc6:arm64 2.36-9) hangs in its first pthread_create.

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "containers/limits.h"
+#include "core/cpu.h"
 #include "core/error.h"
 
 namespace ahd::cli {
@@ -18,6 +19,17 @@ void apply_size_limit_from_environment() {
     throw Error(std::string("AHDPACK_MAX_SIZE is '") + printable_path(s) +
                 "', not a whole number from 1 to 4294967295 (the largest width and height of a level)");
   set_max_image_size(uint32_t(v));
+}
+
+void apply_cpu_disable_from_environment() {
+  const char* s = std::getenv("AHD_CPU_DISABLE");
+  if (!s || !*s) return;
+  char* end = nullptr;
+  const unsigned long long v = std::strtoull(s, &end, 10);
+  if (*end != '\0' || !(*s >= '0' && *s <= '9') || v > cpu::kAllSimd)
+    throw Error(std::string("AHD_CPU_DISABLE is '") + printable_path(s) + "', not a mask from 0 to " +
+                std::to_string(cpu::kAllSimd) + " (a test hook: src/cli/environment.h)");
+  cpu::disable_for_tests(unsigned(v));
 }
 
 }  // namespace ahd::cli

@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   ahd::cli::add_lab_commands(app);
   try {
     ahd::cli::apply_size_limit_from_environment();
+    ahd::cli::apply_cpu_disable_from_environment();
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);

@@ -748,14 +748,14 @@ bool polish_steps(const Block& b, Candidate& best, int rounds, double* gain = nu
     }
     for (auto& m : gm) m[i] = gn[i] > 0 ? m[i] / gn[i] : 0.0f;
   }
-  // The groups' weights and regions as float lanes.
-  alignas(32) float fwa[16], fwb[16], fr[16];
+  // The groups' weights and regions as float lanes (read by the SSE2/AVX2 code only).
+  [[maybe_unused]] alignas(32) float fwa[16], fwb[16], fr[16];
   for (int i = 0; i < ng8; ++i) fwa[i] = float(gwa[i]), fwb[i] = float(gwb[i]), fr[i] = float(greg[i] / 2);
   [[maybe_unused]] const bool simd = cpu::has(cpu::kSse2);
 #if defined(__SSE2__) && defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
   const bool wide = cpu::has(cpu::kSse2 | cpu::kAvx2);
 #else
-  const bool wide = false;
+  [[maybe_unused]] const bool wide = false;
 #endif
   Candidate& c = best;
   bool moved = false;
@@ -1535,6 +1535,7 @@ void encode_block_default(const uint16_t h[48], const float rgb[48], const uint8
     pack_one_region(fit, out);
     return;
   }
+  const OneRegionFit fast_fit = fit;
   Block b;
   fill_targets(rgb, valid, false, b, h);
   Candidate best;
@@ -1572,11 +1573,25 @@ void encode_block_default(const uint16_t h[48], const float rgb[48], const uint8
                             std::memcmp(best.e, held.e, sizeof best.e) == 0 && std::memcmp(best.idx, held.idx, sizeof best.idx) == 0;
     if (!still_held) polish(b, best, kPolishRounds);
   }
-  if (best.mode < 10) return pack(best, false, out);
-  fit.mode = best.mode;  // one region: the fast path's packing (anchor already fixed)
-  std::memcpy(fit.e, best.e, sizeof fit.e);
-  std::memcpy(fit.idx, best.idx, sizeof fit.idx);
-  pack_one_region(fit, out);
+  if (best.mode < 10) {
+    pack(best, false, out);
+  } else {
+    fit.mode = best.mode;  // one region: the fast path's packing (anchor already fixed)
+    std::memcpy(fit.e, best.e, sizeof fit.e);
+    std::memcpy(fit.idx, best.idx, sizeof fit.idx);
+    pack_one_region(fit, out);
+  }
+  // Issue 45: `fast`'s two-region candidate (bc6h_fast_two_region.cpp: eight ranked partitions,
+  // or the brightness split on edge blocks) is not among the candidates above, whose two-region
+  // search is gated (kTwoRegionWorth, the noise band, kTwoLineGain) and tries kPartitionsTried
+  // partitions. On the path-traced bakes' I_z (docs/bc6h-real.md) that lost it on the blocks
+  // where it wins, and `default` came out less accurate than `fast` (lamps 0.05481 against
+  // 0.04572). So the block `fast` writes is a candidate too, kept when it decodes closer in the
+  // judged metric (ties: the search's own): `default` is never worse than `fast` on a block.
+  uint8_t alt[16];
+  pack_one_region(fast_fit, alt);
+  if (improve_with_two_regions(h, rgb, valid, fast_fit.err, alt) && judged_error_uf16(b, alt) < judged_error_uf16(b, out))
+    std::memcpy(out, alt, 16);
 }
 
 // A block whose values already follow the input rule: `fast` UF16 takes the real-time path

@@ -100,9 +100,9 @@ void encode_blocks_fast_x16n(int batches, const uint16_t* const h[], const float
 
 // The two-region candidate of `fast` (bc6h_fast_two_region.cpp): when one_err (the one-region
 // fit's error, weighted squared half steps) is above its gate, fits the best-ranked partition and
-// overwrites out (the one-region block) when its error is lower. Same no-specks bound; depends
-// only on its arguments.
-void improve_with_two_regions(const uint16_t h[48], const float x[48], const uint8_t valid[16], float one_err,
+// overwrites out (the one-region block) when its error is lower; returns whether it did. Same
+// no-specks bound; depends only on its arguments.
+bool improve_with_two_regions(const uint16_t h[48], const float x[48], const uint8_t valid[16], float one_err,
                               uint8_t out[16]);
 
 // Fits n UF16 blocks (block i: h + 48i, x + 48i, valid + 16i → fits[i]), each exactly as
