@@ -32,7 +32,9 @@ endif()
 pkg_check_modules(ASSIMP REQUIRED IMPORTED_TARGET GLOBAL assimp)
 # Colour spaces of inputs (image/colour_space.cpp): OpenColorIO 2.1's raw config and builtin transforms.
 # Debian ships no CMake config for it, only OpenColorIO.pc. Linked to ahd_io only.
-pkg_check_modules(OCIO REQUIRED IMPORTED_TARGET GLOBAL OpenColorIO>=2.1)
+if(AHD_OCIO)
+  pkg_check_modules(OCIO REQUIRED IMPORTED_TARGET GLOBAL OpenColorIO>=2.1)
+endif()
 if(AHD_BUILD_CLI)
   find_package(CLI11 CONFIG QUIET)  # header-only; Debian ships the headers in /usr/include
 endif()

@@ -17,7 +17,6 @@
 //
 // The report is untrusted text: read_report_file bounds its size and nesting, and every value of it
 // reaches the page through one escaping function (markup.h html_escape).
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
@@ -35,6 +34,7 @@
 #include "core/error.h"
 #include "fit/ahd_decode.h"
 #include "image/image_io.h"
+#include "files/os_files.h"
 #include "files/output_set.h"
 
 namespace ahd::cli {
@@ -89,7 +89,7 @@ void publish_folder(const fs::path& tmp, const fs::path& out) {
     if (!fs::is_directory(out, ec)) throw file_error(out.string(), "exists and is not a folder");
     const bool ours = fs::exists(out / kMarker, ec) || fs::is_empty(out, ec);
     if (!ours) throw file_error(out.string(), "exists and is not an ahdpack preview folder (nothing was replaced)");
-    const fs::path old = out.parent_path() / ("." + out.filename().string() + ".ahdtmp-" + std::to_string(getpid()) + "-old");
+    const fs::path old = out.parent_path() / ("." + out.filename().string() + ".ahdtmp-" + std::to_string(os::process_id()) + "-old");
     fs::rename(out, old, ec);
     if (ec) throw file_error(out.string(), "cannot replace: " + ec.message());
     fs::rename(tmp, out, ec);
@@ -134,7 +134,7 @@ void run_preview(const PreviewArgs& a) {
     if (!given.has_filename()) given = given.parent_path();
     throw file_error(given.has_parent_path() ? given.parent_path().string() : ".", "no such folder");
   }
-  TempDir tmp{out.parent_path() / ("." + out.filename().string() + ".ahdtmp-" + std::to_string(getpid()) + "-preview")};
+  TempDir tmp{out.parent_path() / ("." + out.filename().string() + ".ahdtmp-" + std::to_string(os::process_id()) + "-preview")};
   fs::remove_all(tmp.path, ec);
   if (!fs::create_directory(tmp.path, ec))
     throw file_error(out.string(), "cannot create its temporary folder beside it (" + ec.message() + ")");

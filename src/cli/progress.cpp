@@ -1,12 +1,12 @@
 #include "cli/progress.h"
 
-#include <unistd.h>
-
 #include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <memory>
 #include <string>
+
+#include "files/os_files.h"
 
 namespace ahd::cli {
 namespace {
@@ -53,13 +53,13 @@ void install_interrupt_handler() {
 void attach_terminal_progress(ConversionOptions* options, bool quiet) {
   install_interrupt_handler();
   options->cancel = interrupt_flag();
-  if (quiet || !isatty(STDERR_FILENO)) return;
+  if (quiet || !os::stderr_is_terminal()) return;
   auto p = std::make_shared<TerminalProgress>();
   options->progress = [p](const char* stage, double fraction) { (*p)(stage, fraction); };
 }
 
 BatchProgress::BatchProgress(size_t files, bool quiet)
-    : on_(!quiet && isatty(STDERR_FILENO)), files_(files), start_(std::chrono::steady_clock::now()) {
+    : on_(!quiet && os::stderr_is_terminal()), files_(files), start_(std::chrono::steady_clock::now()) {
   std::lock_guard<std::mutex> l(lock_);
   draw(true);
 }

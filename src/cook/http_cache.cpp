@@ -21,6 +21,8 @@
 // server error or a timeout on a lookup is a miss; a failed store throws (the cook warns once and
 // the conversion stands). A server that could not be reached (refused, reset, timed out) is not
 // asked again by this process: later lookups miss at once and stores fail at once, saying why.
+// POSIX only: on Windows cook/http_cache_win32.cpp says the HTTP cache is not available there.
+#ifndef _WIN32
 #include <ahd/cook.h>
 #include <arpa/inet.h>
 #include <fcntl.h>
@@ -498,3 +500,4 @@ std::shared_ptr<const CacheBackend> open_http_cache(const std::string& url, uint
 }
 
 }  // namespace ahd
+#endif  // !_WIN32

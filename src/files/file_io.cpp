@@ -7,10 +7,6 @@
 #include <fstream>
 #include <random>
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
 #include <cerrno>
 #include <cstring>
 
@@ -18,6 +14,7 @@
 #include "core/error.h"
 #include "files/input_file.h"
 #include "files/input_record.h"
+#include "files/os_files.h"
 
 namespace ahd {
 namespace fs = std::filesystem;
@@ -29,7 +26,7 @@ std::string temp_path_for(const std::string& path) {
   // files/output_set.h removes those whose process is gone), and ending in the final extension so
   // OpenImageIO picks the right writer.
   char tag[48];
-  std::snprintf(tag, sizeof tag, ".ahdtmp-%ld-%08x", long(::getpid()), unsigned(rng()));
+  std::snprintf(tag, sizeof tag, ".ahdtmp-%ld-%08x", os::process_id(), unsigned(rng()));
   return (p.parent_path() / ("." + p.filename().string() + tag + p.extension().string())).string();
 }
 
@@ -42,31 +39,23 @@ std::string read_text_file(const std::string& path, size_t max_bytes) {
   return std::string(b.begin(), b.end());
 }
 
-RegularFile::RegularFile(const std::string& path, uint64_t max_bytes, bool no_symlink) : path_(path) {
-  fd_ = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | (no_symlink ? O_NOFOLLOW : 0));
-  if (fd_ < 0) throw file_error(path, errno == ENOENT ? "file not found" : "cannot open (" + std::string(std::strerror(errno)) + ")");
-  struct stat st {};
-  if (::fstat(fd_, &st) != 0 || !S_ISREG(st.st_mode)) {
-    ::close(fd_);
-    throw file_error(path, "not a regular file");
-  }
-  size_ = uint64_t(st.st_size);
-  if (size_ > max_bytes) {
-    ::close(fd_);
+RegularFile::RegularFile(const std::string& path, uint64_t max_bytes, bool no_symlink)
+    : path_(path), file_(std::make_unique<os::ReadFile>()) {
+  // Opened without blocking and without following a symlink when asked (files/os_files.h).
+  if (const int e = os::open_for_reading(path, no_symlink, file_.get()))
+    throw file_error(path, e == ENOENT ? "file not found" : "cannot open (" + os::error_text(e) + ")");
+  bool regular = false;
+  if (os::file_status(*file_, &regular, &size_) != 0 || !regular) throw file_error(path, "not a regular file");
+  if (size_ > max_bytes)
     throw file_error(path, "file too large (" + std::to_string(size_) + " bytes, at most " + std::to_string(max_bytes) +
                                " are read)");
-  }
-  // Back to blocking reads (a regular file never blocks on O_NONBLOCK anyway).
-  ::fcntl(fd_, F_SETFL, ::fcntl(fd_, F_GETFL) & ~O_NONBLOCK);
 }
 
-RegularFile::~RegularFile() {
-  if (fd_ >= 0) ::close(fd_);
-}
+RegularFile::~RegularFile() = default;
 
 void RegularFile::read(uint8_t* out, size_t n) {
   while (n > 0) {
-    const ssize_t got = ::read(fd_, out, std::min(n, size_t(1) << 30));
+    const long got = os::read_some(*file_, out, std::min(n, size_t(1) << 30));
     if (got < 0 && errno == EINTR) continue;
     if (got < 0) throw file_error(path_, "read failed (" + std::string(std::strerror(errno)) + ")");
     if (got == 0) throw file_error(path_, "read failed (shorter than its size)");

@@ -5,13 +5,10 @@
 #include <cstdint>
 #include <cstring>
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
 #include "core/error.h"
 #include "core/large_buffer.h"
 #include "files/input_record.h"
+#include "files/os_files.h"
 
 namespace ahd {
 
@@ -29,14 +26,7 @@ size_t input_file_bound(InputKind kind) {
 
 namespace {
 
-struct Fd {
-  int fd = -1;
-  ~Fd() {
-    if (fd >= 0) ::close(fd);
-  }
-};
-
-std::string errno_text(int e) { return std::strerror(e); }
+std::string errno_text(int e) { return os::error_text(e); }
 
 }  // namespace
 
@@ -46,24 +36,21 @@ std::vector<uint8_t> read_input_bytes(const std::string& path, size_t max_bytes)
 
 std::vector<uint8_t> read_input_head(const std::string& path, size_t max_bytes, size_t head_bytes,
                                      uint64_t* file_bytes) {
-  struct stat st {};
-  if (::stat(path.c_str(), &st) != 0) {
-    const int e = errno;
+  bool regular = false;
+  uint64_t size = 0;
+  if (const int e = os::path_status(path, &regular, &size)) {
     if (e == ENOENT || e == ENOTDIR) throw file_error(path, "file not found");
     throw file_error(path, "cannot open (" + errno_text(e) + ")");
   }
   // A device or pipe (/dev/zero, a FIFO) has no size to bound the read by: refused, not read forever.
-  if (!S_ISREG(st.st_mode)) throw file_error(path, "not a regular file");
-  // O_NONBLOCK: a FIFO put in the file's place after the stat would block this open for ever.
-  Fd f;
-  f.fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
-  if (f.fd < 0) {
-    const int e = errno;
+  if (!regular) throw file_error(path, "not a regular file");
+  // Opened without blocking: a FIFO put in the file's place after the stat would block this open for ever.
+  os::ReadFile f;
+  if (const int e = os::open_for_reading(path, false, &f)) {
     if (e == ENOENT) throw file_error(path, "file not found");
     throw file_error(path, "cannot open (" + errno_text(e) + ")");
   }
-  if (::fstat(f.fd, &st) != 0 || !S_ISREG(st.st_mode)) throw file_error(path, "not a regular file");
-  const uint64_t size = uint64_t(st.st_size);
+  if (os::file_status(f, &regular, &size) != 0 || !regular) throw file_error(path, "not a regular file");
   if (size > max_bytes)
     throw file_error(path, "file too large (" + std::to_string(size) + " bytes, at most " + std::to_string(max_bytes) +
                                " are read)");
@@ -73,7 +60,7 @@ std::vector<uint8_t> read_input_head(const std::string& path, size_t max_bytes, 
   assign_large(bytes, static_cast<size_t>(std::min<uint64_t>(size, head_bytes)), uint8_t(0));
   size_t got = 0;
   while (got < bytes.size()) {
-    const ssize_t n = ::read(f.fd, bytes.data() + got, bytes.size() - got);
+    const long n = os::read_some(f, bytes.data() + got, bytes.size() - got);
     if (n < 0 && errno == EINTR) continue;
     if (n < 0) throw file_error(path, "read failed (" + errno_text(errno) + ")");
     if (n == 0) throw file_error(path, "read failed (shorter than its size said: changed while read)");
@@ -84,9 +71,11 @@ std::vector<uint8_t> read_input_head(const std::string& path, size_t max_bytes, 
 }
 
 bool input_exists(const std::string& path) {
-  struct stat st {};
-  const bool found = ::stat(path.c_str(), &st) == 0;
-  if (!found && errno == ELOOP) throw file_error(path, "symbolic links loop (" + errno_text(ELOOP) + ")");
+  bool regular = false;
+  uint64_t size = 0;
+  const int e = os::path_status(path, &regular, &size);
+  const bool found = e == 0;
+  if (e == ELOOP) throw file_error(path, "symbolic links loop (" + errno_text(ELOOP) + ")");
   // Noted as a probe: what a reader reads depends on it, so the cache's direct lookup checks it
   // again (an .import or unwrap cache that appears later reads the input again, no stale hit).
   (void)probe_input_file(path);

@@ -1,11 +1,5 @@
 #include "files/output_set.h"
 
-#include <fcntl.h>
-#include <sys/file.h>
-#include <signal.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
 #include <atomic>
 #include <cerrno>
 #include <cstdlib>
@@ -19,6 +13,7 @@
 #include "containers/sha256.h"
 #include "core/error.h"
 #include "files/file_io.h"
+#include "files/os_files.h"
 
 namespace ahd {
 namespace fs = std::filesystem;
@@ -26,7 +21,7 @@ namespace fs = std::filesystem;
 namespace {
 
 // What to undo if SIGINT/SIGTERM arrives during a publish. Fixed storage: the handler may only call
-// async-signal-safe functions (unlink, rename, signal, raise). Each slot: kUnlink removes a[i]
+// async-signal-safe functions (os::remove_file, os::rename_replace: unlink, rename). Each slot: kUnlink removes a[i]
 // (a temporary, or a member renamed before the commit), kRestore renames a[i] back to b[i] (an
 // annex moved aside).
 constexpr int kMaxSlots = 64;
@@ -35,35 +30,26 @@ char g_a[kMaxSlots][4096], g_b[kMaxSlots][4096];
 std::atomic<int> g_state[kMaxSlots];
 std::atomic<int> g_slots{0};
 
-extern "C" void on_interrupt(int sig) {
+void on_interrupt() {
   const int n = g_slots.load();
   for (int i = 0; i < n && i < kMaxSlots; ++i) {
     const int st = g_state[i].load();
-    if (st == kUnlink) ::unlink(g_a[i]);
-    else if (st == kRestore) ::rename(g_a[i], g_b[i]);
+    if (st == kUnlink) os::remove_file(g_a[i]);
+    else if (st == kRestore) os::rename_replace(g_a[i], g_b[i]);
   }
-  ::signal(sig, SIG_DFL);
-  ::raise(sig);
+}
+
+void reset_slots() {
+  for (auto& s : g_state) s.store(kIdle);
+  g_slots.store(0);
 }
 
 // Installs the handler for the lifetime of one publish; restores the previous ones after.
 struct InterruptGuard {
-  struct sigaction old_int {}, old_term {};
-  InterruptGuard() {
-    for (auto& s : g_state) s.store(kIdle);
-    g_slots.store(0);
-    struct sigaction sa {};
-    sa.sa_handler = on_interrupt;
-    sigemptyset(&sa.sa_mask);
-    sigaction(SIGINT, &sa, &old_int);
-    sigaction(SIGTERM, &sa, &old_term);
-  }
-  ~InterruptGuard() {
-    sigaction(SIGINT, &old_int, nullptr);
-    sigaction(SIGTERM, &old_term, nullptr);
-    for (auto& s : g_state) s.store(kIdle);
-    g_slots.store(0);
-  }
+  // Slots first: the handler must never see a previous publish's slots.
+  bool reset = (reset_slots(), true);
+  os::InterruptCleanup cleanup{on_interrupt};
+  ~InterruptGuard() { reset_slots(); }
   // A new slot (or -1 when full or the path is too long: that file is then only cleaned up by the
   // next run, as a stale temporary).
   int add() {
@@ -85,28 +71,7 @@ struct InterruptGuard {
   }
 };
 
-// The folder's flock, held for the whole publish of a set (released by close).
-struct FolderLock {
-  int fd = -1;
-  explicit FolderLock(const fs::path& dir) {
-    fd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-    if (fd < 0) throw file_error(dir.string(), "cannot open the folder (" + std::string(std::strerror(errno)) + ")");
-    while (::flock(fd, LOCK_EX) != 0) {
-      if (errno == EINTR) continue;
-      // A file system without locks (some network mounts): publish unlocked rather than not at all.
-      if (errno == ENOLCK || errno == EBADF || errno == EINVAL || errno == EOPNOTSUPP) break;
-      const int e = errno;
-      ::close(fd);
-      fd = -1;
-      throw file_error(dir.string(), "cannot lock the folder (" + std::string(std::strerror(e)) + ")");
-    }
-  }
-  ~FolderLock() {
-    if (fd >= 0) ::close(fd);
-  }
-};
-
-std::string errno_text(int e) { return std::strerror(e); }
+std::string errno_text(int e) { return os::error_text(e); }
 
 // Test hook AHDPACK_TEST_WRITE_FAULT="k:ENOSPC|EROFS|EACCES|EIO": writing the k-th file of a set
 // fails with that error after its temporary file was created (a full disk, a folder turned
@@ -124,51 +89,21 @@ int injected_write_fault(size_t index) {
 // Writes and fsyncs one temporary file; throws naming the final path.
 void write_synced(const std::string& tmp, const std::string& final_path, const std::vector<uint8_t>& bytes,
                   int fault = 0) {
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
-  if (fd < 0) throw file_error(final_path, "cannot create a file in its folder (" + errno_text(errno) + ")");
-  if (fault) {
-    ::close(fd);
-    ::unlink(tmp.c_str());
-    throw file_error(final_path, "write failed (" + errno_text(fault) + ")");
-  }
-  size_t done = 0;
-  while (done < bytes.size()) {
-    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      const int e = n < 0 ? errno : ENOSPC;
-      ::close(fd);
-      ::unlink(tmp.c_str());
-      throw file_error(final_path, "write failed (" + errno_text(e) + ")");
-    }
-    done += size_t(n);
-  }
-  // fsync before the rename: otherwise a crash can publish a name whose data never reached the disk.
-  if (::fsync(fd) != 0) {
-    const int e = errno;
-    ::close(fd);
-    ::unlink(tmp.c_str());
-    throw file_error(final_path, "write failed (" + errno_text(e) + ")");
-  }
-  if (::close(fd) != 0) {
-    const int e = errno;
-    ::unlink(tmp.c_str());
-    throw file_error(final_path, "write failed (" + errno_text(e) + ")");
-  }
+  // Written, fsynced and closed, every step checked; removed on failure (files/os_files.h).
+  bool created = false;
+  const int e = os::write_new_synced(tmp, bytes, fault, &created);
+  if (e == 0) return;
+  if (!created) throw file_error(final_path, "cannot create a file in its folder (" + errno_text(e) + ")");
+  throw file_error(final_path, "write failed (" + errno_text(e) + ")");
 }
 
-void fsync_dir(const fs::path& dir) {
-  const int fd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (fd < 0) return;
-  ::fsync(fd);  // best effort: some file systems refuse fsync on folders
-  ::close(fd);
-}
+void fsync_dir(const fs::path& dir) { os::sync_folder(dir.string()); }
 
 // AHDPACK_TEST_KILL_BEFORE_RENAME="k" (SIGKILL), "k:INT" or "k:TERM": the signal this process sends
 // itself before rename k.
 struct KillHook {
   long index = -1;
-  int sig = SIGKILL;
+  os::SelfSignal sig = os::SelfSignal::kKill;
 };
 
 KillHook kill_before_rename_hook() {
@@ -180,12 +115,13 @@ KillHook kill_before_rename_hook() {
   const std::string sig = *end == ':' ? end + 1 : "";
   if (v < 0 || (*end != '\0' && *end != ':')) return h;
   h.index = v;
-  h.sig = sig == "INT" ? SIGINT : sig == "TERM" ? SIGTERM : SIGKILL;
+  using S = os::SelfSignal;
+  h.sig = sig == "INT" ? S::kInterrupt : sig == "TERM" ? S::kTerminate : S::kKill;
   return h;
 }
 
 void maybe_kill(const KillHook& hook, size_t index) {
-  if (hook.index >= 0 && size_t(hook.index) == index) ::kill(::getpid(), hook.sig);
+  if (hook.index >= 0 && size_t(hook.index) == index) os::signal_self(hook.sig);
 }
 
 }  // namespace
@@ -205,9 +141,9 @@ size_t remove_stale_temporaries(const std::string& dir) {
     const size_t at = fn.find(".ahdtmp-") + 8;
     const long pid = std::strtol(fn.c_str() + at, nullptr, 10);
     // Another ahdpack still writing into this folder keeps its temporaries.
-    if (pid > 0 && pid != long(::getpid()) && (::kill(pid_t(pid), 0) == 0 || errno != ESRCH)) continue;
+    if (pid > 0 && pid != os::process_id() && os::process_may_run(pid)) continue;
     std::error_code rm;
-    if (pid != long(::getpid()) && fs::remove(it->path(), rm)) ++removed;
+    if (pid != os::process_id() && fs::remove(it->path(), rm)) ++removed;
   }
   return removed;
 }
@@ -223,8 +159,8 @@ struct Renamer {
   size_t count = 0;
   void operator()(const std::string& from, const std::string& to) {
     maybe_kill(hook, count++);
-    if (::rename(from.c_str(), to.c_str()) != 0)
-      throw file_error(to, "cannot rename its temporary file (" + errno_text(errno) + ")");
+    if (const int e = os::rename_replace(from.c_str(), to.c_str()))
+      throw file_error(to, "cannot rename its temporary file (" + errno_text(e) + ")");
   }
 };
 
@@ -248,8 +184,8 @@ void publish_output_set(const OutputSet& set) {
     if (fs::is_directory(f->path, ec)) throw file_error(f->path, "is a folder");
   }
   const bool is_set = !set.members.empty() || !set.annexes.empty() || !set.annex_names.empty() || set.superseded;
-  std::unique_ptr<FolderLock> folder_lock;
-  if (is_set) folder_lock = std::make_unique<FolderLock>(dir);
+  std::unique_ptr<os::FolderLock> folder_lock;
+  if (is_set) folder_lock = std::make_unique<os::FolderLock>(dir.string());
   remove_stale_temporaries(dir.string());
   const std::vector<std::string> superseded = set.superseded ? set.superseded() : std::vector<std::string>{};
 
@@ -271,13 +207,13 @@ void publish_output_set(const OutputSet& set) {
   bool committed = false;
   auto undo = [&]() {
     for (size_t i = 0; i < n; ++i)
-      if (!temps[i].empty() && !renamed[i]) ::unlink(temps[i].c_str());
+      if (!temps[i].empty() && !renamed[i]) os::remove_file(temps[i].c_str());
     if (committed) {
-      for (const Aside& a : aside) ::unlink(a.tmp.c_str());
+      for (const Aside& a : aside) os::remove_file(a.tmp.c_str());
       return;
     }
-    for (const auto& p : created) ::unlink(p.c_str());
-    for (const Aside& a : aside) ::rename(a.tmp.c_str(), a.final_path.c_str());
+    for (const auto& p : created) os::remove_file(p.c_str());
+    for (const Aside& a : aside) os::rename_replace(a.tmp.c_str(), a.final_path.c_str());
   };
   Renamer rename;
   try {
@@ -325,7 +261,7 @@ void publish_output_set(const OutputSet& set) {
     fsync_dir(dir);
     throw;
   }
-  for (const Aside& a : aside) ::unlink(a.tmp.c_str());
+  for (const Aside& a : aside) os::remove_file(a.tmp.c_str());
   fsync_dir(dir);
   maybe_kill(rename.hook, rename.count);
   bool removed = false;

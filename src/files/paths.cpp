@@ -1,17 +1,16 @@
 #include "files/paths.h"
 
-#include <dlfcn.h>
-
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 
+#include "files/os_files.h"
+
 namespace ahd {
 
 std::string executable_prefix() {
-  std::error_code ec;
-  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-  if (ec || exe.empty()) return {};
+  const std::filesystem::path exe = os::executable_path();
+  if (exe.empty()) return {};
   std::filesystem::path prefix = exe.parent_path();
   for (const auto& part : std::filesystem::path(AHD_INSTALL_BINDIR))
     if (!part.empty() && part != ".") prefix = prefix.parent_path();
@@ -19,9 +18,9 @@ std::string executable_prefix() {
 }
 
 std::string library_prefix() {
-  Dl_info info{};
-  if (!::dladdr(reinterpret_cast<void*>(&library_prefix), &info) || !info.dli_fname || !*info.dli_fname) return {};
-  std::filesystem::path prefix = std::filesystem::path(info.dli_fname).parent_path();
+  const std::string file = os::module_path_of(reinterpret_cast<const void*>(&library_prefix));
+  if (file.empty()) return {};
+  std::filesystem::path prefix = std::filesystem::path(file).parent_path();
   for (const auto& part : std::filesystem::path(AHD_INSTALL_LIBDIR))
     if (!part.empty() && part != ".") prefix = prefix.parent_path();
   return prefix.string();

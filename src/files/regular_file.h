@@ -2,9 +2,13 @@
 // entries and records, the key's hashing of inputs, the clean-up's hashing of old planes).
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <string>
 
 namespace ahd {
+namespace os {
+struct ReadFile;  // files/os_files.h
+}
 
 // A regular file opened for reading, for streamed reads: opened with O_NONBLOCK (a FIFO opens
 // without waiting for a writer) and O_NOFOLLOW when `no_symlink`, then checked with fstat on the
@@ -23,7 +27,7 @@ class RegularFile {
 
  private:
   std::string path_;
-  int fd_ = -1;
+  std::unique_ptr<os::ReadFile> file_;
   uint64_t size_ = 0;
 };
 

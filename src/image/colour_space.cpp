@@ -1,6 +1,11 @@
 #include "image/colour_space.h"
 
+// AHD_NO_OCIO (CMake AHD_OCIO=OFF, for platforms without an OpenColorIO build): inputs in the
+// working space convert as always; a conversion from another space, or an sRGB decode, is refused
+// with one error line naming the option (docs/platforms.md "Windows").
+#ifndef AHD_NO_OCIO
 #include <OpenColorIO/OpenColorIO.h>
+#endif
 
 #include <algorithm>
 #include <cctype>
@@ -10,7 +15,9 @@
 #include "core/error.h"
 #include "core/parallel.h"
 
+#ifndef AHD_NO_OCIO
 namespace OCIO = OCIO_NAMESPACE;
+#endif
 
 namespace ahd {
 
@@ -96,7 +103,7 @@ const Named* find_named(const std::string& name) {
 
 using M3 = Matrix3;
 
-M3 mul(const M3& a, const M3& b) {
+[[maybe_unused]] M3 mul(const M3& a, const M3& b) {
   M3 r{};
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
@@ -155,7 +162,7 @@ M3 rgb_to_xyz(const float* c, const std::string& path) {
 
 // Bradford chromatic adaptation from white `src` to white `dst` (x, y). The linear Bradford cone
 // matrix, as the ACES and OpenColorIO's _BFD builtins use it.
-M3 bradford(double sx, double sy, double dx, double dy) {
+[[maybe_unused]] M3 bradford(double sx, double sy, double dx, double dy) {
   const M3 b = {{{0.8951, 0.2664, -0.1614}, {-0.7502, 1.7135, 0.0367}, {0.0389, -0.0685, 1.0296}}};
   const auto s = xyz_of(sx, sy), d = xyz_of(dx, dy);
   M3 scale{};
@@ -165,6 +172,7 @@ M3 bradford(double sx, double sy, double dx, double dy) {
   return mul(inverse(b), mul(scale, b));
 }
 
+#ifndef AHD_NO_OCIO
 OCIO::MatrixTransformRcPtr matrix_transform(const M3& m) {
   double m44[16] = {};
   for (int r = 0; r < 3; ++r)
@@ -206,6 +214,13 @@ OCIO::TransformRcPtr to_working(const SourceSpace& from, const std::string& path
   g->appendTransform(matrix_transform(xyz_to_709));
   return g;
 }
+#else
+[[noreturn]] void no_ocio(const std::string& path, const std::string& what) {
+  const std::string why = what + " needs OpenColorIO, and this ahdpack was built without it (AHD_OCIO=OFF)";
+  if (path.empty()) throw Error(why);
+  throw file_error(path, why);
+}
+#endif
 
 }  // namespace
 
@@ -261,6 +276,9 @@ Matrix3 working_space_matrix(const SourceSpace& from, const std::string& path) {
   M3 m{};
   for (int i = 0; i < 3; ++i) m[i][i] = 1;
   if (from.working_primaries()) return m;
+#ifdef AHD_NO_OCIO
+  no_ocio(path, "converting from " + from.describe());
+#else
   try {
     const OCIO::ConstConfigRcPtr config = OCIO::Config::CreateRaw();
     const OCIO::ConstCPUProcessorRcPtr cpu =
@@ -286,6 +304,7 @@ Matrix3 working_space_matrix(const SourceSpace& from, const std::string& path) {
                      "OpenColorIO cannot convert " + from.describe() + " to the working space (" + e.what() + ")");
   }
   return m;
+#endif
 }
 
 void apply_matrix(ShImage& sh, const Matrix3& m) {
@@ -304,6 +323,10 @@ void apply_matrix(ShImage& sh, const Matrix3& m) {
 }
 
 void srgb_decode(float* values, size_t n, size_t stride) {
+#ifdef AHD_NO_OCIO
+  (void)values, (void)n, (void)stride;
+  no_ocio("", "decoding an sRGB-encoded plane");
+#else
   // The processor is built once; OpenColorIO's CPU processors are safe to share between threads.
   static const OCIO::ConstCPUProcessorRcPtr cpu = [] {
     OCIO::ExponentWithLinearTransformRcPtr t = OCIO::ExponentWithLinearTransform::Create();
@@ -320,6 +343,7 @@ void srgb_decode(float* values, size_t n, size_t stride) {
     cpu->applyRGB(v);
     for (size_t j = 0; j < m; ++j) values[(i + j) * stride] = v[j];
   }
+#endif
 }
 
 }  // namespace ahd

@@ -6,7 +6,6 @@
 #include <fstream>
 #include <random>
 
-#include <unistd.h>
 
 #include "containers/limits.h"
 #include "image/exr_read.h"

@@ -1,11 +1,10 @@
-#include <dlfcn.h>
-
 #include <filesystem>
 #include <mutex>
 #include <vector>
 
 #include "core/error.h"
 #include "image/oiio_module.h"
+#include "files/os_files.h"
 #include "files/paths.h"
 
 #ifdef AHD_NO_OIIO_MODULE
@@ -33,11 +32,10 @@ std::string module_path() {
   }
   const std::string name = std::filesystem::path(AHD_INSTALL_OIIO_MODULE).filename().string();
   std::vector<std::filesystem::path> beside;
-  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-  if (!ec && !exe.empty()) beside.push_back(exe.parent_path() / name);
-  Dl_info info{};
-  if (::dladdr(reinterpret_cast<void*>(&module_path), &info) && info.dli_fname && *info.dli_fname)
-    beside.push_back(std::filesystem::absolute(info.dli_fname, ec).parent_path() / name);
+  const std::filesystem::path exe = os::executable_path();
+  if (!exe.empty()) beside.push_back(exe.parent_path() / name);
+  const std::string file = os::module_path_of(reinterpret_cast<const void*>(&module_path));
+  if (!file.empty()) beside.push_back(std::filesystem::absolute(file, ec).parent_path() / name);
   for (const std::filesystem::path& p : beside)
     if (std::filesystem::exists(p, ec)) return p.string();
   return beside.empty() ? name : beside.front().string();
@@ -55,15 +53,10 @@ Loaded load() {
   return l;
 #endif
   l.path = module_path();
-  // RTLD_LOCAL: OpenImageIO's symbols stay out of the process's global scope.
-  void* so = ::dlopen(l.path.c_str(), RTLD_NOW | RTLD_LOCAL);
-  if (!so) {
-    const char* e = ::dlerror();  // names the path
-    l.error = e ? e : l.path + ": cannot load";
-    return l;
-  }
+  void* so = os::load_module(l.path, &l.error);  // files/os_files.h: dlopen, LoadLibraryExW
+  if (!so) return l;
   using Entry = const OiioModule* (*)();
-  auto entry = reinterpret_cast<Entry>(::dlsym(so, "ahd_oiio_module"));
+  auto entry = reinterpret_cast<Entry>(os::module_symbol(so, "ahd_oiio_module"));
   const OiioModule* m = entry ? entry() : nullptr;
   if (!m || m->abi != kOiioModuleAbi) {
     l.error = l.path + ": not the OpenImageIO module of this ahdpack build";

@@ -187,4 +187,10 @@ const ahd::OiioModule kModule = {ahd::kOiioModuleAbi, open_image, close_image, s
 
 }  // namespace
 
-extern "C" __attribute__((visibility("default"))) const ahd::OiioModule* ahd_oiio_module() { return &kModule; }
+// The module's one exported symbol (GetProcAddress finds only exported names on Windows).
+#if defined(_WIN32)
+#define AHD_OIIO_EXPORT __declspec(dllexport)
+#else
+#define AHD_OIIO_EXPORT __attribute__((visibility("default")))
+#endif
+extern "C" AHD_OIIO_EXPORT const ahd::OiioModule* ahd_oiio_module() { return &kModule; }

@@ -8,6 +8,8 @@
 // threads). The child resets its high-water mark (/proc/self/clear_refs "5"), reads VmRSS as its idle
 // baseline (libraries loaded, nothing read), runs, and prints VmHWM − baseline. So nothing a
 // previous case allocated or freed can hide or inflate a figure.
+// POSIX only (fork, execv, getrusage, /proc): on Windows lab/cmd_bench_convert_win32.cpp.
+#ifndef _WIN32
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -377,3 +379,4 @@ void add_bench_convert_command(CLI::App& bench) {
 }
 
 }  // namespace ahd::cli
+#endif  // !_WIN32
