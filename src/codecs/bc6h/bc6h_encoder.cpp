@@ -29,6 +29,7 @@
 // to 2× on noisy images for a log-RMSE difference below 3 %.
 #include <Imath/half.h>
 
+#include <bit>
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -218,7 +219,7 @@ double pick_indices_sse2(const Block& b, const float pal[2][3][16], uint16_t mas
     for (int v = 0; v < nv; ++v) eq |= unsigned(_mm_movemask_ps(_mm_cmpeq_ps(ev[v], mn))) << (4 * v);
     const float e = _mm_cvtss_f32(mn);
     if (!(e < kOff)) return 1e300;  // as the scalar loop: e >= kOff
-    idx[t] = uint8_t(__builtin_ctz(eq));
+    idx[t] = uint8_t(std::countr_zero(eq));
     total += b.valid[t] * e;
   }
   return total;
@@ -1039,7 +1040,7 @@ void try_two_regions(const Block& b, int n_parts, int max_exact, int refine_top,
         rows[g][0] = Moments{};
         for (int m = 1; m < 16; ++m) {
           rows[g][m] = rows[g][m & (m - 1)];
-          rows[g][m].add(per_texel[4 * g + __builtin_ctz(unsigned(m))], 1.0);
+          rows[g][m].add(per_texel[4 * g + std::countr_zero(unsigned(m))], 1.0);
         }
       }
     };

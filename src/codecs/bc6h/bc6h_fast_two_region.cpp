@@ -13,6 +13,7 @@
 //
 // No specks: every endpoint is quantised so that it decodes at most one half step above its
 // channel's brightest input (as the one-region fit), and palette entries lie between endpoints.
+#include <bit>
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -207,7 +208,7 @@ void rank_partitions(const Planes& f, int n, int best[]) {
     rows[g][0] = Mom{};
     for (int m = 1; m < 16; ++m) {
       const Mom& prev = rows[g][m & (m - 1)];
-      const Mom& add = tex[4 * g + __builtin_ctz(unsigned(m))];
+      const Mom& add = tex[4 * g + std::countr_zero(unsigned(m))];
       for (int i = 0; i < 10; ++i) rows[g][m].v[i] = prev.v[i] + add.v[i];
     }
   }
@@ -243,10 +244,10 @@ int nearest_to_brightness_split(const Planes& f) {
   const float mid = 0.5f * (lo + hi);
   unsigned mask = 0;
   for (int t = 0; t < 16; ++t) mask |= unsigned(L[t] > mid) << t;
-  const int n = __builtin_popcount(valid);
+  const int n = std::popcount(valid);
   int best = 0, best_d = 17;
   for (int p = 0; p < 32; ++p) {
-    const int d = __builtin_popcount((kPartitions[p] ^ mask) & valid), dd = std::min(d, n - d);
+    const int d = std::popcount((kPartitions[p] ^ mask) & valid), dd = std::min(d, n - d);
     if (dd < best_d) best_d = dd, best = p;
   }
   return best;
