@@ -121,10 +121,11 @@ fi
 export CCACHE_BASEDIR=${CCACHE_BASEDIR:-$PWD/..} CCACHE_DIR=${CCACHE_DIR:-$PWD/../.ccache}
 launcher=(); command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 werror=(); [ "${AHD_WERROR:-OFF}" = ON ] && werror=(-DAHD_WARNINGS_AS_ERRORS=ON)
+jobs=${AHD_JOBS:-2}  # the project's builds' parallelism (the dependencies' keep -j2)
 start=$(date +%s)
 cmake -S . -B $build -G Ninja -DCMAKE_BUILD_TYPE=Release -DAHD_UNITY_BUILD=OFF -DAHD_LIBRARY_ONLY=ON \
   -DCMAKE_TOOLCHAIN_FILE="$toolchain" -DAHD_WIN_DEPS_PREFIX="$prefix" "${launcher[@]}" "${werror[@]}" >/dev/null
-nice -n 19 cmake --build $build -j2 --target ahd_platform_tests ahd_platform_bytes
+nice -n 19 cmake --build $build -j"$jobs" --target ahd_platform_tests ahd_platform_bytes
 echo "cross-windows: library build $(( $(date +%s) - start )) s"
 # The whole program (the file edge and the CLI) without OpenImageIO and OpenColorIO, which have no
 # MinGW build here (EXR inputs are read through OpenEXR; docs/platforms.md "Windows").
@@ -135,7 +136,7 @@ if [ $library_only = 0 ]; then
     -DAHD_WIN_DEPS_PREFIX="$prefix" -DZLIB_LIBRARY=/usr/x86_64-w64-mingw32/lib/libz.a "${launcher[@]}" \
     -DCMAKE_DISABLE_FIND_PACKAGE_CLI11=ON \
     "${werror[@]}" >/dev/null
-  nice -n 19 cmake --build $build-cli -j2 --target ahdpack
+  nice -n 19 cmake --build $build-cli -j"$jobs" --target ahdpack
   echo "cross-windows: ahdpack.exe build $(( $(date +%s) - start )) s"
 fi
 
@@ -162,7 +163,7 @@ fi
 if [ $library_only = 0 ] && [ $bytes = 1 ]; then
   if [ ! -x build/ahdpack ]; then
     cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release "${launcher[@]}" >/dev/null
-    nice -n 19 cmake --build build -j2 --target ahdpack
+    nice -n 19 cmake --build build -j"$jobs" --target ahdpack
   fi
   rm -rf $build/cli-bytes
   bash scripts/platform-cli-bytes.sh run $build/cli-bytes/x86-64 build/ahdpack
@@ -171,7 +172,6 @@ if [ $library_only = 0 ] && [ $bytes = 1 ]; then
   echo "windows CLI conversions under wine: $(( $(date +%s) - start )) s"
   bash scripts/platform-cli-bytes.sh compare $build/cli-bytes/x86-64 $build/cli-bytes/windows
   # Z: is Wine's drive for /: the plain map through an absolute drive-letter path with backslashes.
-  # (Non-ASCII names do not work yet: docs/platforms.md "Windows".)
   for os in x86-64 windows; do
     mkdir -p "$build/cli-bytes/drive-$os/plain"
     cp tests/data/bakes/godot-ragdoll-plain/ragdoll_physics.exr "$build/cli-bytes/drive-$os/plain/map.exr"
@@ -183,4 +183,27 @@ if [ $library_only = 0 ] && [ $bytes = 1 ]; then
   rm -f "$build"/cli-bytes/drive-*/*/*.report.json
   bash scripts/compare-platform-bytes.sh compare $build/cli-bytes/drive-x86-64 $build/cli-bytes/drive-windows
   echo "windows CLI: a drive-letter path with backslashes converts to the same bytes"
+  # A non-ASCII folder and file name (argv arrives as UTF-8: src/cli/win32/ahdpack.manifest; paths
+  # go through files/utf8_path.h): the plain map as "plain é 光/map é.exr", the same bytes as the
+  # Linux CLI's under the same name; then a missing non-ASCII file's error line names it as given.
+  u8dir="plain é 光"
+  for os in x86-64 windows; do
+    mkdir -p "$build/cli-bytes/utf8-$os/$u8dir"
+    cp tests/data/bakes/godot-ragdoll-plain/ragdoll_physics.exr "$build/cli-bytes/utf8-$os/$u8dir/map é.exr"
+  done
+  build/ahdpack convert "$build/cli-bytes/utf8-x86-64/$u8dir/map é.exr" -o "$build/cli-bytes/utf8-x86-64/$u8dir/map é.ktx2" \
+    --profile pc-bc >/dev/null
+  "${run[@]}" $build-cli/ahdpack.exe convert "$build/cli-bytes/utf8-windows/$u8dir/map é.exr" \
+    -o "$build/cli-bytes/utf8-windows/$u8dir/map é.ktx2" --profile pc-bc >/dev/null
+  rm -f "$build"/cli-bytes/utf8-*/*/*.report.json
+  bash scripts/compare-platform-bytes.sh compare $build/cli-bytes/utf8-x86-64 $build/cli-bytes/utf8-windows
+  missing="$build/cli-bytes/utf8-windows/$u8dir/absent 光.exr"
+  if "${run[@]}" $build-cli/ahdpack.exe convert "$missing" -o "$build/cli-bytes/utf8-windows/absent.ktx2" \
+      >/dev/null 2>"$build/cli-bytes/utf8-missing.txt"; then
+    echo "cross-windows: a missing input converted" >&2; exit 1
+  fi
+  grep -qF "ahdpack: error: $missing: " "$build/cli-bytes/utf8-missing.txt" || {
+    echo "cross-windows: the error line does not name '$missing':" >&2; cat "$build/cli-bytes/utf8-missing.txt" >&2; exit 1
+  }
+  echo "windows CLI: a non-ASCII name converts to the same bytes; its error line: $(head -1 "$build/cli-bytes/utf8-missing.txt")"
 fi

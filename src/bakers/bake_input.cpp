@@ -16,6 +16,7 @@
 #include "scene/coverage_check.h"
 #include "scene/lightmap_raster.h"
 #include "sh/sh.h"
+#include "files/utf8_path.h"
 
 #include <algorithm>
 #include <cctype>
@@ -91,7 +92,7 @@ void refuse_plain_on_a_stack(const BakeInput& a) {
   const std::string what = s % 4 == 0 ? "a Godot directional SH atlas, " + std::to_string(s / 4) +
                                             " page(s) x (L0 + three L1 layers)"
                                       : "a Godot atlas of " + std::to_string(s) + " layers";
-  throw file_error(exr, "is " + what + " stacked vertically (" + std::filesystem::path(exr).filename().string() +
+  throw file_error(exr, "is " + what + " stacked vertically (" + utf8_string(fs_path(exr).filename()) +
                             ".import: slices/vertical=" + std::to_string(s) + (detected.empty() ? "" : "; detected: " + detected) +
                             "): --layout plain would convert the whole stack as one lightmap; use --layout auto" +
                             (detected.empty() ? "" : " or --layout " + detected) +
@@ -123,7 +124,7 @@ void find_scene_for_input(BakeInput* a) {
   const std::string scene = find_godot_scene(exr);
   if (scene.empty()) return;
   a->scene = scene;
-  a->notes += "godot scene: " + scene + " (its LightmapGI baked " + std::filesystem::path(exr).filename().string() +
+  a->notes += "godot scene: " + scene + " (its LightmapGI baked " + utf8_string(fs_path(exr).filename()) +
               "): meshes, normals and atlas placement from the project\n";
 }
 
@@ -165,11 +166,11 @@ const std::string& mesh_source(const BakeInput& a) { return a.scene.empty() ? a.
 // A .tscn of the project, or the editor's glTF export of the scene placed by the bake's .lmbake
 // (NAME.lmbake beside NAME.exr, as Godot writes them).
 GodotSceneMeshes load_godot_meshes(const BakeInput& a) {
-  std::string ext = std::filesystem::path(a.scene).extension().string();
+  std::string ext = utf8_string(fs_path(a.scene).extension());
   for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
   if (ext != ".glb" && ext != ".gltf") return load_godot_scene(a.scene);
   const std::string lmbake = layout_base(load_layout(a.layout), a.input) + ".lmbake";
-  if (!std::filesystem::exists(lmbake))
+  if (!std::filesystem::exists(fs_path(lmbake)))
     throw file_error(a.scene, "a glTF export is placed by the bake's .lmbake, expected beside the lightmap: " + lmbake +
                                         " not found");
   return load_godot_export(a.scene, lmbake);
@@ -319,7 +320,7 @@ ShImage read_layout_input(const BakeInput& a, const LayoutPreset& layout, ReadSt
       if (fallback[i]) rn.coverage[i] = 1, rn.normals[i * 3] = rn.normals[i * 3 + 1] = 0, rn.normals[i * 3 + 2] = 1;
     if (covered == 0 && !a.placement.empty() && placed.placed == 0)
       throw file_error(a.placement, "places no instance on atlas page " + std::to_string(a.placement_page) + " (the page of " +
-                                        std::filesystem::path(a.input).filename().string() +
+                                        utf8_string(fs_path(a.input).filename()) +
                                         "; --page N names another)");
     if (covered == 0)
       throw file_error(src, "no triangle covers any texel of the " + std::to_string(w) + "x" + std::to_string(h) +

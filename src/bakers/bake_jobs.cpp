@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "files/input_record.h"
+#include "files/utf8_path.h"
 
 namespace ahd {
 namespace fs = std::filesystem;
@@ -21,13 +22,13 @@ bool is_path_key(const std::string& key, const std::string& value) {
 
 void set_option(const std::string& path, size_t index, const std::string& key, const json& v, BakeInput* in) {
   const std::string where = "job " + std::to_string(index) + ": \"" + key + "\"";
-  const fs::path dir = fs::path(path).parent_path();
+  const fs::path dir = fs_path(path).parent_path();
   for (const BakeInputOption& o : bake_input_options()) {
     if (std::string(o.flag) != "--" + key) continue;
     if (auto* s = std::get_if<std::string BakeInput::*>(&o.field)) {
       if (!v.is_string()) throw file_error(path, where + " takes a string");
       const std::string value = v.get<std::string>();
-      in->*(*s) = is_path_key(key, value) && fs::path(value).is_relative() ? (dir / value).string() : value;
+      in->*(*s) = is_path_key(key, value) && fs_path(value).is_relative() ? utf8_string(dir / fs_path(value)) : value;
     } else if (auto* i = std::get_if<int BakeInput::*>(&o.field)) {
       if (!v.is_number_integer() || v.get<long long>() < o.min_value || v.get<long long>() > 1000000)
         throw file_error(path, where + " takes an integer of at least " + std::to_string(o.min_value));
@@ -46,7 +47,7 @@ void set_option(const std::string& path, size_t index, const std::string& key, c
 }  // namespace
 
 std::vector<BakeJob> read_bake_jobs(const std::string& path, const BakeInput& defaults) {
-  std::ifstream f(path, std::ios::binary);
+  std::ifstream f(fs_path(path), std::ios::binary);
   if (!f) throw file_error(path, "file not found");
   note_input_file(path);
   json j;
@@ -65,8 +66,8 @@ std::vector<BakeJob> read_bake_jobs(const std::string& path, const BakeInput& de
     BakeJob job;
     job.input = defaults;
     job.input.notes.clear();
-    job.input.input = (fs::path(path).parent_path() / o["input"].get<std::string>()).string();
-    if (fs::path(o["input"].get<std::string>()).is_absolute()) job.input.input = o["input"].get<std::string>();
+    job.input.input = utf8_string(fs_path(path).parent_path() / fs_path(o["input"].get<std::string>()));
+    if (fs_path(o["input"].get<std::string>()).is_absolute()) job.input.input = o["input"].get<std::string>();
     for (auto it = o.begin(); it != o.end(); ++it) {
       if (it.key() == "input") continue;
       if (it.key() == "output") {
@@ -78,7 +79,7 @@ std::vector<BakeJob> read_bake_jobs(const std::string& path, const BakeInput& de
       }
       set_option(path, k, it.key(), it.value(), &job.input);
     }
-    if (job.output.empty()) job.output = fs::path(job.input.input).stem().string();
+    if (job.output.empty()) job.output = utf8_string(fs_path(job.input.input).stem());
     jobs.push_back(std::move(job));
   }
   return jobs;

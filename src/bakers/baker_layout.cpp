@@ -20,6 +20,7 @@
 #include "image/colour_space.h"
 #include "image/image_io.h"
 #include "bakers/layout_pages.h"
+#include "files/utf8_path.h"
 
 namespace ahd {
 namespace fs = std::filesystem;
@@ -159,7 +160,7 @@ void parse_preset(const std::string& path, const json& j, LayoutPreset& p) {
 LayoutPreset load_layout(const std::string& name_or_path) {
   const std::string path = data_file_path("bakers", name_or_path);
   std::error_code ec;
-  if (!fs::exists(path, ec)) {
+  if (!fs::exists(fs_path(path), ec)) {
     std::string known;
     for (const auto& n : list_layouts()) known += (known.empty() ? "" : ", ") + n;
     throw file_error(path, "unknown layout '" + name_or_path + "' (known: " + known + ")");
@@ -259,7 +260,7 @@ std::vector<SetImage> open_set(const LayoutPreset& layout, const std::string& ba
     // Each entry holds its decoded image: one file (and part) named twice would be held twice.
     for (size_t k = 0; k + 1 < set.size(); ++k)
       if (std::error_code ec; set[k].part == set.back().part &&
-                              (set[k].path == set.back().path || fs::equivalent(set[k].path, set.back().path, ec)))
+                              (set[k].path == set.back().path || fs::equivalent(fs_path(set[k].path), fs_path(set.back().path), ec)))
         throw file_error(set.back().path, "named twice by layout " + layout.name + " (files " + std::to_string(k) +
                                               " and " + std::to_string(set.size() - 1) + "): each file is read once");
   }

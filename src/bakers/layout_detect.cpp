@@ -8,6 +8,7 @@
 #include "files/input_record.h"
 #include "bakers/godot/godot_import.h"
 #include "image/image_io.h"
+#include "files/utf8_path.h"
 
 namespace ahd {
 namespace fs = std::filesystem;
@@ -20,7 +21,7 @@ bool ends_with(const std::string& s, const std::string& suffix) {
 
 bool has(const std::vector<std::string>& v, const std::string& x) { return std::find(v.begin(), v.end(), x) != v.end(); }
 
-std::string file_name(const std::string& p) { return fs::path(p).filename().string(); }
+std::string file_name(const std::string& p) { return utf8_string(fs_path(p).filename()); }
 
 // The base of a set whose files end with `suffixes`: `input` minus the suffix it ends with, or
 // `input` itself when a file of the set exists for it. Empty when neither.
@@ -251,7 +252,7 @@ std::vector<std::string> auto_detected_layouts() {
 }
 
 std::string not_a_lightmap_reason(const std::string& path) {
-  if (std::filesystem::path(path).filename().string().rfind("ReflectionProbe-", 0) == 0)
+  if (utf8_string(fs_path(path).filename()).rfind("ReflectionProbe-", 0) == 0)
     return "a Unity reflection probe, not a lightmap";
   return "";
 }

@@ -7,6 +7,7 @@
 #include "files/input_file.h"
 #include "bakers/godot/godot_import.h"
 #include "image/image_io.h"
+#include "files/utf8_path.h"
 
 namespace ahd {
 namespace fs = std::filesystem;
@@ -59,7 +60,7 @@ LayoutPages layout_pages(const LayoutPreset& layout, const std::string& input, i
   const ImageFileInfo info = read_image_info(path, lf->part);
   const int slices = lf->slices, rows = info.height;
   const GodotImport gi = read_godot_import(path);
-  const std::string import_file = fs::path(path).filename().string() + ".import";
+  const std::string import_file = utf8_string(fs_path(path).filename()) + ".import";
   int recorded = 0;
   if (gi.found && gi.slices_vertical > 0) {
     if (gi.slices_vertical % slices != 0)

@@ -23,6 +23,7 @@
 #include "cook/cook.h"
 #include "image/image_io.h"
 #include "bakers/layout_detect.h"
+#include "files/utf8_path.h"
 
 namespace ahd::cli {
 namespace fs = std::filesystem;
@@ -117,18 +118,18 @@ std::vector<std::string> batch_files(const std::vector<std::string>& inputs) {
   std::vector<std::string> files;
   for (const std::string& in : inputs) {
     std::error_code ec;
-    if (!fs::is_directory(in, ec)) {
+    if (!fs::is_directory(fs_path(in), ec)) {
       files.push_back(in);
       continue;
     }
     std::vector<std::string> found;
-    for (const auto& e : fs::directory_iterator(in, ec))
+    for (const auto& e : fs::directory_iterator(fs_path(in), ec))
       if (e.is_regular_file() && e.path().extension() == ".exr") {
         // A baker's other files beside its lightmaps (bakers/unity/lightmap_page.h): skipped saying so.
-        if (const std::string why = not_a_lightmap_reason(e.path().string()); !why.empty())
-          std::printf("ahdpack: %s skipped: %s\n", e.path().string().c_str(), why.c_str());
+        if (const std::string why = not_a_lightmap_reason(utf8_string(e.path())); !why.empty())
+          std::printf("ahdpack: %s skipped: %s\n", utf8_string(e.path()).c_str(), why.c_str());
         else
-          found.push_back(e.path().string());
+          found.push_back(utf8_string(e.path()));
       }
     std::sort(found.begin(), found.end());
     if (found.empty()) throw file_error(in, "folder holds no .exr file to convert");
@@ -159,12 +160,12 @@ void run_batch(const ConvertArgs& a, const std::vector<std::string>& inputs, con
     for (const BakeJob& j : *jobs) files.push_back(j.input.input);
   else
     files = batch_files(inputs);
-  const auto out_name = [&](size_t i) { return jobs ? (*jobs)[i].output : fs::path(files[i]).stem().string(); };
-  const fs::path dir = a.output.empty() ? fs::path("ahdpack-out") : fs::path(a.output);
+  const auto out_name = [&](size_t i) { return jobs ? (*jobs)[i].output : utf8_string(fs_path(files[i]).stem()); };
+  const fs::path dir = a.output.empty() ? fs::path("ahdpack-out") : fs_path(a.output);
   {
     // `-o out.ktx2` with several inputs is a mistake for `-o OUTDIR/`, not a folder to create.
     std::error_code ec;
-    std::string ext = dir.extension().string();
+    std::string ext = utf8_string(dir.extension());
     for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
     if ((ext == ".ktx2" || ext == ".dds") && a.output.back() != '/' && !fs::is_directory(dir, ec))
       throw file_error(a.output, "names one output file, but " + std::to_string(files.size()) +
@@ -199,7 +200,7 @@ void run_batch(const ConvertArgs& a, const std::vector<std::string>& inputs, con
       ConvertArgs one = a;
       if (jobs) static_cast<BakeInput&>(one) = (*jobs)[i].input;  // the job's input options over the command's
       one.input = d.file;
-      one.output = (dir / (out_name(i) + ext)).string();
+      one.output = utf8_string(dir / fs_path(out_name(i) + ext));
       one.conv.quiet = true;
       one.conv.options.threads = threads;
       BatchJob job;
@@ -304,8 +305,8 @@ void add_convert_command(CLI::App& app) {
   c->add_option("--seed", a->seed, "Built-in sample: scene seed (0 = canonical)");
   c->callback([a, inputs]() {
     std::error_code ec;
-    const bool to_folder = !a->output.empty() && (a->output.back() == '/' || fs::is_directory(a->output, ec));
-    const bool folder_in = inputs->size() == 1 && fs::is_directory((*inputs)[0], ec);
+    const bool to_folder = !a->output.empty() && (a->output.back() == '/' || fs::is_directory(fs_path(a->output), ec));
+    const bool folder_in = inputs->size() == 1 && fs::is_directory(fs_path((*inputs)[0]), ec);
     if (!a->jobs.empty()) {
       if (!inputs->empty()) throw Error("--jobs names every input: give no other input");
       if (!a->depfile.empty() || a->print_key)

@@ -11,6 +11,7 @@
 #include "image/image_io.h"
 #include "pipeline/convert.h"
 #include "pipeline/manifest.h"
+#include "files/utf8_path.h"
 
 namespace ahd::cli {
 namespace fs = std::filesystem;
@@ -32,7 +33,7 @@ void run_decode(const DecodeArgs& a) {
   for (const auto& mp : m.planes) {
     Texture t = read_manifest_plane(a.manifest, mp);
     if (t.layers != mp.layers)
-      throw file_error((std::filesystem::path(a.manifest).parent_path() / mp.file).string(),
+      throw file_error(utf8_string(fs_path(a.manifest).parent_path() / fs_path(mp.file)),
                        "holds " + std::to_string(t.layers) + " layer(s), the manifest says " + std::to_string(mp.layers));
     planes.push_back({mp.name, std::move(t)});
   }

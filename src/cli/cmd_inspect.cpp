@@ -8,6 +8,7 @@
 #include "core/error.h"
 
 #include "pipeline/manifest.h"
+#include "files/utf8_path.h"
 
 namespace ahd::cli {
 namespace fs = std::filesystem;
@@ -25,7 +26,7 @@ void inspect_texture(const std::string& path) {
 }
 
 void run_inspect(const std::string& path) {
-  if (fs::path(path).extension() == ".json") {
+  if (fs_path(path).extension() == ".json") {
     const Manifest m = read_manifest_file(path);
     std::printf("%s: manifest v%d, profile %s, %ux%u, %u level(s), ratio %s, dz_min %g, direction %s (%s)\n",
                 path.c_str(), m.version, m.profile.c_str(), m.width, m.height, m.levels,
@@ -33,7 +34,7 @@ void run_inspect(const std::string& path) {
                 m.direction_frame.c_str());
     for (const auto& p : m.planes) {
       read_manifest_plane(path, p);  // size and SHA-256 as the manifest records them
-      inspect_texture((fs::path(path).parent_path() / p.file).string());
+      inspect_texture(utf8_string(fs_path(path).parent_path() / fs_path(p.file)));
     }
     return;
   }

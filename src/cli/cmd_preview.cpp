@@ -36,6 +36,7 @@
 #include "image/image_io.h"
 #include "files/os_files.h"
 #include "files/output_set.h"
+#include "files/utf8_path.h"
 
 namespace ahd::cli {
 namespace fs = std::filesystem;
@@ -86,23 +87,23 @@ struct TempDir {
 void publish_folder(const fs::path& tmp, const fs::path& out) {
   std::error_code ec;
   if (fs::exists(out, ec)) {
-    if (!fs::is_directory(out, ec)) throw file_error(out.string(), "exists and is not a folder");
+    if (!fs::is_directory(out, ec)) throw file_error(utf8_string(out), "exists and is not a folder");
     const bool ours = fs::exists(out / kMarker, ec) || fs::is_empty(out, ec);
-    if (!ours) throw file_error(out.string(), "exists and is not an ahdpack preview folder (nothing was replaced)");
-    const fs::path old = out.parent_path() / ("." + out.filename().string() + ".ahdtmp-" + std::to_string(os::process_id()) + "-old");
+    if (!ours) throw file_error(utf8_string(out), "exists and is not an ahdpack preview folder (nothing was replaced)");
+    const fs::path old = out.parent_path() / fs_path("." + utf8_string(out.filename()) + ".ahdtmp-" + std::to_string(os::process_id()) + "-old");
     fs::rename(out, old, ec);
-    if (ec) throw file_error(out.string(), "cannot replace: " + ec.message());
+    if (ec) throw file_error(utf8_string(out), "cannot replace: " + ec.message());
     fs::rename(tmp, out, ec);
     if (ec) {
       std::error_code ec2;
       fs::rename(old, out, ec2);
-      throw file_error(out.string(), "cannot write: " + ec.message());
+      throw file_error(utf8_string(out), "cannot write: " + ec.message());
     }
     fs::remove_all(old, ec);
     return;
   }
   fs::rename(tmp, out, ec);
-  if (ec) throw file_error(out.string(), "cannot write: " + ec.message());
+  if (ec) throw file_error(utf8_string(out), "cannot write: " + ec.message());
 }
 
 // Stops the preview at the next file once SIGINT/SIGTERM arrived (the temporary folder goes).
@@ -115,11 +116,11 @@ void run_preview(const PreviewArgs& a) {
   const ConversionView v = read_conversion(a.manifest);
   const Manifest& m = v.manifest;
   PreviewPage page;
-  page.name = fs::path(a.manifest).stem().string();
+  page.name = utf8_string(fs_path(a.manifest).stem());
   page.manifest = m;
-  fs::path report_path = fs::path(a.manifest).parent_path() / (page.name + ".report.json");
+  fs::path report_path = fs_path(a.manifest).parent_path() / fs_path(page.name + ".report.json");
   std::error_code ec;
-  if (fs::exists(report_path, ec)) page.report = read_report_file(report_path.string());
+  if (fs::exists(report_path, ec)) page.report = read_report_file(utf8_string(report_path));
   const bool has_source = !a.source.input.empty();
   std::string described;
   std::vector<ShImage> pages;  // the source's pages; the page shows (and compares) array layer 0
@@ -127,24 +128,24 @@ void run_preview(const PreviewArgs& a) {
   if (has_source) pages = read_preview_source(a, m, &described, &read_as);
 
   if (a.out.empty()) throw Error("-o needs a folder name");
-  fs::path out = fs::absolute(a.out).lexically_normal();
+  fs::path out = fs::absolute(fs_path(a.out)).lexically_normal();
   if (!out.has_filename()) out = out.parent_path();  // "DIR/" or "."
   if (!fs::is_directory(out.parent_path(), ec)) {
-    fs::path given = fs::path(a.out).lexically_normal();  // named as the user gave it
+    fs::path given = fs_path(a.out).lexically_normal();  // named as the user gave it
     if (!given.has_filename()) given = given.parent_path();
-    throw file_error(given.has_parent_path() ? given.parent_path().string() : ".", "no such folder");
+    throw file_error(given.has_parent_path() ? utf8_string(given.parent_path()) : ".", "no such folder");
   }
-  TempDir tmp{out.parent_path() / ("." + out.filename().string() + ".ahdtmp-" + std::to_string(os::process_id()) + "-preview")};
+  TempDir tmp{out.parent_path() / fs_path("." + utf8_string(out.filename()) + ".ahdtmp-" + std::to_string(os::process_id()) + "-preview")};
   fs::remove_all(tmp.path, ec);
   if (!fs::create_directory(tmp.path, ec))
-    throw file_error(out.string(), "cannot create its temporary folder beside it (" + ec.message() + ")");
+    throw file_error(utf8_string(out), "cannot create its temporary folder beside it (" + ec.message() + ")");
 
   // Files inside the temporary folder are new files: the folder's rename publishes them all.
   auto write = [&](const std::string& file, const std::vector<uint8_t>& bytes) {
     check_interrupt();
-    write_new_file((tmp.path / file).string(), bytes);
+    write_new_file(utf8_string(tmp.path / fs_path(file)), bytes);
   };
-  auto png = [&](const std::string& file, const ImageF& img) { write(file, encode_image((tmp.path / file).string(), img)); };
+  auto png = [&](const std::string& file, const ImageF& img) { write(file, encode_image(utf8_string(tmp.path / fs_path(file)), img)); };
   const DecodedPlanes& l0 = v.levels[0];
   const double white = white_point(l0.iz);
   page.white = white;
@@ -191,7 +192,7 @@ void run_preview(const PreviewArgs& a) {
   check_interrupt();
   publish_folder(tmp.path, out);
   tmp.keep = true;
-  std::printf("ahdpack preview: %s -> %s/index.html (%zu level(s)%s)\n", a.manifest.c_str(), out.string().c_str(),
+  std::printf("ahdpack preview: %s -> %s/index.html (%zu level(s)%s)\n", a.manifest.c_str(), utf8_string(out).c_str(),
               v.levels.size(), has_source ? ", error heat maps against the source" : "");
 }
 

@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "files/manifest_file.h"
 #include "files/output_set.h"
+#include "files/utf8_path.h"
 
 namespace ahd::cli {
 namespace fs = std::filesystem;
@@ -22,7 +23,7 @@ void print_conversion(const std::string& source, const OutputPaths& out, const C
   std::printf("profile %s, %u mip level(s) -> %s\n", m.profile.c_str(), m.levels, out.sibling(".json").c_str());
   for (const auto& p : m.planes)
     std::printf("  %-9s %-12s %ux%u  %8llu bytes  %s\n", p.name.c_str(), format_info(p.format).name, p.width, p.height,
-                (unsigned long long)p.bytes, (out.dir / p.file).string().c_str());
+                (unsigned long long)p.bytes, utf8_string(out.dir / fs_path(p.file)).c_str());
   std::printf("  report    %s\n", out.sibling(".report.json").c_str());
   std::printf("direction and ratio planes %s\n", r.direction_reason.c_str());
   const FitStats& s = r.fit_stats;

@@ -23,6 +23,7 @@
 #include "scene/mesh_io.h"
 #include "files/paths.h"
 #include "scene/lightmap_raster.h"
+#include "files/utf8_path.h"
 
 namespace ahd::cli {
 namespace fs = std::filesystem;
@@ -50,7 +51,7 @@ template <class T>
 std::string b64(const std::vector<T>& v) { return base64(v.data(), v.size() * sizeof(T)); }
 
 std::string read_text(const fs::path& p) {
-  const std::vector<uint8_t> b = read_file_bytes(p.string(), size_t(64) << 20);
+  const std::vector<uint8_t> b = read_file_bytes(utf8_string(p), size_t(64) << 20);
   return std::string(b.begin(), b.end());
 }
 
@@ -62,7 +63,7 @@ std::string read_text(const fs::path& p) {
 std::string classic_three(const fs::path& three) {
   std::string out = "(function () {\n'use strict';\n";
   for (const char* file : {"three.core.js", "three.module.js"}) {
-    const fs::path path = three / "build" / file;
+    const fs::path path = three / "build" / fs_path(file);
     const std::string src = read_text(path);
     std::string body, exports, imports;
     size_t pos = 0;
@@ -73,18 +74,18 @@ std::string classic_three(const fs::path& three) {
       pos = end + 1;
       const bool imp = line.rfind("import {", 0) == 0, exp = line.rfind("export {", 0) == 0;
       if (imp || exp) {
-        if (line.find(" as ") != std::string::npos) throw file_error(path.string(), "renames an import or export (unsupported three.js layout)");
+        if (line.find(" as ") != std::string::npos) throw file_error(utf8_string(path), "renames an import or export (unsupported three.js layout)");
         const std::string names = line.substr(8, line.rfind('}') - 8);
         if (imp) imports += names + ",";
         else if (line.find(" from ") == std::string::npos) exports += names + ",";
         continue;
       }
       if (line.rfind("import ", 0) == 0 || line.rfind("export ", 0) == 0)
-        throw file_error(path.string(), "has an import or export this tool cannot join");
+        throw file_error(utf8_string(path), "has an import or export this tool cannot join");
       body += line;
       body += '\n';
     }
-    if (exports.empty()) throw file_error(path.string(), "exports nothing (not three.js?)");
+    if (exports.empty()) throw file_error(utf8_string(path), "exports nothing (not three.js?)");
     const bool core = std::strcmp(file, "three.core.js") == 0;
     out += std::string("const ") + (core ? "__core" : "__module") + " = (function () {\n" +
            (imports.empty() ? "" : "const {" + imports + "} = __core;\n") + body + "return {" + exports + "};\n})();\n";
@@ -101,16 +102,16 @@ nlohmann::json planes_json(const DecodedPlanes& p) {
 std::string find_three(std::string* searched) {
   std::vector<fs::path> where;
   if (const char* e = std::getenv("AHD_THREE_DIR"); e && *e) {
-    where.push_back(e);  // set: the only place looked at
+    where.push_back(fs_path(e));  // set: the only place looked at
   } else {
-    where.push_back(fs::path(formats_dir()) / ".." / "three");
-    where.push_back(fs::path(formats_dir()) / ".." / "tests" / "tools" / "node_modules" / "three");
+    where.push_back(fs_path(formats_dir()) / ".." / "three");
+    where.push_back(fs_path(formats_dir()) / ".." / "tests" / "tools" / "node_modules" / "three");
   }
   std::error_code ec;
   for (const auto& w : where) {
-    if (searched) *searched += (searched->empty() ? "" : ", ") + w.lexically_normal().string();
+    if (searched) *searched += (searched->empty() ? "" : ", ") + utf8_string(w.lexically_normal());
     if (fs::exists(w / "build" / "three.core.js", ec) && fs::exists(w / "build" / "three.module.js", ec))
-      return w.lexically_normal().string();
+      return utf8_string(w.lexically_normal());
   }
   return "";
 }
@@ -127,21 +128,21 @@ std::string write_preview_3d(const fs::path& dir, const Preview3dInput& in) {
   if (size_t(m.width) * m.height > kMaxTexels)
     return note("the lightmap has " + std::to_string(size_t(m.width) * m.height) + " texels per page, the page holds at most " +
                 std::to_string(kMaxTexels));
-  const fs::path preview = fs::path(formats_dir()) / "preview";
+  const fs::path preview = fs_path(formats_dir()) / "preview";
   std::string three_js;
   try {
-    three_js = classic_three(three);
+    three_js = classic_three(fs_path(three));
   } catch (const Error& e) {
     return note(e.what());
   }
 
   nlohmann::json j;
-  j["name"] = fs::path(in.manifest_path).stem().string();
+  j["name"] = utf8_string(fs_path(in.manifest_path).stem());
   j["width"] = m.width, j["height"] = m.height, j["levels"] = m.levels, j["layers"] = m.layers;
   j["dz_min"] = m.dz_min, j["directional"] = m.directional;
   j["ratio_form"] = m.ratio_form == RatioForm::Rgb ? "rgb" : "luminance";
   j["frame"] = m.direction_frame;
-  j["decode_glsl"] = read_text(fs::path(formats_dir()) / "shaders" / "ahd_decode.glsl");
+  j["decode_glsl"] = read_text(fs_path(formats_dir()) / "shaders" / "ahd_decode.glsl");
   double white = 0;  // the p99 of the level-0 I_z luminance, as index.html's exposure 0
   {
     std::vector<float> l;
@@ -170,7 +171,7 @@ std::string write_preview_3d(const fs::path& dir, const Preview3dInput& in) {
     j["mesh_name"] = "the placed scene (" + std::to_string(in.placed->instances) + " instances)";
   } else if (!in.mesh_path.empty()) {
     mesh = read_mesh_lightmap(in.mesh_path, in.uv_set);
-    j["mesh_name"] = fs::path(in.mesh_path).filename().string();
+    j["mesh_name"] = utf8_string(fs_path(in.mesh_path).filename());
   } else {
     mesh.positions = {-1, 0, -1, 1, 0, -1, 1, 0, 1, -1, 0, 1};
     mesh.uv = {0, 1, 1, 1, 1, 0, 0, 0};  // OBJ convention (v up), as read_mesh_lightmap returns
@@ -224,7 +225,7 @@ std::string write_preview_3d(const fs::path& dir, const Preview3dInput& in) {
   // plainly, not through write_file_atomic, whose publish takes SIGINT over (it would end the
   // process, leaving the temporary folder, instead of letting the preview clean it up).
   const auto write = [&](const char* file, const std::string& text) {
-    write_new_file((dir / file).string(), std::vector<uint8_t>(text.begin(), text.end()));
+    write_new_file(utf8_string(dir / fs_path(file)), std::vector<uint8_t>(text.begin(), text.end()));
   };
   write("view3d.html", html);
   write("view3d.js", read_text(preview / "view3d.js"));

@@ -12,6 +12,7 @@
 #include "files/file_io.h"
 #include "files/output_set.h"
 #include "files/regular_file.h"
+#include "files/utf8_path.h"
 
 namespace ahd {
 namespace fs = std::filesystem;
@@ -65,7 +66,7 @@ bool parse_u64(const std::string& s, uint64_t* v) {
 
 ConversionCache::ConversionCache(std::string dir, uint64_t max_bytes) : dir_(std::move(dir)), max_bytes_(max_bytes) {}
 
-std::string ConversionCache::entry_path(const std::string& key) const { return (fs::path(dir_) / (key + kExt)).string(); }
+std::string ConversionCache::entry_path(const std::string& key) const { return utf8_string(fs_path(dir_) / fs_path(key + kExt)); }
 
 std::vector<uint8_t> ConversionCache::encode(const std::string& key, const std::vector<OutputFile>& files) {
   std::string header = std::string(kMagic) + "key " + key + "\nfiles " + std::to_string(files.size()) + "\n";
@@ -172,7 +173,7 @@ std::optional<std::vector<OutputFile>> ConversionCache::lookup_hashed(const std:
     return std::nullopt;  // missing, removed by another process's eviction meanwhile, too large: a miss
   }
   std::error_code ec;
-  fs::last_write_time(path, fs::file_time_type::clock::now(), ec);  // LRU: recently used
+  fs::last_write_time(fs_path(path), fs::file_time_type::clock::now(), ec);  // LRU: recently used
   return files;
 }
 
@@ -180,7 +181,7 @@ CacheStats ConversionCache::store(const std::string& key, const std::vector<Outp
   if (!is_key(key)) throw Error("cache: not a key: " + key);
   const std::string path = entry_path(key);
   std::error_code ec;
-  fs::create_directories(dir_, ec);
+  fs::create_directories(fs_path(dir_), ec);
   if (ec) throw file_error(dir_, "cannot create the cache folder (" + ec.message() + ")");
   uint64_t total = 0;
   for (const OutputFile& f : files) total += f.bytes.size();
@@ -199,10 +200,10 @@ CacheStats ConversionCache::store(const std::string& key, const std::vector<Outp
   };
   std::vector<Entry> entries;
   const auto now = fs::file_time_type::clock::now();
-  for (const auto& e : fs::directory_iterator(dir_, ec)) {
+  for (const auto& e : fs::directory_iterator(fs_path(dir_), ec)) {
     std::error_code e2;
     if (!e.is_regular_file(e2)) continue;
-    const std::string name = e.path().filename().string();
+    const std::string name = utf8_string(e.path().filename());
     const auto mtime = e.last_write_time(e2);
     if (e2) continue;
     if (is_temporary_name(name)) {
@@ -222,7 +223,7 @@ CacheStats ConversionCache::store(const std::string& key, const std::vector<Outp
   });
   for (const Entry& e : entries) {
     if (st.bytes <= max_bytes_) break;
-    if (e.path == fs::path(path)) continue;
+    if (e.path == fs_path(path)) continue;
     std::error_code e2;
     if (fs::remove(e.path, e2)) ++st.evicted;
     st.bytes -= e.bytes, --st.entries;
@@ -232,7 +233,7 @@ CacheStats ConversionCache::store(const std::string& key, const std::vector<Outp
 
 std::optional<InputsRecord> ConversionCache::lookup_inputs(const std::string& command_key) const {
   if (!is_key(command_key)) return std::nullopt;
-  const std::string path = (fs::path(dir_) / (command_key + kInputsExt)).string();
+  const std::string path = utf8_string(fs_path(dir_) / fs_path(command_key + kInputsExt));
   std::vector<uint8_t> b;
   try {
     RegularFile f(path, uint64_t(1) << 24, true);  // no FIFO, device or symlink; at most 16 MiB
@@ -244,7 +245,7 @@ std::optional<InputsRecord> ConversionCache::lookup_inputs(const std::string& co
   std::optional<InputsRecord> r = decode_inputs(command_key, b);
   if (!r) return std::nullopt;
   std::error_code ec;
-  fs::last_write_time(path, fs::file_time_type::clock::now(), ec);
+  fs::last_write_time(fs_path(path), fs::file_time_type::clock::now(), ec);
   return r;
 }
 
@@ -310,8 +311,8 @@ void ConversionCache::store_inputs(const std::string& command_key, const InputsR
   const std::optional<std::string> t = encode_inputs(command_key, r);
   if (!t) return;
   std::error_code ec;
-  fs::create_directories(dir_, ec);
-  write_file_atomic((fs::path(dir_) / (command_key + kInputsExt)).string(), *t);
+  fs::create_directories(fs_path(dir_), ec);
+  write_file_atomic(utf8_string(fs_path(dir_) / fs_path(command_key + kInputsExt)), *t);
 }
 
 uint64_t parse_byte_size(const std::string& text, const std::string& option) {

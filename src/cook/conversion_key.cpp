@@ -12,6 +12,7 @@
 #include "files/file_io.h"
 #include "files/regular_file.h"
 #include "files/paths.h"
+#include "files/utf8_path.h"
 
 #ifndef AHD_VERSION_STRING
 #error "AHD_VERSION_STRING must be defined (CMakeLists.txt)"
@@ -95,7 +96,7 @@ std::string command_key(const BakeInput& given, const ConversionOptions& o, cons
   t += "input_path " + given.input + "\nlayout_arg " + given.layout + "\nnormals_path " + given.normals + "\nmesh_path " +
        given.mesh + "\nplacement_path " + given.placement +
        "\ngodot_scene_path " + given.scene + "\nprofile_arg " + profile_arg + "\ncwd " +
-       std::filesystem::current_path(ec).string() + "\nformats " + formats_dir() + "\n";
+       utf8_string(std::filesystem::current_path(ec)) + "\nformats " + formats_dir() + "\n";
   return conversion_key(t);
 }
 

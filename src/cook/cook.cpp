@@ -25,6 +25,7 @@
 #include "image/colour_space.h"
 #include "image/sh_exr.h"
 #include "pipeline/manifest.h"
+#include "files/utf8_path.h"
 
 namespace ahd {
 namespace fs = std::filesystem;
@@ -207,7 +208,7 @@ CookResult cook_conversion(const CookRequest& request, const CookHooks& hooks) {
     std::string out_path = request.output;
     if (out_path.empty())
       out_path =
-          "ahdpack-out/" + (a.input.empty() ? std::string("sample") : fs::path(a.input).stem().string()) + ".ktx2";
+          "ahdpack-out/" + (a.input.empty() ? std::string("sample") : utf8_string(fs_path(a.input).stem())) + ".ktx2";
     out = output_paths(out_path);
     co = request.options;
     co.container = out.kind;

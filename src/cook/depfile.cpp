@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "files/output_set.h"
+#include "files/utf8_path.h"
 
 namespace ahd {
 namespace fs = std::filesystem;
@@ -55,7 +56,7 @@ std::string escaped(const std::string& path) {
 
 std::string depfile_text(const std::string& target, const std::vector<std::string>& deps) {
   std::string text = escaped(target) + ":";
-  for (const std::string& d : deps) text += " \\\n  " + escaped(fs::absolute(d).lexically_normal().string());
+  for (const std::string& d : deps) text += " \\\n  " + escaped(utf8_string(fs::absolute(fs_path(d)).lexically_normal()));
   return text + "\n";
 }
 

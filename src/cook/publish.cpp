@@ -12,6 +12,7 @@
 #include "pipeline/set_name.h"
 #include "files/regular_file.h"
 #include "pipeline/manifest.h"
+#include "files/utf8_path.h"
 
 namespace ahd {
 namespace fs = std::filesystem;
@@ -19,8 +20,8 @@ namespace fs = std::filesystem;
 OutputPaths output_paths(const std::string& out) {
   OutputPaths p;
   p.kind = container_kind_from_path(out);
-  p.dir = fs::path(out).parent_path();
-  p.name = fs::path(out).stem().string();
+  p.dir = fs_path(out).parent_path();
+  p.name = utf8_string(fs_path(out).stem());
   const std::string problem = set_name_problem(p.name);
   if (!problem.empty()) throw file_error(out, "the set's name \"" + p.name + "\" " + problem);
   return p;
@@ -36,7 +37,7 @@ constexpr uint64_t kMaxPlaneFileBytes = uint64_t(1) << 34;
 bool file_is(const fs::path& path, uint64_t size, const std::string& sha256) {
   try {
     uint64_t n = 0;
-    return file_sha256(path.string(), size, &n, true) == sha256 && n == size;
+    return file_sha256(utf8_string(path), size, &n, true) == sha256 && n == size;
   } catch (const std::exception&) {
     return false;
   }
@@ -71,7 +72,7 @@ std::vector<std::string> previous_set_files(const OutputPaths& out) {
     return std::regex_match(*rest, *m, plane);
   };
   std::error_code ec;
-  if (fs::exists(manifest, ec)) try {
+  if (fs::exists(fs_path(manifest), ec)) try {
       for (const ManifestPlane& p : read_manifest_file(manifest).planes) {
         std::string rest;
         std::smatch m;
@@ -81,21 +82,21 @@ std::vector<std::string> previous_set_files(const OutputPaths& out) {
         if (!stable && (!plane_of_name(p.file, &rest, &m) || m[1].str() != p.name ||
                         p.sha256.compare(0, 12, m[2].str()) != 0))
           continue;
-        if (file_is(out.dir / p.file, p.bytes, p.sha256)) files.push_back((out.dir / p.file).string());
+        if (file_is(out.dir / fs_path(p.file), p.bytes, p.sha256)) files.push_back(utf8_string(out.dir / fs_path(p.file)));
       }
     } catch (const std::exception&) {
     }
-  fs::directory_iterator it(out.dir.empty() ? "." : out.dir, ec), end;
+  fs::directory_iterator it(out.dir.empty() ? fs::path(".") : out.dir, ec), end;
   for (; !ec && it != end; it.increment(ec)) {
-    const std::string fn = it->path().filename().string();
+    const std::string fn = utf8_string(it->path().filename());
     std::string rest;
     std::smatch m;
     if (!plane_of_name(fn, &rest, &m)) continue;
     // Already proven ours by the manifest's full SHA-256 above: not hashed a second time.
-    if (std::find(files.begin(), files.end(), it->path().string()) != files.end()) continue;
+    if (std::find(files.begin(), files.end(), utf8_string(it->path())) != files.end()) continue;
     try {
-      if (file_sha256(it->path().string(), kMaxPlaneFileBytes, nullptr, true).compare(0, 12, m[2].str()) == 0)
-        files.push_back(it->path().string());
+      if (file_sha256(utf8_string(it->path()), kMaxPlaneFileBytes, nullptr, true).compare(0, 12, m[2].str()) == 0)
+        files.push_back(utf8_string(it->path()));
     } catch (const std::exception&) {
     }
   }
@@ -111,7 +112,7 @@ void publish_conversion(const OutputPaths& out, std::vector<OutputFile> files, I
   std::vector<FileToPublish> stable;
   const std::string manifest = out.name + ".json", report = out.name + ".report.json";
   for (OutputFile& f : files) {
-    FileToPublish p{(out.dir / f.name).string(), std::move(f.bytes)};
+    FileToPublish p{utf8_string(out.dir / fs_path(f.name)), std::move(f.bytes)};
     if (f.name == manifest) set.commit = std::move(p);
     else if (f.name == report) set.annexes.push_back(std::move(p));
     else if (!stable_plane_of(out.name, f.name).empty()) stable.push_back(std::move(p));

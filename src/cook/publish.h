@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "files/utf8_path.h"
+
 namespace ahd {
 
 // OUT = DIR/NAME.EXT → planes DIR/NAME.<plane>.EXT, manifest DIR/NAME.json, report DIR/NAME.report.json.
@@ -16,7 +18,7 @@ struct OutputPaths {
   std::filesystem::path dir;
   std::string name;
   ContainerKind kind = ContainerKind::KTX2;
-  std::string sibling(const std::string& suffix) const { return (dir / (name + suffix)).string(); }
+  std::string sibling(const std::string& suffix) const { return utf8_string(dir / fs_path(name + suffix)); }
 };
 // Throws ahd::Error("<out>: …") for an extension other than .ktx2/.dds, and for a NAME whose files
 // `decode` would refuse (empty, hidden, or with '/', '\\' or ':': manifest.h is_plain_file_name),

@@ -15,19 +15,20 @@
 #include "files/input_file.h"
 #include "files/input_record.h"
 #include "files/os_files.h"
+#include "files/utf8_path.h"
 
 namespace ahd {
 namespace fs = std::filesystem;
 
 std::string temp_path_for(const std::string& path) {
   static thread_local std::mt19937_64 rng{std::random_device{}()};
-  fs::path p(path);
+  const fs::path p = fs_path(path);
   // ".<name>.ahdtmp-<pid>-<random><ext>": hidden, recognisable (remove_stale_temporaries in
   // files/output_set.h removes those whose process is gone), and ending in the final extension so
   // OpenImageIO picks the right writer.
   char tag[48];
   std::snprintf(tag, sizeof tag, ".ahdtmp-%ld-%08x", os::process_id(), unsigned(rng()));
-  return (p.parent_path() / ("." + p.filename().string() + tag + p.extension().string())).string();
+  return utf8_string(p.parent_path() / fs_path("." + utf8_string(p.filename()) + tag + utf8_string(p.extension())));
 }
 
 std::vector<uint8_t> read_file_bytes(const std::string& path, size_t max_bytes) {

@@ -1,4 +1,5 @@
 #include "files/input_record.h"
+#include "files/utf8_path.h"
 
 #include <algorithm>
 #include <filesystem>
@@ -22,7 +23,7 @@ void note_input_file(const std::string& path) {
 
 int probe_type(const std::string& path) {
   std::error_code ec;
-  const std::filesystem::file_status st = std::filesystem::status(path, ec);
+  const std::filesystem::file_status st = std::filesystem::status(fs_path(path), ec);
   return ec ? int(std::filesystem::file_type::not_found) : int(st.type());
 }
 

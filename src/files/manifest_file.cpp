@@ -6,6 +6,7 @@
 #include "containers/sha256.h"
 #include "core/error.h"
 #include "files/file_io.h"
+#include "files/utf8_path.h"
 
 namespace ahd {
 
@@ -15,9 +16,9 @@ Manifest read_manifest_file(const std::string& path) {
 }
 
 Texture read_manifest_plane(const std::string& manifest_path, const ManifestPlane& p) {
-  const std::string path = (std::filesystem::path(manifest_path).parent_path() / p.file).string();
+  const std::string path = utf8_string(fs_path(manifest_path).parent_path() / fs_path(p.file));
   std::error_code ec;
-  const auto size = std::filesystem::file_size(path, ec);
+  const auto size = std::filesystem::file_size(fs_path(path), ec);
   if (ec) throw file_error(path, "missing plane file of " + manifest_path);
   // The size first: a foreign or truncated file is refused without reading it.
   if (size != p.bytes)

@@ -15,6 +15,7 @@
 #include <filesystem>
 
 #include "core/error.h"
+#include "files/utf8_path.h"
 
 namespace ahd::os {
 
@@ -149,7 +150,7 @@ void signal_self(SelfSignal s) {
 std::string executable_path() {
   std::error_code ec;
   const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-  return ec ? std::string() : exe.string();
+  return ec ? std::string() : utf8_string(exe);
 }
 
 std::string module_path_of(const void* address) {

@@ -14,6 +14,7 @@
 #include "core/error.h"
 #include "files/file_io.h"
 #include "files/os_files.h"
+#include "files/utf8_path.h"
 
 namespace ahd {
 namespace fs = std::filesystem;
@@ -97,7 +98,7 @@ void write_synced(const std::string& tmp, const std::string& final_path, const s
   throw file_error(final_path, "write failed (" + errno_text(e) + ")");
 }
 
-void fsync_dir(const fs::path& dir) { os::sync_folder(dir.string()); }
+void fsync_dir(const fs::path& dir) { os::sync_folder(utf8_string(dir)); }
 
 // AHDPACK_TEST_KILL_BEFORE_RENAME="k" (SIGKILL), "k:INT" or "k:TERM": the signal this process sends
 // itself before rename k.
@@ -134,9 +135,9 @@ bool is_temporary_name(const std::string& filename) {
 size_t remove_stale_temporaries(const std::string& dir) {
   size_t removed = 0;
   std::error_code ec;
-  fs::directory_iterator it(dir.empty() ? "." : dir, ec), end;
+  fs::directory_iterator it(fs_path(dir.empty() ? "." : dir), ec), end;
   for (; !ec && it != end; it.increment(ec)) {
-    const std::string fn = it->path().filename().string();
+    const std::string fn = utf8_string(it->path().filename());
     if (!is_temporary_name(fn)) continue;
     const size_t at = fn.find(".ahdtmp-") + 8;
     const long pid = std::strtol(fn.c_str() + at, nullptr, 10);
@@ -172,25 +173,25 @@ void publish_output_set(const OutputSet& set) {
   for (const auto& f : set.members) files.push_back(&f);
   files.push_back(&set.commit);
   for (const auto& f : set.annexes) files.push_back(&f);
-  const fs::path dir = fs::path(set.commit.path).parent_path();
+  const fs::path dir = fs_path(set.commit.path).parent_path();
   {
     std::error_code ec;
     if (!dir.empty()) fs::create_directories(dir, ec);
-    if (ec) throw file_error(set.commit.path, "cannot create folder " + dir.string() + " (" + ec.message() + ")");
+    if (ec) throw file_error(set.commit.path, "cannot create folder " + utf8_string(dir) + " (" + ec.message() + ")");
   }
   for (const FileToPublish* f : files) {
     std::error_code ec;
-    if (fs::path(f->path).parent_path() != dir) throw Error("publish_output_set: " + f->path + " is not beside " + set.commit.path);
-    if (fs::is_directory(f->path, ec)) throw file_error(f->path, "is a folder");
+    if (fs_path(f->path).parent_path() != dir) throw Error("publish_output_set: " + f->path + " is not beside " + set.commit.path);
+    if (fs::is_directory(fs_path(f->path), ec)) throw file_error(f->path, "is a folder");
   }
   const bool is_set = !set.members.empty() || !set.annexes.empty() || !set.annex_names.empty() || set.superseded;
   std::unique_ptr<os::FolderLock> folder_lock;
-  if (is_set) folder_lock = std::make_unique<os::FolderLock>(dir.string());
-  remove_stale_temporaries(dir.string());
+  if (is_set) folder_lock = std::make_unique<os::FolderLock>(utf8_string(dir));
+  remove_stale_temporaries(utf8_string(dir));
   const std::vector<std::string> superseded = set.superseded ? set.superseded() : std::vector<std::string>{};
 
   std::set<std::string> published;
-  for (const FileToPublish* f : files) published.insert(fs::path(f->path).lexically_normal().string());
+  for (const FileToPublish* f : files) published.insert(utf8_string(fs_path(f->path).lexically_normal()));
 
   InterruptGuard guard;
   const size_t n = files.size(), n_members = set.members.size();
@@ -226,7 +227,7 @@ void publish_output_set(const OutputSet& set) {
     for (size_t i = 0; i < n_members; ++i) {
       const std::string& path = files[i]->path;
       std::error_code ec;
-      const bool existed = fs::exists(path, ec);
+      const bool existed = fs::exists(fs_path(path), ec);
       rename(temps[i], path);
       renamed[i] = true;
       // New to the folder: an orphan to remove if the commit does not happen. A member that replaced
@@ -236,8 +237,8 @@ void publish_output_set(const OutputSet& set) {
     }
     for (const std::string& name : set.annex_names) {
       std::error_code ec;
-      if (!fs::exists(fs::symlink_status(name, ec))) continue;
-      if (fs::is_directory(name, ec)) throw file_error(name, "is a folder");
+      if (!fs::exists(fs::symlink_status(fs_path(name), ec))) continue;
+      if (fs::is_directory(fs_path(name), ec)) throw file_error(name, "is a folder");
       Aside a{name, temp_path_for(name), guard.add()};
       InterruptGuard::set(a.slot, kRestore, a.tmp, a.final_path);
       rename(name, a.tmp);
@@ -250,7 +251,7 @@ void publish_output_set(const OutputSet& set) {
     for (const Aside& a : aside) InterruptGuard::set(a.slot, kUnlink, a.tmp);
     // From the commit on, a signal finishes the clean-up the new set needs: the superseded files go.
     for (const std::string& f : superseded)
-      if (!published.count(fs::path(f).lexically_normal().string())) InterruptGuard::set(guard.add(), kUnlink, f);
+      if (!published.count(utf8_string(fs_path(f).lexically_normal()))) InterruptGuard::set(guard.add(), kUnlink, f);
     for (size_t i = n_members + 1; i < n; ++i) {
       rename(temps[i], files[i]->path);
       renamed[i] = true;
@@ -266,9 +267,9 @@ void publish_output_set(const OutputSet& set) {
   maybe_kill(rename.hook, rename.count);
   bool removed = false;
   for (const auto& s : superseded) {
-    if (published.count(fs::path(s).lexically_normal().string())) continue;
+    if (published.count(utf8_string(fs_path(s).lexically_normal()))) continue;
     std::error_code ec;
-    removed |= fs::remove(s, ec);
+    removed |= fs::remove(fs_path(s), ec);
   }
   if (removed) fsync_dir(dir);
 }

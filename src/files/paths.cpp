@@ -5,25 +5,26 @@
 #include <filesystem>
 
 #include "files/os_files.h"
+#include "files/utf8_path.h"
 
 namespace ahd {
 
 std::string executable_prefix() {
-  const std::filesystem::path exe = os::executable_path();
+  const std::filesystem::path exe = fs_path(os::executable_path());
   if (exe.empty()) return {};
   std::filesystem::path prefix = exe.parent_path();
   for (const auto& part : std::filesystem::path(AHD_INSTALL_BINDIR))
     if (!part.empty() && part != ".") prefix = prefix.parent_path();
-  return prefix.string();
+  return utf8_string(prefix);
 }
 
 std::string library_prefix() {
   const std::string file = os::module_path_of(reinterpret_cast<const void*>(&library_prefix));
   if (file.empty()) return {};
-  std::filesystem::path prefix = std::filesystem::path(file).parent_path();
+  std::filesystem::path prefix = fs_path(file).parent_path();
   for (const auto& part : std::filesystem::path(AHD_INSTALL_LIBDIR))
     if (!part.empty() && part != ".") prefix = prefix.parent_path();
-  return prefix.string();
+  return utf8_string(prefix);
 }
 
 namespace {
@@ -35,8 +36,8 @@ std::string installed_formats_dir() {
   for (const std::string& prefix : {executable_prefix(), library_prefix()}) {
     if (prefix.empty()) continue;
     std::error_code ec;
-    const std::filesystem::path dir = std::filesystem::path(prefix) / AHD_INSTALL_FORMATS_DIR;
-    if (std::filesystem::is_directory(dir / "profiles", ec)) return dir.string();
+    const std::filesystem::path dir = fs_path(prefix) / AHD_INSTALL_FORMATS_DIR;
+    if (std::filesystem::is_directory(dir / "profiles", ec)) return utf8_string(dir);
   }
   return {};
 }
@@ -50,15 +51,15 @@ std::string formats_dir() {
 }
 
 std::string data_file_path(const std::string& folder, const std::string& name_or_path) {
-  if (std::filesystem::path(name_or_path).extension() == ".json") return name_or_path;
+  if (fs_path(name_or_path).extension() == ".json") return name_or_path;
   return formats_dir() + "/" + folder + "/" + name_or_path + ".json";
 }
 
 std::vector<std::string> list_data_files(const std::string& folder) {
   std::vector<std::string> names;
   std::error_code ec;
-  for (const auto& e : std::filesystem::directory_iterator(formats_dir() + "/" + folder, ec))
-    if (e.path().extension() == ".json") names.push_back(e.path().stem().string());
+  for (const auto& e : std::filesystem::directory_iterator(fs_path(formats_dir() + "/" + folder), ec))
+    if (e.path().extension() == ".json") names.push_back(utf8_string(e.path().stem()));
   std::sort(names.begin(), names.end());
   return names;
 }

@@ -7,14 +7,15 @@
 #include "core/error.h"
 #include "files/file_io.h"
 #include "files/paths.h"
+#include "files/utf8_path.h"
 
 namespace ahd {
 
 Profile load_profile(const std::string& name_or_path) {
   const std::string path = data_file_path("profiles", name_or_path);
   std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) {
-    const bool is_path = std::filesystem::path(name_or_path).extension() == ".json";
+  if (!std::filesystem::exists(fs_path(path), ec)) {
+    const bool is_path = fs_path(name_or_path).extension() == ".json";
     if (!is_path) {
       for (const std::string& n : builtin_profile_names())
         if (n == name_or_path) return builtin_profile(n);

@@ -16,6 +16,7 @@
 #include "files/file_io.h"
 #include "files/input_file.h"
 #include "files/output_set.h"
+#include "files/utf8_path.h"
 
 namespace ahd {
 namespace fs = std::filesystem;
@@ -242,7 +243,7 @@ void read_image_rows(const std::string& path, int part, ImageFileInfo* info_out,
 
 std::vector<uint8_t> encode_image(const std::string& path, const ImageF& img, bool half_float,
                                   const std::vector<std::string>& channel_names) {
-  std::string ext = fs::path(path).extension().string();
+  std::string ext = utf8_string(fs_path(path).extension());
   for (auto& ch : ext) ch = char(std::tolower(ch));
   OiioEncodeLevel l;
   l.width = img.width, l.height = img.height, l.channels = img.channels, l.px = img.data.data();
@@ -258,7 +259,7 @@ std::vector<uint8_t> encode_image(const std::string& path, const ImageF& img, bo
   l.int_attrs.push_back({"oiio:UnassociatedAlpha", 1});  // store the numbers as given (see open_input)
   // A writer without I/O proxies (OIIO 2.4: TGA, HDR) writes a private temporary file in the
   // system's temporary folder, read back whole and removed by the module.
-  const std::string tmp = temp_path_for((fs::temp_directory_path() / fs::path(path).filename()).string());
+  const std::string tmp = temp_path_for(utf8_string(fs::temp_directory_path() / fs_path(path).filename()));
   std::vector<uint8_t> bytes;
   std::string why;
   if (!oiio_module(path).encode(path, tmp, {l}, &bytes, &why)) {

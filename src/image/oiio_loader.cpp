@@ -6,6 +6,7 @@
 #include "image/oiio_module.h"
 #include "files/os_files.h"
 #include "files/paths.h"
+#include "files/utf8_path.h"
 
 #ifdef AHD_NO_OIIO_MODULE
 #define AHD_INSTALL_OIIO_MODULE "libahd_oiio.so"  // never opened: load() stops first
@@ -27,18 +28,18 @@ std::string module_path() {
   std::error_code ec;
   for (const std::string& prefix : {executable_prefix(), library_prefix()}) {
     if (prefix.empty()) continue;
-    const std::filesystem::path installed = std::filesystem::path(prefix) / AHD_INSTALL_OIIO_MODULE;
-    if (std::filesystem::exists(installed, ec)) return installed.string();
+    const std::filesystem::path installed = fs_path(prefix) / AHD_INSTALL_OIIO_MODULE;
+    if (std::filesystem::exists(installed, ec)) return utf8_string(installed);
   }
-  const std::string name = std::filesystem::path(AHD_INSTALL_OIIO_MODULE).filename().string();
+  const std::string name = utf8_string(std::filesystem::path(AHD_INSTALL_OIIO_MODULE).filename());
   std::vector<std::filesystem::path> beside;
-  const std::filesystem::path exe = os::executable_path();
-  if (!exe.empty()) beside.push_back(exe.parent_path() / name);
+  const std::filesystem::path exe = fs_path(os::executable_path());
+  if (!exe.empty()) beside.push_back(exe.parent_path() / fs_path(name));
   const std::string file = os::module_path_of(reinterpret_cast<const void*>(&module_path));
-  if (!file.empty()) beside.push_back(std::filesystem::absolute(file, ec).parent_path() / name);
+  if (!file.empty()) beside.push_back(std::filesystem::absolute(fs_path(file), ec).parent_path() / fs_path(name));
   for (const std::filesystem::path& p : beside)
-    if (std::filesystem::exists(p, ec)) return p.string();
-  return beside.empty() ? name : beside.front().string();
+    if (std::filesystem::exists(p, ec)) return utf8_string(p);
+  return beside.empty() ? name : utf8_string(beside.front());
 }
 
 struct Loaded {

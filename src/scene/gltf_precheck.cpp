@@ -12,6 +12,7 @@
 #include "core/json_depth.h"
 #include "files/input_file.h"
 #include "scene/mesh_io.h"
+#include "files/utf8_path.h"
 
 namespace ahd {
 namespace fs = std::filesystem;
@@ -33,21 +34,21 @@ uint64_t data_uri_bytes(const std::string& uri) {
 }  // namespace
 
 void check_gltf_structure(const std::string& path) {
-  std::string ext = fs::path(path).extension().string();
+  std::string ext = utf8_string(fs_path(path).extension());
   for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
   if (ext != ".gltf" && ext != ".glb") return;
   const std::vector<uint8_t> bytes = read_input_bytes(path, InputKind::kMesh);
   check_gltf_bytes(path, bytes, [](const std::string& f) -> int64_t {
     std::error_code ec;
-    if (!fs::is_regular_file(f, ec)) return -1;
-    const auto n = fs::file_size(f, ec);
+    if (!fs::is_regular_file(fs_path(f), ec)) return -1;
+    const auto n = fs::file_size(fs_path(f), ec);
     return ec ? -1 : int64_t(n);
   });
 }
 
 void check_gltf_bytes(const std::string& path, const std::vector<uint8_t>& bytes,
                       const std::function<int64_t(const std::string&)>& buffer_bytes) {
-  std::string ext = fs::path(path).extension().string();
+  std::string ext = utf8_string(fs_path(path).extension());
   for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
   if (ext != ".gltf" && ext != ".glb") return;
   const char* json_text = reinterpret_cast<const char*>(bytes.data());
@@ -89,7 +90,7 @@ void check_gltf_bytes(const std::string& path, const std::vector<uint8_t>& bytes
         if (uri.rfind("data:", 0) == 0) {
           have = data_uri_bytes(uri);
         } else {
-          const int64_t n = buffer_bytes((fs::path(path).parent_path() / uri).string());
+          const int64_t n = buffer_bytes(utf8_string(fs_path(path).parent_path() / fs_path(uri)));
           if (n < 0) continue;  // missing: Assimp names it
           have = uint64_t(n);
         }

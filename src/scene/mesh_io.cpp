@@ -19,6 +19,7 @@
 #include "core/error.h"
 #include "scene/gltf_precheck.h"
 #include "files/input_file.h"
+#include "files/utf8_path.h"
 
 namespace ahd {
 namespace fs = std::filesystem;
@@ -66,7 +67,7 @@ class BufferedIOSystem : public Assimp::IOSystem {
     if (!file) return false;
     if (files_.count(file)) return true;
     std::error_code ec;
-    return fs::is_regular_file(file, ec);
+    return fs::is_regular_file(fs_path(file), ec);
   }
   char getOsSeparator() const override { return '/'; }
   Assimp::IOStream* Open(const char* file, const char* mode) override {
@@ -130,7 +131,7 @@ const aiScene* import_mesh_file(Assimp::Importer* importer, const std::string& p
 
 MeshTriangles read_mesh_lightmap(const std::string& path, int uv_set, MeshReadInfo* info) {
   if (!input_exists(path)) throw file_error(path, "file not found");
-  std::string ext = fs::path(path).extension().string();
+  std::string ext = utf8_string(fs_path(path).extension());
   for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
   // Only formats whose UV origin we know (the v-flip rule depends on it).
   if (ext != ".gltf" && ext != ".glb" && ext != ".obj")

@@ -137,6 +137,35 @@ TEST(Cli, MissingInputFile) {
   fs::remove_all(d);
 }
 
+// UTF-8 names (docs/platforms.md "Windows": files/utf8_path.h): a non-ASCII folder and file convert to
+// the same planes as an ASCII name, leave no temporary behind, and a missing one is named as given.
+TEST(Cli, NonAsciiNamesConvertLikeAsciiOnes) {
+  const fs::path d = ahd_test::temp_dir("cli_utf8");
+  const std::string dir = (d / "plain \xC3\xA9 \xE5\x85\x89").string();  // "plain é 光"
+  fs::create_directories(dir);
+  ahd::BakerOptions bo;
+  bo.width = bo.height = 20;
+  bo.coeffs = 4;
+  const ahd::ShImage sh = ahd::bake_analytic_scene(bo);
+  ahd::write_canonical_sh(dir + "/map \xC3\xA9.exr", sh);
+  ahd::write_canonical_sh((d / "map.exr").string(), sh);
+  const auto r = run_cli({"convert", dir + "/map \xC3\xA9.exr", "-o", dir + "/out \xE5\x85\x89/map \xC3\xA9.ktx2"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  ASSERT_EQ(run_cli({"convert", (d / "map.exr").string(), "-o", (d / "out" / "map.ktx2").string()}).exit_code, 0);
+  const auto read_bytes = [](const std::string& f) {
+    std::ifstream in(f, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  const std::string iz = ahd_test::plane_file(dir + "/out \xE5\x85\x89/map \xC3\xA9.json", "iz");
+  ASSERT_TRUE(fs::exists(iz)) << iz;
+  EXPECT_EQ(read_bytes(iz), read_bytes(ahd_test::plane_file((d / "out" / "map.json").string(), "iz")));
+  for (const auto& e : fs::directory_iterator(dir + "/out \xE5\x85\x89"))
+    EXPECT_EQ(e.path().filename().string().find(".ahdtmp-"), std::string::npos) << e.path();
+  expect_clean_failure({"convert", dir + "/absent \xE5\x85\x89.exr", "-o", (d / "none" / "x.ktx2").string()},
+                       dir + "/absent \xE5\x85\x89.exr: file not found", d / "none");
+  fs::remove_all(d);
+}
+
 TEST(Cli, WrongChannelSet) {
   const fs::path d = ahd_test::temp_dir("cli_channels");
   ahd::ImageF img(8, 8, 2);  // (a lone RGB EXR is a plain lightmap: BakerPlain.*)

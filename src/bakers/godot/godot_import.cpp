@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "files/input_file.h"
 #include "files/input_record.h"
+#include "files/utf8_path.h"
 
 namespace ahd {
 namespace fs = std::filesystem;
@@ -63,11 +64,11 @@ GodotImport read_godot_import(const std::string& exr_path) {
 }
 
 std::string godot_project_version(const std::string& path, std::string* project_file) {
-  fs::path dir = fs::absolute(path).parent_path();
+  fs::path dir = fs::absolute(fs_path(path)).parent_path();
   for (int up = 0; up < 32 && !dir.empty(); ++up) {
     const fs::path p = dir / "project.godot";
-    if (probe_input_file(p.string())) {
-      std::istringstream f(read_input_text(p.string(), InputKind::kSceneText));
+    if (probe_input_file(utf8_string(p))) {
+      std::istringstream f(read_input_text(utf8_string(p), InputKind::kSceneText));
       std::string line;
       while (std::getline(f, line)) {
         // config/features=PackedStringArray("4.2", "Forward Plus")
@@ -75,7 +76,7 @@ std::string godot_project_version(const std::string& path, std::string* project_
         const auto q = line.find('"');
         const auto e = q == std::string::npos ? q : line.find('"', q + 1);
         if (e == std::string::npos) break;
-        if (project_file) *project_file = p.string();
+        if (project_file) *project_file = utf8_string(p);
         return line.substr(q + 1, e - q - 1);
       }
       return "";

@@ -27,6 +27,7 @@
 #include "scene/mesh_io.h"
 #include "bakers/godot/godot_tscn.h"
 #include "bakers/godot/godot_unwrap_cache.h"
+#include "files/utf8_path.h"
 #include <nlohmann/json.hpp>
 
 namespace ahd {
@@ -119,7 +120,7 @@ struct Loader {
   // Resolved once per (path, folder): a scene instanced a million times asks a million times.
   mutable std::map<std::pair<std::string, std::string>, std::string> resolved;
   std::string resolve(const std::string& res, const fs::path& from_dir, const std::string& file) const {
-    const auto key = std::make_pair(res, from_dir.string());
+    const auto key = std::make_pair(res, utf8_string(from_dir));
     if (const auto it = resolved.find(key); it != resolved.end()) return it->second;
     std::string r = resolve_once(res, from_dir, file);
     resolved.emplace(key, r);
@@ -127,9 +128,9 @@ struct Loader {
   }
   std::string resolve_once(const std::string& res, const fs::path& from_dir, const std::string& file) const {
     const bool is_res = res.rfind("res://", 0) == 0;
-    if (!is_res && (fs::path(res).is_absolute() || res.find("://") != std::string::npos))
-      throw file_error(file, "path '" + res + "' is outside the project (" + project.string() + ")");
-    const fs::path p = (is_res ? project / res.substr(6) : from_dir / res).lexically_normal();
+    if (!is_res && (fs_path(res).is_absolute() || res.find("://") != std::string::npos))
+      throw file_error(file, "path '" + res + "' is outside the project (" + utf8_string(project) + ")");
+    const fs::path p = (is_res ? project / fs_path(res.substr(6)) : from_dir / fs_path(res)).lexically_normal();
     std::error_code ec;
     const fs::path root = fs::absolute(project, ec).lexically_normal();
     const fs::path rel = fs::absolute(p, ec).lexically_normal().lexically_relative(root);
@@ -139,7 +140,7 @@ struct Loader {
       const fs::path crel = c.lexically_relative(croot);
       inside = !ec && !crel.empty() && *crel.begin() != "..";
     }
-    if (!inside) throw file_error(file, "path '" + res + "' leads outside the project (" + project.string() + ")");
+    if (!inside) throw file_error(file, "path '" + res + "' leads outside the project (" + utf8_string(project) + ")");
     return shortest(p);
   }
 
@@ -190,9 +191,9 @@ struct Loader {
     if (p.is_relative() && !p.empty() && *p.begin() == "..") {
       std::error_code ec;
       const fs::path r = fs::relative(p, ec);
-      if (!ec && !r.empty()) return r.string();
+      if (!ec && !r.empty()) return utf8_string(r);
     }
-    return p.string();
+    return utf8_string(p);
   }
 
   int add(const std::string& name, int parent) {
@@ -228,13 +229,13 @@ struct Loader {
 
   // One instance of a scene or mesh file under `parent`; returns its root node.
   int instance(const std::string& path, int parent, int depth) {
-    std::string ext = fs::path(path).extension().string();
+    std::string ext = utf8_string(fs_path(path).extension());
     for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
     auto there = exists_cache.find(path);
     if (there == exists_cache.end()) there = exists_cache.emplace(path, input_exists(path)).first;
     if (!there->second) {
       missing.insert(path);
-      const int id = add(fs::path(path).stem().string(), parent);
+      const int id = add(utf8_string(fs_path(path).stem()), parent);
       nodes[size_t(id)].placeholder = true;
       return id;
     }
@@ -251,7 +252,7 @@ struct Loader {
         (ext == ".scn"
              ? "save the scene as text (.tscn) in Godot"
              : "export it as glTF (.glb) with its lightmap UVs, or give the scene's glTF export with --godot-scene"));
-    const int id = add(fs::path(path).stem().string(), parent);
+    const int id = add(utf8_string(fs_path(path).stem()), parent);
     nodes[size_t(id)].placeholder = true;
     return id;
   }
@@ -263,7 +264,7 @@ struct Loader {
     stack.push_back(path);
     add_file(path);
     const GodotTscn& t = parsed_scene(path);
-    const fs::path dir = fs::path(path).parent_path();
+    const fs::path dir = fs_path(path).parent_path();
     const auto ext_path = [&](const std::string& id) {
       const GodotTscnExt* e = t.find_ext(id);
       if (!e) throw file_error(path, "instance of ExtResource(\"" + id + "\"), which the scene does not declare");
@@ -325,7 +326,7 @@ struct Loader {
           m = godot_sub_resource_mesh(*sub, path, primitive_texel_size());
         } else {
           if (!input_exists(file)) throw file_error(file, "mesh resource not in the project");
-          std::string mext = fs::path(file).extension().string();
+          std::string mext = utf8_string(fs_path(file).extension());
           for (char& c : mext) c = char(std::tolower(static_cast<unsigned char>(c)));
           add_file(file);
           if (mext == ".obj") r.first = obj_geometry(file);  // Godot's OBJ importer's mesh, UV2 from its cache
@@ -359,7 +360,7 @@ struct Loader {
     if (input_exists(import_file)) add_file(import_file);
     if (import_param(import_file, "generate_lightmap_uv2") != "true")
       throw file_error(file, "imported without Generate Lightmap UV2 (generate_lightmap_uv2 in " +
-                                 fs::path(import_file).filename().string() + "): the mesh has no lightmap UVs");
+                                 utf8_string(fs_path(import_file).filename()) + "): the mesh has no lightmap UVs");
     const auto vec3 = [&](const std::string& key, float fallback, float out[3]) {
       out[0] = out[1] = out[2] = fallback;
       const std::string v = import_param(import_file, key);  // Vector3(x, y, z)
@@ -383,7 +384,7 @@ struct Loader {
     MeshGroup g;
     g.scales = {{1.0f, 1.0f, 1.0f}};  // lightmap_unwrap_cached(Transform3D()): the identity
     MeshArrays& a = g.arrays;
-    a.name = fs::path(file).stem().string();
+    a.name = utf8_string(fs_path(file).stem());
     a.pos = o.positions, a.nrm = o.normals, a.all_uv1 = false, a.all_normals = o.has_normals;
     a.idx.resize(o.indices.size());  // stored so that godot_winding() gives Godot's triangles back
     for (size_t t = 0; t + 2 < o.indices.size(); t += 3)
@@ -393,7 +394,7 @@ struct Loader {
           "the file has no normals: Godot generates them (SurfaceTool::generate_normals), which is not "
           "reproduced here";
     if (uf.cache.empty())
-      throw file_error(file, "no " + fs::path(uf.cache_file).filename().string() + " beside it: reimport it in Godot");
+      throw file_error(file, "no " + utf8_string(fs_path(uf.cache_file).filename()) + " beside it: reimport it in Godot");
     std::vector<bool> claimed(uf.cache.size(), false);
     exact_entry(uf, &g, &claimed);
     const int geo = group_geometry(uf, &g, claimed);
@@ -407,9 +408,9 @@ struct Loader {
     if (texel_size > 0) return texel_size;
     texel_size = kGodotPrimitiveTexelSize;
     const fs::path settings = project / "project.godot";
-    if (probe_regular_file(settings.string())) {
-      add_file(settings.string());
-      texel_size = godot_primitive_texel_size(read_text(settings.string()));
+    if (probe_regular_file(utf8_string(settings))) {
+      add_file(utf8_string(settings));
+      texel_size = godot_primitive_texel_size(read_text(utf8_string(settings)));
     }
     return texel_size;
   }
@@ -451,7 +452,7 @@ struct Loader {
       cache = read_godot_unwrap_cache(cache_file);
       add_file(cache_file);
     }
-    const int root = add(fs::path(path).stem().string(), parent);
+    const int root = add(utf8_string(fs_path(path).stem()), parent);
     // Assimp's root is the glTF scene's only root node, or a synthetic "ROOT" above several.
     const aiNode* top = sc->mRootNode;
     const bool synthetic = std::string(top->mName.C_Str()) == "ROOT" && top->mNumMeshes == 0;
@@ -511,7 +512,7 @@ struct Loader {
     add_file(path);
     const std::string import_file = path + ".import", cache_file = path + ".unwrap_cache";
     if (input_exists(import_file)) add_file(import_file);
-    const int root = add(fs::path(path).stem().string(), parent);
+    const int root = add(utf8_string(fs_path(path).stem()), parent);
     // fbx/importer = 1 (editor/import/3d/resource_importer_scene.cpp, modules/fbx): the file went
     // through the external FBX2glTF converter, whose output is not reproduced here.
     if (import_param(import_file, "fbx/importer") == "1") {
@@ -813,7 +814,7 @@ fs::path project_root(const fs::path& file) {
   if (dir.empty()) dir = ".";
   std::error_code ec;
   for (int up = 0; up < 64; ++up) {
-    if (probe_input_file((dir / "project.godot").string())) return dir;
+    if (probe_input_file(utf8_string(dir / "project.godot"))) return dir;
     const fs::path abs = fs::absolute(dir, ec).lexically_normal();
     if (ec || abs == abs.root_path() || abs.parent_path() == abs) break;
     const fs::path parent = dir.parent_path();
@@ -949,8 +950,8 @@ GodotSceneMeshes place_users(Loader& L, const std::string& lmbake, const GodotLi
 
 GodotSceneMeshes load_godot_scene(const std::string& tscn, const std::string& lmbake_override) {
   Loader L;
-  L.project = project_root(tscn);
-  const std::string top_path = fs::path(tscn).lexically_normal().string();
+  L.project = project_root(fs_path(tscn));
+  const std::string top_path = utf8_string(fs_path(tscn).lexically_normal());
   const int root = L.scene(top_path, -1, 0);
 
   // The LightmapGI node of the top scene (its light_data names the .lmbake).
@@ -961,7 +962,7 @@ GodotSceneMeshes load_godot_scene(const std::string& tscn, const std::string& lm
     if (tn.type != "LightmapGI") continue;
     gi = tn.has_parent ? L.find(root, tn.parent == "." ? tn.name : tn.parent + "/" + tn.name) : root;
     if (lmbake.empty() && !tn.light_data.empty())
-      if (const GodotTscnExt* e = top.find_ext(tn.light_data)) lmbake = L.resolve(e->path, fs::path(tscn).parent_path(), tscn);
+      if (const GodotTscnExt* e = top.find_ext(tn.light_data)) lmbake = L.resolve(e->path, fs_path(tscn).parent_path(), tscn);
     break;
   }
   if (gi < 0) throw file_error(tscn, "no LightmapGI node: not the scene that was baked (give the scene holding the LightmapGI)");
@@ -976,8 +977,8 @@ constexpr uint64_t kMaxPlacementSteps = 200000000;
 
 GodotSceneMeshes load_godot_export(const std::string& gltf, const std::string& lmbake) {
   Loader L;
-  L.project = fs::absolute(gltf).parent_path();
-  L.mesh_file(fs::path(gltf).lexically_normal().string(), -1);
+  L.project = fs::absolute(fs_path(gltf)).parent_path();
+  L.mesh_file(utf8_string(fs_path(gltf).lexically_normal()), -1);
   const GodotLightmapData data = read_godot_lmbake(lmbake);
   // The users' paths are relative to the LightmapGI, which the export may leave out: a path
   // "../A/B" names A/B under the LightmapGI's parent, any other path a node below the LightmapGI.
@@ -1043,7 +1044,7 @@ std::vector<std::string> lmbake_ext_ids(const std::string& text, const fs::path&
     }
     if (t.ext.empty()) continue;
     const std::string& res = t.ext[0].path;
-    const fs::path file = res.rfind("res://", 0) == 0 ? project / res.substr(6) : dir / res;
+    const fs::path file = res.rfind("res://", 0) == 0 ? project / fs_path(res.substr(6)) : dir / fs_path(res);
     std::error_code ec;
     const fs::path c = fs::weakly_canonical(file, ec);
     if (!ec && c == lmbake_canonical) ids.push_back(t.ext[0].id);
@@ -1054,17 +1055,17 @@ std::vector<std::string> lmbake_ext_ids(const std::string& text, const fs::path&
 }  // namespace
 
 std::string find_godot_scene(const std::string& exr) {
-  const fs::path p(exr);
+  const fs::path p = fs_path(exr);
   const fs::path folder = p.parent_path().empty() ? fs::path(".") : p.parent_path();
-  const fs::path lmbake = folder / (p.stem().string() + ".lmbake");
+  const fs::path lmbake = folder / fs_path(utf8_string(p.stem()) + ".lmbake");
   std::error_code ec;
   // Probes (files/input_record.h): a .lmbake or project.godot appearing later reads the input again.
-  if (!probe_regular_file(lmbake.string())) return "";
+  if (!probe_regular_file(utf8_string(lmbake))) return "";
   const fs::path want = fs::weakly_canonical(lmbake, ec);
   if (ec) return "";
   // The project: the nearest project.godot at or above the EXR (else the EXR's folder alone).
-  const fs::path project = project_root(exr);
-  const bool has_project = probe_input_file((project / "project.godot").string());
+  const fs::path project = project_root(fs_path(exr));
+  const bool has_project = probe_input_file(utf8_string(project / "project.godot"));
   // A bounded walk: no hidden folders (.godot/ holds the editor's imports), no symlinked folders
   // (no loops), no nested projects, at most 12 levels and 20 000 entries.
   std::vector<std::string> found;
@@ -1076,7 +1077,7 @@ std::string find_godot_scene(const std::string& exr) {
   for (; !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
     if (++entries > kMaxEntries) break;
     const fs::directory_entry& e = *it;
-    const std::string name = e.path().filename().string();
+    const std::string name = utf8_string(e.path().filename());
     std::error_code ec2;
     if (e.is_directory(ec2)) {
       if (!has_project || name.empty() || name[0] == '.' || e.is_symlink(ec2) || it.depth() + 1 > kMaxDepth ||
@@ -1087,14 +1088,14 @@ std::string find_godot_scene(const std::string& exr) {
     if (e.path().extension() != ".tscn" || !e.is_regular_file(ec2) || name[0] == '.') continue;
     std::string text;
     try {
-      text = read_input_text(e.path().string(), InputKind::kSceneText);
+      text = read_input_text(utf8_string(e.path()), InputKind::kSceneText);
     } catch (const Error&) {
       continue;  // swapped for a FIFO, grown past the bound: not a scene to consider
     }
     const std::vector<std::string> ids = lmbake_ext_ids(text, project, e.path().parent_path(), want);
     if (ids.empty()) continue;
     try {  // the LightmapGI's light_data is one of them
-      const GodotTscn t = parse_godot_tscn(text, e.path().string());
+      const GodotTscn t = parse_godot_tscn(text, utf8_string(e.path()));
       for (const GodotTscnNode& n : t.nodes)
         if (n.type == "LightmapGI" && std::find(ids.begin(), ids.end(), n.light_data) != ids.end()) {
           found.push_back(Loader::shortest(e.path().lexically_normal()));
@@ -1107,13 +1108,13 @@ std::string find_godot_scene(const std::string& exr) {
   std::vector<std::string> beside;
   const fs::path here = fs::weakly_canonical(folder, ec);
   for (const std::string& f : found) {
-    const fs::path dir = fs::path(f).parent_path();
+    const fs::path dir = fs_path(f).parent_path();
     if (fs::weakly_canonical(dir.empty() ? fs::path(".") : dir, ec) == here) beside.push_back(f);
   }
   if (beside.size() == 1) return beside.front();
   std::string list;
   for (const std::string& f : found) list += (list.empty() ? "" : ", ") + f;
-  throw file_error(lmbake.string(), std::to_string(found.size()) + " scenes bake it (" + list +
+  throw file_error(utf8_string(lmbake), std::to_string(found.size()) + " scenes bake it (" + list +
                                         "): name the one to read with --godot-scene");
 }
 

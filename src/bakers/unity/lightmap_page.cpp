@@ -1,4 +1,5 @@
 #include "bakers/unity/lightmap_page.h"
+#include "files/utf8_path.h"
 
 #include <cctype>
 #include <filesystem>
@@ -20,7 +21,7 @@ int number_at(const std::string& s, size_t i) {
 }  // namespace
 
 int lightmap_page_from_name(const std::string& path, std::string* why) {
-  const std::string name = std::filesystem::path(path).filename().string();
+  const std::string name = utf8_string(fs_path(path).filename());
   static const std::string unity = "Lightmap-";
   if (name.compare(0, unity.size(), unity) == 0) {
     const int n = number_at(name, unity.size());

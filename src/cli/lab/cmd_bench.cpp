@@ -33,6 +33,7 @@
 #include "core/parallel.h"
 #include "image/image_io.h"
 #include "files/output_set.h"
+#include "files/utf8_path.h"
 
 namespace ahd::cli {
 
@@ -186,7 +187,7 @@ void add_bench_command(CLI::App& app) {
     for (const std::string& folder : folders) {
       std::vector<fs::path> in_folder;
       std::error_code ec;
-      for (const auto& e : fs::directory_iterator(folder, ec))
+      for (const auto& e : fs::directory_iterator(fs_path(folder), ec))
         if (e.path().extension() == ".exr") in_folder.push_back(e.path());
       if (defaults && (ec || in_folder.empty())) continue;  // e.g. a checkout without bench/data
       if (ec || in_folder.empty()) throw file_error(folder, "no EXR images in this folder");
@@ -225,8 +226,8 @@ void add_bench_command(CLI::App& app) {
         if (!bc6h_quality_from_name(qn, &q)) throw Error("unknown quality " + qn);
       }
     for (const auto& f : files) {
-      const ImageF img = clamp_to_half_range(read_image(f.string()));
-      const std::string name = f.filename().string();
+      const ImageF img = clamp_to_half_range(read_image(utf8_string(f)));
+      const std::string name = utf8_string(f.filename());
       const double mp = img.texels() / 1e6;
       double peak = 0;
       for (size_t i = 0; i < img.texels(); ++i)

@@ -38,6 +38,7 @@
 #include "image/sh_exr.h"
 #include "pipeline/run.h"
 #include "sample/analytic_baker.h"
+#include "files/utf8_path.h"
 
 namespace ahd::cli {
 namespace {
@@ -197,7 +198,7 @@ std::string convert_case(const Case& c, const std::string& out_dir, int threads,
   co.measure = full_measure ? Measure::Full : Measure::Estimate;
   if (!direction_fit.empty() && !parse_direction_fit(direction_fit, &co.direction_fit))
     throw Error("--direction-fit must be 'linear' or 'refined'");
-  const OutputPaths out = output_paths(out_dir + "/" + fs::path(c.file).stem().string() + ".ktx2");
+  const OutputPaths out = output_paths(out_dir + "/" + utf8_string(fs_path(c.file).stem()) + ".ktx2");
   ResolvedOptions ro = resolve_options(co, out.name);
   auto t_start = Clock::now();
   auto t0 = Clock::now();
@@ -307,30 +308,30 @@ void add_bench_convert_command(CLI::App& bench) {
     }
     const bool own_dir = a->dir.empty();
     const fs::path dir = own_dir ? fs::temp_directory_path() / ("ahdpack-bench-convert-" + std::to_string(getpid()))
-                                 : fs::path(a->dir);
+                                 : fs_path(a->dir);
     fs::create_directories(dir);
     const int threads = resolve_threads(a->threads);
     std::vector<Case> cases;
     for (int s : a->sizes) {
       if (s == 0) continue;
-      const std::string f = (dir / ("l2_" + std::to_string(s) + ".exr")).string();
+      const std::string f = utf8_string(dir / ("l2_" + std::to_string(s) + ".exr"));
       write_canonical_sh(f, generated_l2(s, threads));
       cases.push_back({"L2 " + std::to_string(s) + "²", f, f, false, s});
     }
     for (int s : a->l1) {
-      const std::string f = (dir / ("l1_" + std::to_string(s) + ".exr")).string();
+      const std::string f = utf8_string(dir / ("l1_" + std::to_string(s) + ".exr"));
       write_canonical_sh(f, l1_of(generated_l2(s, threads)));
       cases.push_back({"L1 " + std::to_string(s) + "²", f, f, false, s, 4});
     }
     for (int s : a->plain) {
       if (s == 0) continue;
-      const std::string base = (dir / ("plain_" + std::to_string(s))).string();
+      const std::string base = utf8_string(dir / ("plain_" + std::to_string(s)));
       write_plain(base + ".exr", generated_l2(s, threads));
       cases.push_back({"plain " + std::to_string(s) + "²", base + ".exr", base, true, s, 1});
     }
     for (const std::string& f : a->plain_files) {
       const ImageFileInfo info = read_image_info(f);
-      Case cs{fs::path(f).stem().string().substr(0, 12), f, f.substr(0, f.size() - fs::path(f).extension().string().size()),
+      Case cs{utf8_string(fs_path(f).stem()).substr(0, 12), f, f.substr(0, f.size() - utf8_string(fs_path(f).extension()).size()),
               true, 0, 1};
       cs.width = info.width, cs.height = info.height;
       cases.push_back(cs);
@@ -348,7 +349,7 @@ void add_bench_convert_command(CLI::App& bench) {
       const auto rh = run_child({"--child", "read-huge", "--child-file", cs.file});
       for (const std::string& fit : fits) {
         std::vector<std::string> args = {"--child", cs.plain ? "plain" : "l2", "--child-file", cs.file, "--child-out",
-                                         (dir / "out").string(), "--threads", std::to_string(threads)};
+                                         utf8_string(dir / "out"), "--threads", std::to_string(threads)};
         if (a->full_measure) args.push_back("--full-measure");
         if (!fit.empty()) args.insert(args.end(), {"--direction-fit", fit});
         const auto cv = run_child(args);

@@ -26,6 +26,7 @@
 #include "files/profile_file.h"
 #include "pipeline/convert.h"
 #include "sh/sh_image.h"
+#include "files/utf8_path.h"
 
 namespace ahd::cli {
 
@@ -117,9 +118,9 @@ void report_truth(const std::vector<std::string>& dirs, const std::vector<std::s
   for (const std::string& dir : dirs) {
     TruthSet t = load_truth_set(dir);
     // Named by its folder (the corpus has two bakes of one scene at different sizes).
-    std::filesystem::path fp = std::filesystem::path(dir).lexically_normal();
+    std::filesystem::path fp = fs_path(dir).lexically_normal();
     if (fp.filename().empty()) fp = fp.parent_path();  // "…/area/"
-    const std::string folder = fp.filename().string();
+    const std::string folder = utf8_string(fp.filename());
     if (!folder.empty() && folder != "." && folder != "..") t.name = folder;
     const ShImage l2 = baker_sh(t, 9, 0);
     ShImage l1 = make_sh_image(t.width, t.height, 4);

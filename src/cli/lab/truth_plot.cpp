@@ -5,6 +5,7 @@
 
 #include "cli/lab/svg_plot.h"
 #include "core/error.h"
+#include "files/utf8_path.h"
 
 namespace ahd::cli {
 
@@ -60,9 +61,9 @@ std::string truth_plot_svg(const std::string& scene, const std::vector<TruthPlot
 std::string truth_plot_path(const std::string& out, const std::string& scene, size_t scenes) {
   if (ends_with(out, ".svg")) return scenes == 1 ? out : out.substr(0, out.size() - 4) + "-" + scene + ".svg";
   std::error_code ec;
-  std::filesystem::create_directories(out, ec);
+  std::filesystem::create_directories(fs_path(out), ec);
   if (ec) throw file_error(out, "cannot make the plot folder: " + ec.message());
-  return (std::filesystem::path(out) / ("truth-" + scene + ".svg")).string();
+  return utf8_string(fs_path(out) / fs_path("truth-" + scene + ".svg"));
 }
 
 }  // namespace ahd::cli
