@@ -442,6 +442,20 @@ Cand make(const Planes& f, int p, const float t[2][2][3], bool wide) {
   return c;  // unreachable: the last mode always fits
 }
 
+// Up to `passes` least-squares passes on both regions' indices of `c` (partition p, endpoints `t`,
+// which the passes move), each kept only when it lowers the error.
+void refine(const Planes& f, int p, float (&t)[2][2][3], bool wide, int passes, Cand& c) {
+  const uint16_t mask = kPartitions[p];
+  for (int pass = 0; pass < passes && c.mode >= 0; ++pass) {
+    bool ok = true;
+    for (int r = 0; r < 2 && ok; ++r) ok = refit_region(f, mask, r, c.idx, t[r][0], t[r][1]);
+    if (!ok) break;
+    const Cand d = make(f, p, t, wide);
+    if (!(d.mode >= 0 && d.err < c.err)) break;
+    c = d;
+  }
+}
+
 // Writes a two-region block from the mode's bit layout (bc6h_tables), then the indices.
 void pack(const Cand& c, int p, uint8_t out[16]) {
   const ModeInfo& mi = mode(c.mode);
@@ -497,14 +511,7 @@ bool improve_with_two_regions(const uint16_t h[48], const float x[48], const uin
     float t[2][2][3];
     for (int r = 0; r < 2; ++r) axis_targets(f, mask, r, t[r][0], t[r][1]);
     Cand c = make(f, p, t, wide);
-    for (int pass = 0; pass < kEdgeRefined && c.mode >= 0; ++pass) {
-      bool ok = true;
-      for (int r = 0; r < 2 && ok; ++r) ok = refit_region(f, mask, r, c.idx, t[r][0], t[r][1]);
-      if (!ok) break;
-      const Cand d = make(f, p, t, wide);
-      if (!(d.mode >= 0 && d.err < c.err)) break;
-      c = d;
-    }
+    refine(f, p, t, wide, kEdgeRefined, c);
     if (!(c.mode >= 0 && c.err < one_err)) return false;
     pack(c, p, out);
     return true;
@@ -532,17 +539,7 @@ bool improve_with_two_regions(const uint16_t h[48], const float x[48], const uin
     const int i = order[j], p = parts[i];
     Cand c = cand[i];
     if (c.mode < 0) continue;
-    const uint16_t mask = kPartitions[p];
-    float(&t)[2][2][3] = targets[i];
-    // Least-squares passes on both regions' indices, each kept when it lowers the error.
-    for (int pass = 0; pass < (j < refined ? kPasses : 0); ++pass) {
-      bool ok = true;
-      for (int r = 0; r < 2 && ok; ++r) ok = refit_region(f, mask, r, c.idx, t[r][0], t[r][1]);
-      if (!ok) break;
-      const Cand d = make(f, p, t, wide);
-      if (!(d.mode >= 0 && d.err < c.err)) break;
-      c = d;
-    }
+    refine(f, p, targets[i], wide, j < refined ? kPasses : 0, c);
     if (c.err < best.err) best = c, best_p = p;
   }
   if (!(best.mode >= 0 && best.err < one_err)) return false;
