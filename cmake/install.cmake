@@ -23,10 +23,10 @@ write_basic_package_version_file(${CMAKE_CURRENT_BINARY_DIR}/ahdpackConfigVersio
   COMPATIBILITY SameMinorVersion)
 install(FILES ${CMAKE_CURRENT_BINARY_DIR}/ahdpackConfig.cmake ${CMAKE_CURRENT_BINARY_DIR}/ahdpackConfigVersion.cmake
   ${CMAKE_CURRENT_SOURCE_DIR}/cmake/ahdpack_lightmaps.cmake DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/ahdpack)
-# OpenImageIO's module, opened relative to ahdpack's bin/ folder or to libahd_bakers.so's lib/ folder
-# (image/oiio_loader.cpp).
-if(AHD_OIIO_MODULE)
-  install(TARGETS ahd_oiio LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/ahdpack)
+# The modules, opened relative to ahdpack's bin/ folder or to libahd_bakers.so's lib/ folder
+# (files/modules.cpp).
+if(AHD_MODULE_TARGETS)
+  install(TARGETS ${AHD_MODULE_TARGETS} LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/ahdpack)
 endif()
 # The profiles and layout presets, found the same way (files/paths.cpp).
 install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/formats/ DESTINATION ${CMAKE_INSTALL_DATADIR}/ahdpack/formats)
