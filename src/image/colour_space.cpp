@@ -3,10 +3,6 @@
 // AHD_NO_OCIO (CMake AHD_OCIO=OFF, for platforms without an OpenColorIO build): inputs in the
 // working space convert as always; a conversion from another space, or an sRGB decode, is refused
 // with one error line naming the option (docs/platforms.md "Windows").
-#ifndef AHD_NO_OCIO
-#include <OpenColorIO/OpenColorIO.h>
-#endif
-
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -14,10 +10,7 @@
 
 #include "core/error.h"
 #include "core/parallel.h"
-
-#ifndef AHD_NO_OCIO
-namespace OCIO = OCIO_NAMESPACE;
-#endif
+#include "image/ocio_module.h"
 
 namespace ahd {
 
@@ -173,19 +166,19 @@ M3 rgb_to_xyz(const float* c, const std::string& path) {
 }
 
 #ifndef AHD_NO_OCIO
-OCIO::MatrixTransformRcPtr matrix_transform(const M3& m) {
-  double m44[16] = {};
+OcioStep matrix_transform(const M3& m) {
+  OcioStep t;
+  t.kind = OcioStep::kMatrix;
   for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) m44[r * 4 + c] = m[r][c];
-  m44[15] = 1;
-  OCIO::MatrixTransformRcPtr t = OCIO::MatrixTransform::Create();
-  t->setMatrix(m44);
+    for (int c = 0; c < 3; ++c) t.matrix[r * 4 + c] = m[r][c];
+  t.matrix[15] = 1;
   return t;
 }
 
-OCIO::BuiltinTransformRcPtr builtin(const char* style) {
-  OCIO::BuiltinTransformRcPtr t = OCIO::BuiltinTransform::Create();
-  t->setStyle(style);
+OcioStep builtin(const char* style) {
+  OcioStep t;
+  t.kind = OcioStep::kBuiltin;
+  t.style = style;
   return t;
 }
 
@@ -195,12 +188,12 @@ OCIO::BuiltinTransformRcPtr builtin(const char* style) {
 //   others      a MatrixTransform built from the declared chromaticities (RGB → XYZ, Bradford from
 //               the declared white to D65 when it differs), then XYZ → Rec.709.
 // Rec.2020 and P3-D65 share D65 with the working space: no adaptation for them.
-OCIO::TransformRcPtr to_working(const SourceSpace& from, const std::string& path) {
+std::vector<OcioStep> to_working(const SourceSpace& from, const std::string& path) {
   const M3 xyz_to_709 = inverse(rgb_to_xyz(kRec709, path));
-  if (from.name == "acescg") return builtin("UTILITY - ACES-AP1_to_LINEAR-REC709_BFD");
-  OCIO::GroupTransformRcPtr g = OCIO::GroupTransform::Create();
+  if (from.name == "acescg") return {builtin("UTILITY - ACES-AP1_to_LINEAR-REC709_BFD")};
+  std::vector<OcioStep> g;
   if (from.name == "aces2065-1") {
-    g->appendTransform(builtin("UTILITY - ACES-AP0_to_CIE-XYZ-D65_BFD"));
+    g.push_back(builtin("UTILITY - ACES-AP0_to_CIE-XYZ-D65_BFD"));
   } else {
     const Named* n = find_named(from.name);
     const float* c = n ? n->chroma : from.chromaticities.data();
@@ -209,9 +202,9 @@ OCIO::TransformRcPtr to_working(const SourceSpace& from, const std::string& path
     M3 m = rgb_to_xyz(c, path);
     if (std::fabs(c[6] - kRec709[6]) > 1e-6f || std::fabs(c[7] - kRec709[7]) > 1e-6f)
       m = mul(bradford(c[6], c[7], kRec709[6], kRec709[7]), m);
-    g->appendTransform(matrix_transform(m));
+    g.push_back(matrix_transform(m));
   }
-  g->appendTransform(matrix_transform(xyz_to_709));
+  g.push_back(matrix_transform(xyz_to_709));
   return g;
 }
 #else
@@ -279,29 +272,21 @@ Matrix3 working_space_matrix(const SourceSpace& from, const std::string& path) {
 #ifdef AHD_NO_OCIO
   no_ocio(path, "converting from " + from.describe());
 #else
-  try {
-    const OCIO::ConstConfigRcPtr config = OCIO::Config::CreateRaw();
-    const OCIO::ConstCPUProcessorRcPtr cpu =
-        config->getProcessor(to_working(from, path))
-            ->getOptimizedCPUProcessor(OCIO::BIT_DEPTH_F32, OCIO::BIT_DEPTH_F32, OCIO::OPTIMIZATION_NONE);
-    // The matrix's columns are the images of the unit primaries.
-    for (int c = 0; c < 3; ++c) {
-      float v[3] = {0, 0, 0};
-      v[c] = 1;
-      cpu->applyRGB(v);
-      for (int r = 0; r < 3; ++r) m[r][c] = double(v[r]);
-    }
-    // A transform with an offset or a curve is no 3x3 matrix: it cannot be applied to SH.
-    float t[3] = {0.25f, -1.5f, 3.0f};
-    cpu->applyRGB(t);
-    for (int r = 0; r < 3; ++r) {
-      const double want = m[r][0] * 0.25 - m[r][1] * 1.5 + m[r][2] * 3.0;
-      if (!(std::fabs(double(t[r]) - want) <= 1e-5 * (1 + std::fabs(want))))
-        throw file_error(path, "OpenColorIO's transform from " + from.describe() + " is not a 3x3 matrix");
-    }
-  } catch (const OCIO::Exception& e) {
-    throw file_error(path,
-                     "OpenColorIO cannot convert " + from.describe() + " to the working space (" + e.what() + ")");
+  const OcioModule& ocio = ocio_module(path);
+  std::string why;
+  const void* cpu = ocio.processor(to_working(from, path), &why);
+  if (!cpu)
+    throw file_error(path, "OpenColorIO cannot convert " + from.describe() + " to the working space (" + why + ")");
+  // The matrix's columns are the images of the unit primaries; a fourth triple checks it is one: a
+  // transform with an offset or a curve is no 3x3 matrix and cannot be applied to SH.
+  float v[4][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0.25f, -1.5f, 3.0f}};
+  ocio.apply_rgb(cpu, v[0], 4);
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 3; ++r) m[r][c] = double(v[c][r]);
+  for (int r = 0; r < 3; ++r) {
+    const double want = m[r][0] * 0.25 - m[r][1] * 1.5 + m[r][2] * 3.0;
+    if (!(std::fabs(double(v[3][r]) - want) <= 1e-5 * (1 + std::fabs(want))))
+      throw file_error(path, "OpenColorIO's transform from " + from.describe() + " is not a 3x3 matrix");
   }
   return m;
 #endif
@@ -328,19 +313,23 @@ void srgb_decode(float* values, size_t n, size_t stride) {
   no_ocio("", "decoding an sRGB-encoded plane");
 #else
   // The processor is built once; OpenColorIO's CPU processors are safe to share between threads.
-  static const OCIO::ConstCPUProcessorRcPtr cpu = [] {
-    OCIO::ExponentWithLinearTransformRcPtr t = OCIO::ExponentWithLinearTransform::Create();
+  static const void* cpu = [] {
+    OcioStep t;
+    t.kind = OcioStep::kExponentWithLinear;
     const double gamma[4] = {2.4, 2.4, 2.4, 1}, offset[4] = {0.055, 0.055, 0.055, 0};
-    t->setGamma(gamma);
-    t->setOffset(offset);  // forward = encoded → linear
-    return OCIO::Config::CreateRaw()->getProcessor(t)->getOptimizedCPUProcessor(
-        OCIO::BIT_DEPTH_F32, OCIO::BIT_DEPTH_F32, OCIO::OPTIMIZATION_NONE);
+    std::copy_n(gamma, 4, t.gamma);
+    std::copy_n(offset, 4, t.offset);  // forward = encoded → linear
+    std::string why;
+    const void* p = ocio_module("decoding an sRGB-encoded plane").processor({t}, &why);
+    if (!p) throw Error("OpenColorIO cannot build the sRGB decode (" + why + ")");
+    return p;
   }();
+  const OcioModule& ocio = ocio_module("decoding an sRGB-encoded plane");
   for (size_t i = 0; i < n; i += 3) {
     float v[3] = {0, 0, 0};
     const size_t m = std::min<size_t>(3, n - i);
     for (size_t j = 0; j < m; ++j) v[j] = values[(i + j) * stride];
-    cpu->applyRGB(v);
+    ocio.apply_rgb(cpu, v, 1);
     for (size_t j = 0; j < m; ++j) values[(i + j) * stride] = v[j];
   }
 #endif
