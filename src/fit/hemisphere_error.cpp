@@ -7,6 +7,7 @@
 
 #include "core/parallel.h"
 #include "fit/covered_slots.h"
+#include "fit/hemisphere_sums.h"
 
 namespace ahd {
 namespace {
@@ -24,17 +25,6 @@ ErrorStat summarise(std::vector<double>& v) {
   std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(k), v.end());
   s.p99 = v[k];
   return s;
-}
-
-const double kLuma[3] = {0.2126, 0.7152, 0.0722};
-
-// One direction w of one texel: the lobe's and the SH's irradiance per channel.
-inline void evaluate_both(const IrradiancePoly p[3], const AhdLobe& l, const double* w, double got[3], double ref[3]) {
-  const double cosine = std::max(0.0, w[0] * l.d[0] + w[1] * l.d[1] + w[2] * l.d[2]);
-  for (int c = 0; c < 3; ++c) {
-    ref[c] = eval_irradiance(p[c], w);
-    got[c] = l.ca[c] + cosine * l.cd[c];
-  }
 }
 
 // The `relative` figure of one texel: RMS over directions and channels / mean luminance irradiance.
@@ -75,22 +65,12 @@ uint64_t mix(uint64_t x) {
 TexelError texel_error(const ShImage& sh, size_t i, const AhdLobe& l, const double* dirs, int directions) {
   IrradiancePoly p[3];
   local_polys(sh, i, p);
-  double se = 0, sl = 0, lum_sum = 0;
   // An L0 texel (plain lightmaps) against a pure ambient lobe: both are the same for every
   // direction, so one direction stands for all and its terms are counted `directions` times.
   const bool constant = sh.coeffs == 1 && l.cd[0] == 0 && l.cd[1] == 0 && l.cd[2] == 0;
-  for (int k = 0; k < (constant ? 1 : directions); ++k) {
-    double got[3], ref[3];
-    evaluate_both(p, l, &dirs[size_t(k) * 3], got, ref);
-    for (int c = 0; c < 3; ++c) {
-      se += (got[c] - ref[c]) * (got[c] - ref[c]);
-      // log2(1+got) − log2(1+ref) as one logarithm: the measure's main cost (64 directions × 3).
-      const double dl = std::log2((1.0 + std::max(0.0, got[c])) / (1.0 + std::max(0.0, ref[c])));
-      sl += dl * dl;
-      lum_sum += kLuma[c] * ref[c];
-    }
-  }
-  if (constant) se *= directions, sl *= directions, lum_sum *= directions;
+  HemisphereSums h = hemisphere_sums(p, l, dirs, constant ? 1 : directions, true);  // fit/hemisphere_sums.h
+  if (constant) h.se *= directions, h.sl *= directions, h.lum *= directions;
+  const double se = h.se, sl = h.sl, lum_sum = h.lum;
   TexelError e;
   e.rmse = std::sqrt(se / (3.0 * directions));
   e.rel = texel_relative(se, lum_sum, directions);
@@ -100,7 +80,7 @@ TexelError texel_error(const ShImage& sh, size_t i, const AhdLobe& l, const doub
   for (int c = 0; c < 3; ++c) {
     const double ref = std::max(0.0, eval_irradiance(p[c], z));
     const double got = l.ca[c] + std::max(0.0, l.d[2]) * l.cd[c];
-    ez_lum += kLuma[c] * ref;
+    ez_lum += kLumaWeights[c] * ref;
     ez_err = std::max(ez_err, std::fabs(got - ref));
   }
   e.nrel = ez_lum > 0 ? ez_err / ez_lum : 0.0;
@@ -153,12 +133,8 @@ bool relative_p99_exceeds(const ShImage& sh, const std::vector<AhdLobe>& lobes, 
     if (!sh.coverage[i]) continue;
     IrradiancePoly p[3];
     local_polys(sh, i, p);
-    double se = 0, lum_sum = 0;
-    for (int k = 0; k < directions; ++k) {
-      double got[3], ref[3];
-      evaluate_both(p, lobes[i], &dirs[size_t(k) * 3], got, ref);
-      for (int c = 0; c < 3; ++c) se += (got[c] - ref[c]) * (got[c] - ref[c]), lum_sum += kLuma[c] * ref[c];
-    }
+    const HemisphereSums h = hemisphere_sums(p, lobes[i], dirs.data(), directions, false);
+    const double se = h.se, lum_sum = h.lum;
     if (texel_relative(se, lum_sum, directions) > threshold && ++above >= needed) return true;
   }
   return false;
