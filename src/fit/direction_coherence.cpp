@@ -11,19 +11,22 @@
 namespace ahd {
 
 void smooth_directions(const ShImage& sh, const FitOptions& opt, int threads, AhdImage* fit) {
-  const AhdImage first = *fit;  // the first pass, read-only
+  // The first pass's directions and flags, read-only: all the pass reads of it (the colours and
+  // I_z are only written), so not a copy of the whole image.
+  const std::vector<float> first_d = fit->d;
+  const std::vector<uint8_t> first_flags = fit->flags;
   const int w = fit->width, h = fit->height;
-  parallel_for(first.size(), threads, 1024, [&](size_t i) {
-    const AhdFit t = first.texel(i);
-    if (!sh.coverage[i] || (t.flags & (kFitNoDirection | kFitNonFinite))) return;
+  parallel_for(first_flags.size(), threads, 1024, [&](size_t i) {
+    const uint8_t flags = first_flags[i];
+    if (!sh.coverage[i] || (flags & (kFitNoDirection | kFitNonFinite))) return;
     const int x = int(i % size_t(w)), y = int(i / size_t(w));
     double ds[3] = {0, 0, 0};
     int count = 0;
     for (int yy = std::max(0, y - 1); yy <= std::min(h - 1, y + 1); ++yy)
       for (int xx = std::max(0, x - 1); xx <= std::min(w - 1, x + 1); ++xx) {
         const size_t j = size_t(yy) * w + xx;
-        if (!sh.coverage[j] || (first.flags[j] & (kFitNoDirection | kFitNonFinite))) continue;
-        for (int k = 0; k < 3; ++k) ds[k] += first.d[j * 3 + k];
+        if (!sh.coverage[j] || (first_flags[j] & (kFitNoDirection | kFitNonFinite))) continue;
+        for (int k = 0; k < 3; ++k) ds[k] += first_d[j * 3 + k];
         ++count;
       }
     const double len = std::sqrt(ds[0] * ds[0] + ds[1] * ds[1] + ds[2] * ds[2]);
@@ -34,7 +37,7 @@ void smooth_directions(const ShImage& sh, const FitOptions& opt, int threads, Ah
     local_polys(sh, i, p);
     double iz[3];
     for (int c = 0; c < 3; ++c) iz[c] = std::max(0.0, p[c].e0 + p[c].e[2] + p[c].q[2][2]);  // as fit_texel
-    double db[3] = {t.d[0], t.d[1], t.d[2]}, dl[3];
+    double db[3] = {first_d[i * 3], first_d[i * 3 + 1], first_d[i * 3 + 2]}, dl[3];
     optimal_direction(p, opt, dl);
     tilt_above_horizon(dl, opt.dz_min);
     const RefineObjective f(p, iz, opt.ratio_form);
@@ -55,7 +58,7 @@ void smooth_directions(const ShImage& sh, const FitOptions& opt, int threads, Ah
     }
     if (!(fs <= fl)) return;  // never worse than the linear d
     AhdFit s = fit_colours(p, ds, iz, opt, &ms[0]);  // the same bytes as recomputing the moments
-    s.flags |= t.flags;
+    s.flags |= flags;
     fit->set_texel(i, s);
   });
 }
