@@ -14,6 +14,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -182,6 +183,45 @@ std::string fmt(const char* f, double v) {
   return b;
 }
 
+// `ahdpack convert` itself, as a user runs it: a new process each time, its start included (the
+// dynamic loader, the command line, the thread pool, the files written). Median of `runs` runs of
+// CPU (user + system, from wait4) and wall seconds.
+struct ProcessCost {
+  double cpu = 0, wall = 0;
+};
+ProcessCost convert_process(const Case& c, const fs::path& out_dir, int threads, const std::string& direction_fit,
+                            int runs) {
+  std::vector<double> cpu, wall;
+  for (int r = 0; r < runs; ++r) {
+    std::error_code ec;
+    fs::remove_all(out_dir, ec);  // a fresh folder each run: no previous output set to replace
+    std::vector<std::string> argv_s = {"ahdpack", "convert", c.file, "-o", utf8_string(out_dir / "x.ktx2"),
+                                       "-q", "--profile", "pc-bc", "--threads", std::to_string(threads)};
+    if (!direction_fit.empty()) argv_s.insert(argv_s.end(), {"--direction-fit", direction_fit});
+    std::vector<char*> argv;
+    for (std::string& a : argv_s) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    std::fflush(stdout);
+    const auto t0 = Clock::now();
+    const pid_t pid = fork();
+    if (pid < 0) throw Error("bench convert: fork() failed");
+    if (pid == 0) {
+      execv("/proc/self/exe", argv.data());
+      _exit(127);
+    }
+    int status = 0;
+    rusage u{};
+    wait4(pid, &status, 0, &u);
+    wall.push_back(since(t0));
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
+      throw Error("bench convert: `ahdpack convert " + argv_s[2] + "` failed");
+    cpu.push_back(double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec));
+  }
+  std::sort(cpu.begin(), cpu.end());
+  std::sort(wall.begin(), wall.end());
+  return {cpu[cpu.size() / 2], wall[wall.size() / 2]};
+}
+
 // The conversion of one case, in the child: what `ahdpack convert IN -o OUT --profile pc-bc` runs.
 // direction_fit: "linear" or "refined"; empty keeps the conversion's default.
 std::string convert_case(const Case& c, const std::string& out_dir, int threads, bool full_measure,
@@ -261,6 +301,7 @@ void add_bench_convert_command(CLI::App& bench) {
     int threads = 0;
     std::string dir;
     bool full_measure = false;
+    int process_runs = 5;  // whole `ahdpack convert` processes per case (0: none)
     std::vector<std::string> direction_fit;  // empty: the conversion's default only
     std::string child;  // internal: "read", "l2" or "plain" — measure one case in this process
     std::string child_file, child_out;
@@ -279,6 +320,9 @@ void add_bench_convert_command(CLI::App& bench) {
       ->check(CLI::ExistingFile);
   c->add_option("--threads", a->threads, "Worker threads (0 = all)");
   c->add_option("--dir", a->dir, "Folder for the generated inputs and outputs (default: a fresh temp folder, removed after)");
+  c->add_option("--process-runs", a->process_runs,
+                 "Whole `ahdpack convert` processes timed per input, start included (median; 0 = none)")
+      ->check(CLI::Range(0, 100));
   c->add_flag("--full-measure", a->full_measure, "Measure every texel (--measure full) instead of the default estimate");
   c->add_option("--direction-fit", a->direction_fit,
                 "Direction fits to convert each input with, one row each (the --direction-fit values; default: the "
@@ -373,6 +417,12 @@ void add_bench_convert_command(CLI::App& bench) {
                     std::stod(rd.at("peak_rss_kb")) / 1024.0, std::stod(rd.at("peak_rss_kb")) * 1024.0 / texels);
         std::printf("    OIIO read into a buffer advised for huge pages (as ahdpack reads): %.2f s, total / that %.2f\n",
                     std::stod(rh.at("seconds")), total / std::stod(rh.at("seconds")));
+        if (a->process_runs > 0) {
+          const ProcessCost pc = convert_process(cs, dir / "process", threads, fit, a->process_runs);
+          std::printf("    whole process (`ahdpack convert`, its start included; median of %d): CPU %.3f s, wall %.3f s; "
+                      "/ OIIO read: CPU %.2f, wall %.2f\n",
+                      a->process_runs, pc.cpu, pc.wall, pc.cpu / std::stod(rd.at("cpu")), pc.wall / oiio);
+        }
       }
     }
     if (own_dir) fs::remove_all(dir);
