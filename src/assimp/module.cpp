@@ -129,10 +129,17 @@ void copy_scene(const aiScene* sc, ImportedScene* out) {
       if (!seen.insert(key).second || !md->mValues[k].mData) continue;
       const void* d = md->mValues[k].mData;
       switch (md->mValues[k].mType) {
-        case AI_INT32: out->meta_int32.emplace(key, *static_cast<const int32_t*>(d)); break;
-        case AI_FLOAT: out->meta_float.emplace(key, *static_cast<const float*>(d)); break;
-        case AI_DOUBLE: out->meta_double.emplace(key, *static_cast<const double*>(d)); break;
-        default: break;
+        case AI_INT32:
+          out->meta_int32.emplace(key, *static_cast<const int32_t*>(d));
+          break;
+        case AI_FLOAT:
+          out->meta_float.emplace(key, *static_cast<const float*>(d));
+          break;
+        case AI_DOUBLE:
+          out->meta_double.emplace(key, *static_cast<const double*>(d));
+          break;
+        default:
+          break;
       }
     }
   }

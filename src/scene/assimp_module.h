@@ -37,16 +37,16 @@ constexpr unsigned kImportedUvSets = 8;
 // An aiMesh: per-vertex arrays (empty when the mesh has none: aiMesh::HasNormals() and the like are
 // `!normals.empty()`), faces as Assimp gives them.
 struct ImportedMesh {
-  std::string name;                   // mName
-  unsigned primitive_types = 0;       // mPrimitiveTypes
-  unsigned vertices = 0;              // mNumVertices
-  std::vector<float> positions;       // x, y, z per vertex
-  std::vector<float> normals;         // x, y, z per vertex
-  std::vector<float> tangents, bitangents;  // x, y, z per vertex; both or neither
+  std::string name;                                    // mName
+  unsigned primitive_types = 0;                        // mPrimitiveTypes
+  unsigned vertices = 0;                               // mNumVertices
+  std::vector<float> positions;                        // x, y, z per vertex
+  std::vector<float> normals;                          // x, y, z per vertex
+  std::vector<float> tangents, bitangents;             // x, y, z per vertex; both or neither
   std::array<std::vector<float>, kImportedUvSets> uv;  // u, v per vertex (mTextureCoords[k] x, y)
-  unsigned uv_sets = 0;               // GetNumUVChannels(): the sets present from set 0 on
-  std::vector<float> colors;          // mColors[0]: r, g, b, a per vertex
-  std::vector<uint32_t> face_first;   // faces: face f's corners are indices[face_first[f] .. face_first[f + 1])
+  unsigned uv_sets = 0;                                // GetNumUVChannels(): the sets present from set 0 on
+  std::vector<float> colors;                           // mColors[0]: r, g, b, a per vertex
+  std::vector<uint32_t> face_first;  // faces: face f's corners are indices[face_first[f] .. face_first[f + 1])
   std::vector<uint32_t> indices;
   size_t faces() const { return face_first.empty() ? 0 : face_first.size() - 1; }
   unsigned face_size(size_t f) const { return face_first[f + 1] - face_first[f]; }

@@ -32,7 +32,7 @@ std::string mesh_name(const ImportedMesh& m, unsigned index) {
 bool has_triangles(const ImportedMesh& m) { return (m.primitive_types & kPrimitiveTriangle) != 0; }
 
 // Assimp's file system (in the module) over `MeshFileReads`: neither callback throws.
-bool file_exists(void* ctx, const std::string& file) {
+bool assimp_file_exists(void* ctx, const std::string& file) {
   try {
     if (static_cast<const MeshFileReads*>(ctx)->has(file)) return true;
     std::error_code ec;
@@ -42,7 +42,7 @@ bool file_exists(void* ctx, const std::string& file) {
   }
 }
 
-bool file_read(void* ctx, const std::string& file, const uint8_t** data, size_t* size) {
+bool assimp_file_read(void* ctx, const std::string& file, const uint8_t** data, size_t* size) {
   auto* reads = static_cast<MeshFileReads*>(ctx);
   try {
     const std::vector<uint8_t>& b = reads->load(file);
@@ -50,8 +50,7 @@ bool file_read(void* ctx, const std::string& file, const uint8_t** data, size_t*
     return true;
   } catch (const Error& e) {
     if (reads->error.empty()) reads->error = e.what();
-  } catch (...) {
-  }
+  } catch (...) {}
   return false;
 }
 
@@ -78,7 +77,7 @@ ImportedScene import_mesh_file(const std::string& path, unsigned flags, MeshFile
   });
   const AssimpModule& assimp = assimp_module(path);
   AssimpFiles files;
-  files.ctx = io, files.exists = file_exists, files.read = file_read;
+  files.ctx = io, files.exists = assimp_file_exists, files.read = assimp_file_read;
   ImportedScene scene;
   bool dropped_faces = false;
   std::string err;

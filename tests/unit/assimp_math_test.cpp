@@ -18,7 +18,7 @@
 #endif
 
 namespace ahd {
-namespace {
+namespace assimp_math_test {  // named: the unit tests are compiled in unity batches
 
 #ifdef AHD_HAVE_ASSIMP_HEADERS
 
@@ -114,5 +114,5 @@ TEST(AssimpMath, MatchesAssimpBitForBit) { GTEST_SKIP() << "Assimp's headers are
 
 #endif
 
-}  // namespace
+}  // namespace assimp_math_test
 }  // namespace ahd
