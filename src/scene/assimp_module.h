@@ -56,7 +56,7 @@ struct ImportedMesh {
 // An aiNode: nodes[0] is the root; children and meshes are indices into ImportedScene's vectors.
 struct ImportedNode {
   std::string name;                 // mName
-  std::array<float, 16> transform;  // mTransformation: rows a1 a2 a3 a4, b1 .., c1 .., d1 ..
+  std::array<float, 16> transform{};  // mTransformation: rows a1 a2 a3 a4, b1 .., c1 .., d1 ..
   int parent = -1;                  // mParent (−1 for the root)
   std::vector<unsigned> children;   // mChildren, in order
   std::vector<unsigned> meshes;     // mMeshes, in order
