@@ -29,7 +29,8 @@ arch=/usr/lib/aarch64-linux-gnu
 # (checked with apt-get install -s: nothing is removed). libopenexr-dev:arm64 and
 # libopencolorio-dev:arm64 are not among them (files shared with the amd64 -dev packages differ):
 # their runtimes are, and the -dev packages are unpacked below. OpenImageIO is not needed
-# (AHD_OIIO_MODULE=OFF: EXR inputs read through OpenEXR).
+# (AHD_OIIO_MODULE=OFF: EXR inputs read through OpenEXR). Assimp stays a module (AHD_ASSIMP_MODULE
+# ON, as on x86-64): the CLI's conversions under qemu open build-arm64/libahd_assimp.so.
 arm64_pkgs=(libzstd-dev:arm64 libimath-dev:arm64 zlib1g-dev:arm64 libassimp-dev:arm64
   libopenexr-3-1-30:arm64 libopencolorio2.1:arm64)
 if [ $install = 1 ] && ! { command -v aarch64-linux-gnu-g++ && command -v qemu-aarch64 &&

@@ -128,11 +128,13 @@ cmake -S . -B $build -G Ninja -DCMAKE_BUILD_TYPE=Release -DAHD_UNITY_BUILD=OFF -
 nice -n 19 cmake --build $build -j"$jobs" --target ahd_platform_tests ahd_platform_bytes
 echo "cross-windows: library build $(( $(date +%s) - start )) s"
 # The whole program (the file edge and the CLI) without OpenImageIO and OpenColorIO, which have no
-# MinGW build here (EXR inputs are read through OpenEXR; docs/platforms.md "Windows").
+# MinGW build here (EXR inputs are read through OpenEXR; docs/platforms.md "Windows"). The static
+# Assimp is linked into ahdpack.exe (AHD_ASSIMP_MODULE=OFF) rather than built as a DLL module.
 if [ $library_only = 0 ]; then
   start=$(date +%s)
   cmake -S . -B $build-cli -G Ninja -DCMAKE_BUILD_TYPE=Release -DAHD_UNITY_BUILD=ON -DAHD_BUILD_TESTS=OFF \
-    -DAHD_BUILD_BENCH=OFF -DAHD_OIIO_MODULE=OFF -DAHD_OCIO=OFF -DCMAKE_TOOLCHAIN_FILE="$toolchain" \
+    -DAHD_BUILD_BENCH=OFF -DAHD_OIIO_MODULE=OFF -DAHD_OCIO=OFF -DAHD_ASSIMP_MODULE=OFF \
+    -DCMAKE_TOOLCHAIN_FILE="$toolchain" \
     -DAHD_WIN_DEPS_PREFIX="$prefix" -DZLIB_LIBRARY=/usr/x86_64-w64-mingw32/lib/libz.a "${launcher[@]}" \
     -DCMAKE_DISABLE_FIND_PACKAGE_CLI11=ON \
     "${werror[@]}" >/dev/null

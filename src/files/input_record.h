@@ -6,8 +6,8 @@
 // does nothing, so readers need no extra parameter and callers that don't care pay nothing.
 //
 // Hooking in a new reader (a .tscn, .glb, .unwrap_cache…): call note_input_file(path) next to the
-// open — for Assimp, install record_assimp_reads (scene/mesh_io.h) so the files a scene pulls in (a
-// .gltf's .bin) are noted too — and test for optional files with probe_input_file /
+// open — for Assimp, scene/mesh_io.h's import_mesh_file reads the files a scene pulls in (a
+// .gltf's .bin) through the opener, so they are noted too — and test for optional files with probe_input_file /
 // probe_regular_file below instead of std::filesystem. A read that is not noted is a bug: the
 // depfile would miss it (no rebuild when it changes) and the cache key would not cover it (a stale
 // hit); an existence test that is not probed lets `--cache` reuse a conversion after the file

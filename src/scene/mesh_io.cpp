@@ -1,19 +1,11 @@
 #include "scene/mesh_io.h"
 
 #include <algorithm>
-#include <assimp/DefaultLogger.hpp>
-#include <assimp/IOSystem.hpp>
-#include <assimp/MemoryIOWrapper.h>
-#include <assimp/Importer.hpp>
-#include <assimp/LogStream.hpp>
-#include <assimp/postprocess.h>
-#include <assimp/scene.h>
 #include <cctype>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <map>
-#include <mutex>
 #include <vector>
 
 #include "core/error.h"
@@ -33,73 +25,46 @@ std::string one_line(std::string s) {
   return s;
 }
 
-std::string mesh_name(const aiMesh* m, unsigned index) {
-  return m->mName.length ? "'" + std::string(m->mName.C_Str()) + "'" : "#" + std::to_string(index);
+std::string mesh_name(const ImportedMesh& m, unsigned index) {
+  return !m.name.empty() ? "'" + m.name + "'" : "#" + std::to_string(index);
 }
 
-// Assimp's glTF importer drops faces whose indices are out of range with only a warning; OBJ's
-// are an error. This stream catches that warning so both formats refuse such a file.
-struct DroppedFacesStream : Assimp::LogStream {
-  bool dropped = false;
-  void write(const char* message) override {
-    if (std::strstr(message, "out-of-range indices")) dropped = true;
-  }
-};
+bool has_triangles(const ImportedMesh& m) { return (m.primitive_types & kPrimitiveTriangle) != 0; }
 
-// Assimp's logger is process-wide: every import holds this lock while it creates, uses and
-// destroys it (an import without the lock could log into a logger another thread just killed).
-std::mutex g_assimp_mutex;
-
-bool has_triangles(const aiMesh* m) { return (m->mPrimitiveTypes & aiPrimitiveType_TRIANGLE) != 0; }
-
-// Assimp's file system over the opener (files/input_file.h): each file it opens (the mesh, a
-// .gltf's .bin buffers, an .obj's .mtl) read once into memory, bounded, regular files only, noted
-// in the input record; Assimp parses those bytes.
-class BufferedIOSystem : public Assimp::IOSystem {
- public:
-  // The bytes of `file`, read on first use. Throws ahd::Error.
-  const std::vector<uint8_t>& load(const std::string& file) {
-    auto it = files_.find(file);
-    if (it == files_.end()) it = files_.emplace(file, read_input_bytes(file, InputKind::kMesh)).first;
-    return it->second;
-  }
-  bool Exists(const char* file) const override {
-    if (!file) return false;
-    if (files_.count(file)) return true;
+// Assimp's file system (in the module) over `MeshFileReads`: neither callback throws.
+bool assimp_file_exists(void* ctx, const std::string& file) {
+  try {
+    if (static_cast<const MeshFileReads*>(ctx)->has(file)) return true;
     std::error_code ec;
     return fs::is_regular_file(fs_path(file), ec);
+  } catch (...) {
+    return false;
   }
-  char getOsSeparator() const override { return '/'; }
-  Assimp::IOStream* Open(const char* file, const char* mode) override {
-    if (!file || !mode || std::strchr(mode, 'w') || std::strchr(mode, 'a')) return nullptr;
-    try {
-      const std::vector<uint8_t>& b = load(file);
-      return new Assimp::MemoryIOStream(b.data(), b.size(), false);
-    } catch (const Error& e) {
-      if (error.empty()) error = e.what();
-      return nullptr;
-    }
-  }
-  void Close(Assimp::IOStream* stream) override { delete stream; }
-  std::string error;  // the first file that could not be read, for the message
+}
 
- private:
-  std::map<std::string, std::vector<uint8_t>> files_;
-};
+bool assimp_file_read(void* ctx, const std::string& file, const uint8_t** data, size_t* size) {
+  auto* reads = static_cast<MeshFileReads*>(ctx);
+  try {
+    const std::vector<uint8_t>& b = reads->load(file);
+    *data = b.data(), *size = b.size();
+    return true;
+  } catch (const Error& e) {
+    if (reads->error.empty()) reads->error = e.what();
+  } catch (...) {}
+  return false;
+}
 
 }  // namespace
 
-void record_assimp_reads(Assimp::Importer* importer) { importer->SetIOHandler(new BufferedIOSystem); }
-
-const std::vector<uint8_t>& imported_file_bytes(Assimp::Importer* importer, const std::string& path) {
-  auto* io = dynamic_cast<BufferedIOSystem*>(importer->GetIOHandler());
-  if (!io) throw file_error(path, "not imported through import_mesh_file");
-  return io->load(path);
+const std::vector<uint8_t>& MeshFileReads::load(const std::string& file) {
+  auto it = files_.find(file);
+  if (it == files_.end()) it = files_.emplace(file, read_input_bytes(file, InputKind::kMesh)).first;
+  return it->second;
 }
 
-const aiScene* import_mesh_file(Assimp::Importer* importer, const std::string& path, unsigned flags) {
-  auto* io = new BufferedIOSystem;
-  importer->SetIOHandler(io);  // owned by the importer
+ImportedScene import_mesh_file(const std::string& path, unsigned flags, MeshFileReads* reads) {
+  MeshFileReads local;
+  MeshFileReads* io = reads ? reads : &local;
   const std::vector<uint8_t>& bytes = io->load(path);
   // Node depth, buffer sizes, accessor counts: refused before Assimp recurses through them (issue 26),
   // from the bytes Assimp will parse.
@@ -110,21 +75,17 @@ const aiScene* import_mesh_file(Assimp::Importer* importer, const std::string& p
       return -1;
     }
   });
-  const aiScene* scene = nullptr;
+  const AssimpModule& assimp = assimp_module(path);
+  AssimpFiles files;
+  files.ctx = io, files.exists = assimp_file_exists, files.read = assimp_file_read;
+  ImportedScene scene;
   bool dropped_faces = false;
-  {
-    std::lock_guard<std::mutex> lock(g_assimp_mutex);
-    Assimp::DefaultLogger::create("", Assimp::Logger::NORMAL, 0);
-    auto* stream = new DroppedFacesStream;  // owned by the logger once attached
-    Assimp::DefaultLogger::get()->attachStream(stream, Assimp::Logger::Warn | Assimp::Logger::Err);
-    scene = importer->ReadFile(path, flags);
-    dropped_faces = stream->dropped;
-    Assimp::DefaultLogger::kill();
-  }
+  std::string err;
+  const bool ok = assimp.import(path, flags, files, &scene, &dropped_faces, &err);
   if (dropped_faces) throw file_error(path, "a vertex index is out of range (faces using it would be dropped)");
-  if (!scene || !scene->mRootNode) {
+  if (!ok) {
     if (!io->error.empty()) throw Error(io->error);
-    throw file_error(path, "cannot read mesh (" + one_line(importer->GetErrorString()) + ")");
+    throw file_error(path, "cannot read mesh (" + one_line(err) + ")");
   }
   return scene;
 }
@@ -138,24 +99,23 @@ MeshTriangles read_mesh_lightmap(const std::string& path, int uv_set, MeshReadIn
     throw file_error(path, "unsupported mesh format '" + ext + "' (.gltf, .glb, .obj)");
   if (uv_set < -1) throw file_error(path, "UV set must be ≥ 0");
 
-  Assimp::Importer importer;
   // No aiProcess_FlipUVs: Assimp already stores glTF's v as 1 − v, so both formats arrive v-up.
   // PreTransformVertices bakes node matrices into the vertices (normals by the inverse transpose).
-  const aiScene* scene = import_mesh_file(
-      &importer, path, aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_ValidateDataStructure);
+  const ImportedScene scene =
+      import_mesh_file(path, kImportTriangulate | kImportPreTransformVertices | kImportValidateDataStructure);
 
   // The scene's UV sets: the fewest and most any triangle mesh has.
-  int fewest = AI_MAX_NUMBER_OF_TEXTURECOORDS + 1, most = 0, meshes = 0;
+  int fewest = int(kImportedUvSets) + 1, most = 0, meshes = 0;
   bool any_normals = false;
-  for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
-    const aiMesh* mesh = scene->mMeshes[m];
+  for (unsigned m = 0; m < scene.meshes.size(); ++m) {
+    const ImportedMesh& mesh = scene.meshes[m];
     if (!has_triangles(mesh)) continue;
     ++meshes;
-    const int sets = int(mesh->GetNumUVChannels());
+    const int sets = int(mesh.uv_sets);
     if (sets == 0) throw file_error(path, "mesh " + mesh_name(mesh, m) + " has no UVs (texture coordinates)");
     fewest = std::min(fewest, sets);
     most = std::max(most, sets);
-    any_normals = any_normals || mesh->HasNormals();
+    any_normals = any_normals || !mesh.normals.empty();
   }
   if (meshes == 0) throw file_error(path, "no triangles");
   int set = uv_set;
@@ -167,34 +127,35 @@ MeshTriangles read_mesh_lightmap(const std::string& path, int uv_set, MeshReadIn
   }
 
   MeshTriangles out;
-  for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
-    const aiMesh* mesh = scene->mMeshes[m];
+  for (unsigned m = 0; m < scene.meshes.size(); ++m) {
+    const ImportedMesh& mesh = scene.meshes[m];
     if (!has_triangles(mesh)) continue;
-    const int sets = int(mesh->GetNumUVChannels());
+    const int sets = int(mesh.uv_sets);
     if (set >= sets)
       throw file_error(path, "UV set " + std::to_string(set) + " requested, mesh " + mesh_name(mesh, m) + " has " +
                                  std::to_string(sets) + (sets == 1 ? " UV set" : " UV sets") + " (0.." +
                                  std::to_string(sets - 1) + ")");
     const size_t base = out.positions.size() / 3;
-    if (base + mesh->mNumVertices > size_t(UINT32_MAX)) throw file_error(path, "more than 2^32 vertices");
-    const aiVector3D* uv = mesh->mTextureCoords[set];
-    for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
-      const aiVector3D& p = mesh->mVertices[v];
-      out.positions.insert(out.positions.end(), {p.x, p.y, p.z});
-      out.uv.insert(out.uv.end(), {uv[v].x, uv[v].y});
+    if (base + mesh.vertices > size_t(UINT32_MAX)) throw file_error(path, "more than 2^32 vertices");
+    const float* uv = mesh.uv[size_t(set)].data();
+    const bool has_normals = !mesh.normals.empty();
+    for (unsigned v = 0; v < mesh.vertices; ++v) {
+      const float* p = &mesh.positions[size_t(v) * 3];
+      out.positions.insert(out.positions.end(), {p[0], p[1], p[2]});
+      out.uv.insert(out.uv.end(), {uv[size_t(v) * 2], uv[size_t(v) * 2 + 1]});
       if (any_normals) {
-        const aiVector3D n = mesh->HasNormals() ? mesh->mNormals[v] : aiVector3D(0, 0, 0);
-        out.normals.insert(out.normals.end(), {n.x, n.y, n.z});
+        const float* n = has_normals ? &mesh.normals[size_t(v) * 3] : nullptr;
+        out.normals.insert(out.normals.end(), {n ? n[0] : 0.0f, n ? n[1] : 0.0f, n ? n[2] : 0.0f});
       }
     }
-    for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
-      const aiFace& face = mesh->mFaces[f];
-      if (face.mNumIndices != 3) continue;  // points and lines cover no area
+    for (size_t f = 0; f < mesh.faces(); ++f) {
+      if (mesh.face_size(f) != 3) continue;  // points and lines cover no area
+      const uint32_t* face = mesh.face(f);
       for (unsigned k = 0; k < 3; ++k) {
-        if (face.mIndices[k] >= mesh->mNumVertices)
-          throw file_error(path, "mesh " + mesh_name(mesh, m) + ": vertex index " + std::to_string(face.mIndices[k]) +
-                                     " out of range (" + std::to_string(mesh->mNumVertices) + " vertices)");
-        out.indices.push_back(uint32_t(base + face.mIndices[k]));
+        if (face[k] >= mesh.vertices)
+          throw file_error(path, "mesh " + mesh_name(mesh, m) + ": vertex index " + std::to_string(face[k]) +
+                                     " out of range (" + std::to_string(mesh.vertices) + " vertices)");
+        out.indices.push_back(uint32_t(base + face[k]));
       }
     }
   }

@@ -2,15 +2,12 @@
 // mesh/lightmap_raster. The only place that touches mesh files.
 #pragma once
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
+#include "scene/assimp_module.h"
 #include "scene/lightmap_raster.h"
-
-struct aiScene;
-namespace Assimp {
-class Importer;
-}
 
 namespace ahd {
 
@@ -20,22 +17,28 @@ namespace ahd {
 constexpr size_t kMaxSceneVertices = size_t(1) << 22;
 constexpr size_t kMaxSceneIndices = size_t(1) << 24;
 
-// Makes `importer` read every file through the opener (files/input_file.h): the file and those it
-// pulls in (a .gltf's .bin, an .obj's .mtl) regular files only, bounded, read once into memory and
-// noted in the current input record (files/input_record.h). The importer owns the handler.
-void record_assimp_reads(Assimp::Importer* importer);
+// The files an import read (the mesh and those it pulls in: a .gltf's .bin, an .obj's .mtl), each
+// through the opener (files/input_file.h) once into memory: regular files only, bounded, noted in
+// the current input record (files/input_record.h). Assimp's file system reads them from here.
+class MeshFileReads {
+ public:
+  // The bytes of `file`, read on first use. Throws ahd::Error.
+  const std::vector<uint8_t>& load(const std::string& file);
+  bool has(const std::string& file) const { return files_.count(file) != 0; }
+  std::string error;  // the first file Assimp could not read, for the message
 
-// The one Assimp import of src/scene and src/bakers: `path` read once through the opener, a glTF
-// checked from those same bytes (scene/gltf_precheck.h: node depth, buffer sizes, accessor counts,
-// instanced geometry) and then parsed by Assimp from them, so a file swapped in between is never
-// seen. Assimp's process-wide logger is used under one lock for every import (it listens for the
-// glTF importer's dropped out-of-range faces, refused here as OBJ's are). Returns the scene, owned
-// by `importer`. Throws ahd::Error("<path>: <cause>"). Thread safe (imports are serialised).
-const aiScene* import_mesh_file(Assimp::Importer* importer, const std::string& path, unsigned flags);
+ private:
+  std::map<std::string, std::vector<uint8_t>> files_;
+};
 
-// The bytes import_mesh_file read for `path` into `importer` (no second read). Throws ahd::Error
-// when the importer was not set up by import_mesh_file or record_assimp_reads.
-const std::vector<uint8_t>& imported_file_bytes(Assimp::Importer* importer, const std::string& path);
+// The one Assimp import of src/scene and src/bakers (through the module, scene/assimp_module.h:
+// `flags` are its kImport* flags): `path` read once through the opener into `reads` (a local set
+// when null), a glTF checked from those same bytes (scene/gltf_precheck.h: node depth, buffer
+// sizes, accessor counts, instanced geometry) and then parsed by Assimp from them, so a file swapped
+// in between is never seen. The module listens to Assimp's process-wide logger under one lock for
+// the glTF importer's dropped out-of-range faces, refused here as OBJ's are. Throws
+// ahd::Error("<path>: <cause>"), also when the module cannot be loaded. Thread safe.
+ImportedScene import_mesh_file(const std::string& path, unsigned flags, MeshFileReads* reads = nullptr);
 
 // What read_mesh_lightmap found, for messages and reports.
 struct MeshReadInfo {

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "cli_runner.h"
+#include "test_data.h"
 
 namespace fs = std::filesystem;
 
@@ -59,5 +60,47 @@ TEST(Modules, OcioLoadedOnlyForAnotherColourSpace) {
   EXPECT_EQ(planes, 3);
   // ACEScg moves the colours: the planes differ from the working-space conversion's.
   EXPECT_NE(bytes_of(d / "aces_built" / "x.json"), bytes_of(d / "plain" / "x.json"));
+  fs::remove_all(d);
+}
+
+// Assimp: an EXR-only conversion runs with no libahd_assimp.so near a copied ahdpack (which links
+// no libassimp), a Godot project whose meshes are glTF fails with one line naming the module and
+// writes nothing; with the module beside it, the copy writes the build tree's bytes.
+TEST(Modules, AssimpLoadedOnlyWhenAMeshIsRead) {
+  const fs::path d = ahd_test::temp_dir("modules_assimp");
+  const fs::path built = AHD_CLI_PATH;
+  const fs::path module = built.parent_path() / "libahd_assimp.so";
+  if (!fs::exists(module)) GTEST_SKIP() << "no " << module << " beside the built ahdpack (AHD_ASSIMP_MODULE=OFF)";
+  const fs::path project = ahd_test::test_data("godot/corpus/gltf");
+  if (!fs::exists(project / "world.exr")) GTEST_SKIP() << "no " << project;
+  fs::create_directories(d / "bin");
+  fs::copy_file(built, d / "bin" / "ahdpack");
+  const std::string copy = "'" + (d / "bin" / "ahdpack").string() + "'";
+  const std::string ldd = ahd_test::run_shell("command -v ldd >/dev/null && ldd " + copy + " 2>&1");
+  if (!ldd.empty()) EXPECT_FALSE(contains(ldd, "libassimp")) << ldd;
+  const std::string plain = (d / "plain.exr").string();
+  ASSERT_TRUE(contains(
+      ahd_test::run_shell("'" + built.string() + "' sample --size 32 -o '" + plain + "' 2>&1; echo rc=$?"), "rc=0"));
+  auto convert = [&](const std::string& exe, const std::string& in, const std::string& out) {
+    return ahd_test::run_shell(exe + " convert '" + in + "' -o '" + (d / out / "x.ktx2").string() +
+                               "' --profile uncompressed -q 2>&1; echo rc=$?");
+  };
+  EXPECT_TRUE(contains(convert(copy, plain, "plain"), "rc=0"));
+  const std::string world = (project / "world.exr").string();
+  std::string out = convert(copy, world, "missing");
+  EXPECT_TRUE(contains(out, ".glb: needs Assimp, whose module cannot be loaded")) << out;
+  EXPECT_TRUE(contains(out, (d / "bin" / "libahd_assimp.so").string())) << out;
+  EXPECT_TRUE(contains(out, "rc=1")) << out;
+  EXPECT_FALSE(fs::exists(d / "missing"));
+  fs::copy_file(module, d / "bin" / "libahd_assimp.so");
+  EXPECT_TRUE(contains(convert(copy, world, "copy"), "rc=0"));
+  EXPECT_TRUE(contains(convert("'" + built.string() + "'", world, "built"), "rc=0"));
+  int planes = 0;
+  for (const auto& e : fs::directory_iterator(d / "built")) {
+    if (e.path().extension() != ".ktx2") continue;
+    ++planes;
+    EXPECT_EQ(bytes_of(e.path()), bytes_of(d / "copy" / e.path().filename())) << e.path();
+  }
+  EXPECT_EQ(planes, 3);
   fs::remove_all(d);
 }

@@ -1,11 +1,7 @@
 #include "bakers/godot/godot_fbx.h"
 
-#include <assimp/Importer.hpp>
-#include <assimp/config.h>
-#include <assimp/postprocess.h>
-#include <assimp/scene.h>
-
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <map>
@@ -18,22 +14,26 @@ namespace ahd {
 
 namespace {
 
+// The scene's metadata entry `key` of type T (aiMetadata::Get: the key's first entry, of that type).
 template <class T>
-bool meta(const aiScene* sc, const char* key, T* out) {
-  return sc->mMetaData && sc->mMetaData->Get(key, *out);
+bool meta(const std::map<std::string, T>& entries, const char* key, T* out) {
+  const auto it = entries.find(key);
+  if (it == entries.end()) return false;
+  *out = it->second;
+  return true;
 }
 
-int meta_int(const aiScene* sc, const char* key, int fallback) {
+int meta_int(const ImportedScene& sc, const char* key, int fallback) {
   int32_t i = 0;
-  if (meta(sc, key, &i)) return i;
+  if (meta(sc.meta_int32, key, &i)) return i;
   return fallback;
 }
 
-double meta_real(const aiScene* sc, const char* key, double fallback) {
+double meta_real(const ImportedScene& sc, const char* key, double fallback) {
   double d = 0;
-  if (meta(sc, key, &d)) return d;
+  if (meta(sc.meta_double, key, &d)) return d;
   float f = 0;
-  if (meta(sc, key, &f)) return f;
+  if (meta(sc.meta_float, key, &f)) return f;
   return fallback;
 }
 
@@ -58,8 +58,8 @@ const double kNoAxes[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
 struct Conversion {
   double s = 1;                               // metres per file unit
   double a[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};  // file axes → Godot's (rows)
-  void point(const aiVector3D& v, double scale, float* out) const {
-    const double p[3] = {v.x, v.y, v.z};
+  void point(const float* v, double scale, float* out) const {
+    const double p[3] = {v[0], v[1], v[2]};
     for (int i = 0; i < 3; ++i) out[i] = float(scale * (a[i * 3] * p[0] + a[i * 3 + 1] * p[1] + a[i * 3 + 2] * p[2]));
   }
 };
@@ -67,7 +67,7 @@ struct Conversion {
 // ufbx's space conversion: the file's right (CoordAxis), up (UpAxis) and front (FrontAxis) axes,
 // each with its sign, become +X, +Y, +Z; its unit (UnitScaleFactor centimetres) becomes metres,
 // snapped to a power of ten when within rounding of one.
-Conversion conversion(const aiScene* sc, bool* mirrored) {
+Conversion conversion(const ImportedScene& sc, bool* mirrored) {
   Conversion c;
   const int axis[3] = {meta_int(sc, "CoordAxis", 0), meta_int(sc, "UpAxis", 1), meta_int(sc, "FrontAxis", 2)};
   const int sign[3] = {meta_int(sc, "CoordAxisSign", 1), meta_int(sc, "UpAxisSign", 1),
@@ -93,17 +93,17 @@ Conversion conversion(const aiScene* sc, bool* mirrored) {
 // ufbx's triangles of a face (checked against Godot 4.6's FBXDocument): a triangle as it is; a
 // quad split along its shorter diagonal, 0-2 when they are equal: (0, 1, 2), (2, 3, 0) or (1, 2, 3),
 // (3, 0, 1); more corners: a fan here, which ufbx's own split need not match (*exact = false).
-void face_triangles(const aiMesh* am, const aiFace& face, double s, std::vector<unsigned>* out, bool* exact) {
-  const unsigned* c = face.mIndices;
-  const unsigned n = face.mNumIndices;
+void face_triangles(const ImportedMesh& am, size_t face, double s, std::vector<unsigned>* out, bool* exact) {
+  const uint32_t* c = am.face(face);
+  const unsigned n = am.face_size(face);
   if (n == 3) {
     out->insert(out->end(), {c[0], c[1], c[2]});
   } else if (n == 4) {
     const auto d2 = [&](unsigned a, unsigned b) {
-      const aiVector3D& p = am->mVertices[c[a]];
-      const aiVector3D& q = am->mVertices[c[b]];
-      const double x = s * double(p.x) - s * double(q.x), y = s * double(p.y) - s * double(q.y),
-                   z = s * double(p.z) - s * double(q.z);
+      const float* p = &am.positions[size_t(c[a]) * 3];
+      const float* q = &am.positions[size_t(c[b]) * 3];
+      const double x = s * double(p[0]) - s * double(q[0]), y = s * double(p[1]) - s * double(q[1]),
+                   z = s * double(p[2]) - s * double(q[2]);
       return x * x + y * y + z * z;
     };
     if (d2(0, 2) <= d2(1, 3)) out->insert(out->end(), {c[0], c[1], c[2], c[2], c[3], c[0]});
@@ -117,35 +117,37 @@ void face_triangles(const aiMesh* am, const aiFace& face, double s, std::vector<
 // One surface (an aiMesh: one material part) merged as SurfaceTool::index() merges corners,
 // appended to `m`. Positions in metres (s·p: MODIFY_GEOMETRY scales the geometry and leaves the
 // axis conversion to the root nodes' transforms); normals and tangents as the file stores them.
-void append_surface(const aiMesh* am, const Conversion& c, GodotFbxMesh* m) {
+void append_surface(const ImportedMesh& am, const Conversion& c, GodotFbxMesh* m) {
   std::map<std::string, uint32_t> seen;
-  const bool has_n = am->HasNormals(), has_t = am->HasTangentsAndBitangents(), has_c = am->HasVertexColors(0);
+  const bool has_n = !am.normals.empty(), has_t = !am.tangents.empty() && !am.bitangents.empty(),
+             has_c = !am.colors.empty();
   m->has_normals = m->has_normals && has_n;
   std::vector<unsigned> uv_sets;
-  for (unsigned k = 0; k < AI_MAX_NUMBER_OF_TEXTURECOORDS && k < 8; ++k)
-    if (am->HasTextureCoords(k)) uv_sets.push_back(k);
-  const bool has_uv2 = am->HasTextureCoords(1);
-  const auto put = [](const aiVector3D& v, double scale, float* out) {
-    out[0] = float(scale * v.x), out[1] = float(scale * v.y), out[2] = float(scale * v.z);
+  for (unsigned k = 0; k < kImportedUvSets && k < 8; ++k)
+    if (!am.uv[k].empty()) uv_sets.push_back(k);
+  const bool has_uv2 = !am.uv[1].empty();
+  const auto put = [](const std::vector<float>& a, unsigned v, double scale, float* out) {
+    const float* p = &a[size_t(v) * 3];
+    out[0] = float(scale * p[0]), out[1] = float(scale * p[1]), out[2] = float(scale * p[2]);
   };
   std::vector<unsigned> tri;
   bool exact = true;
-  for (unsigned f = 0; f < am->mNumFaces; ++f) {
+  for (size_t f = 0; f < am.faces(); ++f) {
     tri.clear();
-    face_triangles(am, am->mFaces[f], c.s, &tri, &exact);  // points and lines are other surfaces
+    face_triangles(am, f, c.s, &tri, &exact);  // points and lines are other surfaces
     for (size_t t = 0; t + 2 < tri.size(); t += 3)
       // Godot's triangle c, b, a, decoded in that order (the order of first use).
       for (int k = 2; k >= 0; --k) {
         const unsigned v = tri[t + size_t(k)];
         float key[3 + 3 + 6 + 16 + 4];
         size_t n = 0;
-        put(am->mVertices[v], c.s, key), n += 3;
-        if (has_n) put(am->mNormals[v], 1.0, key + n), n += 3;
-        if (has_t) put(am->mTangents[v], 1.0, key + n), put(am->mBitangents[v], 1.0, key + n + 3), n += 6;
-        for (unsigned set : uv_sets) key[n++] = am->mTextureCoords[set][v].x, key[n++] = am->mTextureCoords[set][v].y;
+        put(am.positions, v, c.s, key), n += 3;
+        if (has_n) put(am.normals, v, 1.0, key + n), n += 3;
+        if (has_t) put(am.tangents, v, 1.0, key + n), put(am.bitangents, v, 1.0, key + n + 3), n += 6;
+        for (unsigned set : uv_sets) key[n++] = am.uv[set][size_t(v) * 2], key[n++] = am.uv[set][size_t(v) * 2 + 1];
         if (has_c) {
-          const aiColor4D& col = am->mColors[0][v];
-          key[n++] = col.r, key[n++] = col.g, key[n++] = col.b, key[n++] = col.a;
+          const float* col = &am.colors[size_t(v) * 4];
+          key[n++] = col[0], key[n++] = col[1], key[n++] = col[2], key[n++] = col[3];
         }
         const std::string bytes(reinterpret_cast<const char*>(key), n * sizeof(float));
         auto [it, added] = seen.emplace(bytes, uint32_t(m->positions.size() / 3));
@@ -153,8 +155,8 @@ void append_surface(const aiMesh* am, const Conversion& c, GodotFbxMesh* m) {
           m->positions.insert(m->positions.end(), key, key + 3);
           if (has_n) m->normals.insert(m->normals.end(), key + 3, key + 6);
           else m->normals.insert(m->normals.end(), {0.0f, 0.0f, 0.0f});
-          const aiVector3D uv = has_uv2 ? am->mTextureCoords[1][v] : aiVector3D(0, 0, 0);
-          m->uv2.insert(m->uv2.end(), {uv.x, uv.y});
+          const float* uv = has_uv2 ? &am.uv[1][size_t(v) * 2] : nullptr;
+          m->uv2.insert(m->uv2.end(), {uv ? uv[0] : 0.0f, uv ? uv[1] : 0.0f});
         }
         m->indices.push_back(it->second);
       }
@@ -165,12 +167,11 @@ void append_surface(const aiMesh* am, const Conversion& c, GodotFbxMesh* m) {
 }  // namespace
 
 GodotFbxScene read_godot_fbx(const std::string& path) {
-  Assimp::Importer importer;
-  // Pivots folded into each node's transform (Godot: ufbx's ADJUST_TO_PIVOT), no helper nodes.
-  importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_PRESERVE_PIVOTS, false);
-  // Faces kept as the file has them: they are triangulated as ufbx does (face_triangles).
-  // Through the one Assimp import (scene/mesh_io.h): read once, bounded, Assimp's logger locked.
-  const aiScene* sc = import_mesh_file(&importer, path, aiProcess_ValidateDataStructure);
+  // Pivots folded into each node's transform (Godot: ufbx's ADJUST_TO_PIVOT), no helper nodes:
+  // kImportFbxNoPivots. Faces kept as the file has them: they are triangulated as ufbx does
+  // (face_triangles). Through the one Assimp import (scene/mesh_io.h): read once, bounded, Assimp's
+  // logger locked.
+  const ImportedScene sc = import_mesh_file(path, kImportFbxNoPivots | kImportValidateDataStructure);
   GodotFbxScene out;
   const Conversion c = conversion(sc, &out.mirrored);
   out.unit_scale = c.s;
@@ -178,23 +179,24 @@ GodotFbxScene read_godot_fbx(const std::string& path) {
   std::set<std::string> used = {"Skeleton3D", "RootNode"};  // reserved; the FBX root is "RootNode"
   std::map<std::vector<unsigned>, int> mesh_of;             // a node's aiMeshes → one Godot mesh
   struct Todo {
-    const aiNode* n;
+    const ImportedNode* n;
     int parent;
   };
   std::vector<Todo> todo;
-  for (unsigned k = sc->mRootNode->mNumChildren; k-- > 0;) todo.push_back({sc->mRootNode->mChildren[k], -1});
+  const ImportedNode& root = sc.nodes[0];
+  for (size_t k = root.children.size(); k-- > 0;) todo.push_back({&sc.nodes[root.children[k]], -1});
   while (!todo.empty()) {
     const Todo t = todo.back();
     todo.pop_back();
     if (out.nodes.size() > 1000000) throw file_error(path, "more than a million nodes");
     GodotFbxNode gn;
     gn.parent = t.parent;
-    const std::string raw = t.n->mName.C_Str();
-    gn.name = unique_name(&used, raw.empty() ? (t.n->mNumMeshes ? "Mesh" : "Node") : raw);
+    const std::string& raw = t.n->name;
+    gn.name = unique_name(&used, raw.empty() ? (!t.n->meshes.empty() ? "Mesh" : "Node") : raw);
     // Godot's local transform (as Godot 4.6's FBXDocument gives it): translations in metres; the
     // axis conversion A only on the file's root nodes (basis A·B, origin s·A·t), as their parent.
-    const aiMatrix4x4& m = t.n->mTransformation;
-    const double b[9] = {m.a1, m.a2, m.a3, m.b1, m.b2, m.b3, m.c1, m.c2, m.c3};
+    const std::array<float, 16>& m = t.n->transform;  // rows a1 a2 a3 a4, b1 …
+    const double b[9] = {m[0], m[1], m[2], m[4], m[5], m[6], m[8], m[9], m[10]};
     Conversion by = c;
     if (t.parent >= 0) std::copy(kNoAxes, kNoAxes + 9, by.a);
     const double* a = by.a;
@@ -202,23 +204,24 @@ GodotFbxScene read_godot_fbx(const std::string& path) {
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) r[i * 3 + j] = a[i * 3] * b[j] + a[i * 3 + 1] * b[3 + j] + a[i * 3 + 2] * b[6 + j];
     float origin[3];
-    by.point(aiVector3D(m.a4, m.b4, m.c4), c.s, origin);
+    const float t3[3] = {m[3], m[7], m[11]};
+    by.point(t3, c.s, origin);
     gn.local = {float(r[0]), float(r[1]), float(r[2]), origin[0], float(r[3]), float(r[4]), float(r[5]), origin[1],
                 float(r[6]), float(r[7]), float(r[8]), origin[2], 0,           0,           0,           1};
-    if (t.n->mNumMeshes) {
-      const std::vector<unsigned> parts(t.n->mMeshes, t.n->mMeshes + t.n->mNumMeshes);
+    if (!t.n->meshes.empty()) {
+      const std::vector<unsigned>& parts = t.n->meshes;
       auto it = mesh_of.find(parts);
       if (it == mesh_of.end()) {
         GodotFbxMesh gm;
-        gm.name = sc->mMeshes[parts[0]]->mName.C_Str();
+        gm.name = sc.meshes[parts[0]].name;
         if (gm.name.empty()) gm.name = gn.name;
         for (unsigned p : parts) {
-          if (p >= sc->mNumMeshes) continue;
-          append_surface(sc->mMeshes[p], c, &gm);
+          if (p >= sc.meshes.size()) continue;
+          append_surface(sc.meshes[p], c, &gm);
         }
         if (!gm.uv2.empty()) {
           bool any_uv2 = false;
-          for (unsigned p : parts) any_uv2 = any_uv2 || (p < sc->mNumMeshes && sc->mMeshes[p]->HasTextureCoords(1));
+          for (unsigned p : parts) any_uv2 = any_uv2 || (p < sc.meshes.size() && !sc.meshes[p].uv[1].empty());
           if (!any_uv2) gm.uv2.clear();
         }
         out.meshes.push_back(std::move(gm));
@@ -228,7 +231,7 @@ GodotFbxScene read_godot_fbx(const std::string& path) {
     }
     out.nodes.push_back(gn);
     const int id = int(out.nodes.size() - 1);
-    for (unsigned k = t.n->mNumChildren; k-- > 0;) todo.push_back({t.n->mChildren[k], id});
+    for (size_t k = t.n->children.size(); k-- > 0;) todo.push_back({&sc.nodes[t.n->children[k]], id});
   }
   return out;
 }

@@ -2,9 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <assimp/Importer.hpp>
-#include <assimp/postprocess.h>
-#include <assimp/scene.h>
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
@@ -24,6 +21,7 @@
 #include "bakers/godot/godot_lmbake.h"
 #include "files/input_file.h"
 #include "files/input_record.h"
+#include "scene/assimp_math.h"
 #include "scene/mesh_io.h"
 #include "bakers/godot/godot_tscn.h"
 #include "bakers/godot/godot_unwrap_cache.h"
@@ -440,10 +438,10 @@ struct Loader {
   // meshes get their lightmap UVs from the unwrap cache (light_baking=2) or TEXCOORD_1.
   int mesh_file(const std::string& path, int parent) {
     add_file(path);
-    Assimp::Importer importer;
     // No JoinIdenticalVertices: the unwrap cache indexes the accessor's vertices as stored. The
     // import reads the file once, checks it as --mesh does (scene/mesh_io.h) and parses those bytes.
-    const aiScene* sc = import_mesh_file(&importer, path, aiProcess_Triangulate | aiProcess_ValidateDataStructure);
+    MeshFileReads reads;
+    const ImportedScene sc = import_mesh_file(path, kImportTriangulate | kImportValidateDataStructure, &reads);
     const std::string import_file = path + ".import", cache_file = path + ".unwrap_cache";
     const bool gen_uv2 = import_param(import_file, "meshes/light_baking") == "2";
     if (input_exists(import_file)) add_file(import_file);
@@ -454,31 +452,31 @@ struct Loader {
     }
     const int root = add(utf8_string(fs_path(path).stem()), parent);
     // Assimp's root is the glTF scene's only root node, or a synthetic "ROOT" above several.
-    const aiNode* top = sc->mRootNode;
-    const bool synthetic = std::string(top->mName.C_Str()) == "ROOT" && top->mNumMeshes == 0;
-    std::vector<std::pair<const aiNode*, int>> todo;
-    std::vector<std::pair<const aiNode*, int>> with_mesh;
+    const ImportedNode* top = &sc.nodes[0];
+    const bool synthetic = top->name == "ROOT" && top->meshes.empty();
+    std::vector<std::pair<const ImportedNode*, int>> todo;
+    std::vector<std::pair<const ImportedNode*, int>> with_mesh;
     if (synthetic) {
-      for (unsigned c = 0; c < top->mNumChildren; ++c) todo.push_back({top->mChildren[c], root});
-    } else if (gltf_single_root(imported_file_bytes(&importer, path))) {
+      for (unsigned c : top->children) todo.push_back({&sc.nodes[c], root});
+    } else if (gltf_single_root(reads.load(path))) {
       // A file Godot exported (extension GODOT_single_root): its one root node is the scene's root
       // itself, not a child of a node named after the file (modules/gltf/gltf_document.cpp,
       // _generate_scene_node_tree; modules/gltf/structures/gltf_node.cpp leaves it out of paths).
-      const aiMatrix4x4& m = top->mTransformation;
-      nodes[size_t(root)].local = {m.a1, m.a2, m.a3, m.b1, m.b2, m.b3, m.c1, m.c2, m.c3, m.a4, m.b4, m.c4};
-      if (top->mNumMeshes) with_mesh.push_back({top, root});
-      for (unsigned c = top->mNumChildren; c-- > 0;) todo.push_back({top->mChildren[c], root});
+      const Mat4f& m = top->transform;
+      nodes[size_t(root)].local = {m[0], m[1], m[2], m[4], m[5], m[6], m[8], m[9], m[10], m[3], m[7], m[11]};
+      if (!top->meshes.empty()) with_mesh.push_back({top, root});
+      for (size_t c = top->children.size(); c-- > 0;) todo.push_back({&sc.nodes[top->children[c]], root});
     } else {
       todo.push_back({top, root});
     }
     while (!todo.empty()) {
       const auto [an, p] = todo.back();
       todo.pop_back();
-      const int id = add(godot_node_name(an->mName.C_Str()), p);
-      const aiMatrix4x4& m = an->mTransformation;
-      nodes[size_t(id)].local = {m.a1, m.a2, m.a3, m.b1, m.b2, m.b3, m.c1, m.c2, m.c3, m.a4, m.b4, m.c4};
-      if (an->mNumMeshes) with_mesh.push_back({an, id});
-      for (unsigned c = an->mNumChildren; c-- > 0;) todo.push_back({an->mChildren[c], id});
+      const int id = add(godot_node_name(an->name), p);
+      const Mat4f& m = an->transform;
+      nodes[size_t(id)].local = {m[0], m[1], m[2], m[4], m[5], m[6], m[8], m[9], m[10], m[3], m[7], m[11]};
+      if (!an->meshes.empty()) with_mesh.push_back({an, id});
+      for (size_t c = an->children.size(); c-- > 0;) todo.push_back({&sc.nodes[an->children[c]], id});
     }
     // Nodes sharing meshes and scale share the geometry (the scale is part of Godot's cache key).
     UnwrapFile uf;
@@ -490,8 +488,8 @@ struct Loader {
     std::vector<MeshGroup> groups;
     for (const auto& [an, id] : with_mesh) {
       MeshGroup g;
-      g.meshes.assign(an->mMeshes, an->mMeshes + an->mNumMeshes);
-      node_scales(an, sc->mRootNode, synthetic, root_scale, &g);
+      g.meshes = an->meshes;
+      node_scales(sc, an, synthetic, root_scale, &g);
       const auto key = std::make_pair(g.meshes, g.scales[0]);
       auto it = group_of.find(key);
       if (it == group_of.end()) {
@@ -533,10 +531,6 @@ struct Loader {
     uf.texel = std::max(0.001f, import_float(import_file, "meshes/lightmap_texel_size", 0.2f));
     const float root_scale = import_float(import_file, "nodes/root_scale", 1.0f);
     std::vector<int> ids(f.nodes.size(), -1);
-    const auto to_ai = [](const std::array<float, 16>& l) {
-      return aiMatrix4x4(l[0], l[1], l[2], l[3], l[4], l[5], l[6], l[7], l[8], l[9], l[10], l[11], l[12], l[13], l[14],
-                         l[15]);
-    };
     std::map<std::pair<std::vector<unsigned>, std::array<float, 3>>, size_t> group_of;
     std::vector<MeshGroup> groups;
     for (size_t i = 0; i < f.nodes.size(); ++i) {
@@ -548,8 +542,8 @@ struct Loader {
       if (n.mesh < 0) continue;
       MeshGroup g;
       g.meshes = {unsigned(n.mesh)};
-      std::vector<aiMatrix4x4> chain;
-      for (int at = int(i); at >= 0; at = f.nodes[size_t(at)].parent) chain.push_back(to_ai(f.nodes[size_t(at)].local));
+      std::vector<Mat4f> chain;
+      for (int at = int(i); at >= 0; at = f.nodes[size_t(at)].parent) chain.push_back(f.nodes[size_t(at)].local);
       chain_scales(chain, root_scale, &g);
       const auto key = std::make_pair(g.meshes, g.scales[0]);
       auto it = group_of.find(key);
@@ -629,23 +623,27 @@ struct Loader {
   // transform is the root scale). Two ways to rebuild Godot's float basis from Assimp's matrices:
   // from each node's decomposed rotation and scale (as Godot's glTF importer builds it), and from
   // the matrices as Assimp holds them. The key decides which (if either) Godot computed.
-  static void node_scales(const aiNode* an, const aiNode* top, bool synthetic, float root_scale, MeshGroup* g) {
-    std::vector<aiMatrix4x4> chain;
-    for (const aiNode* at = an; at && !(synthetic && at == top); at = at->mParent) chain.push_back(at->mTransformation);
+  static void node_scales(const ImportedScene& sc, const ImportedNode* an, bool synthetic, float root_scale,
+                          MeshGroup* g) {
+    const ImportedNode* top = &sc.nodes[0];
+    std::vector<Mat4f> chain;
+    for (const ImportedNode* at = an; at && !(synthetic && at == top);
+         at = at->parent >= 0 ? &sc.nodes[size_t(at->parent)] : nullptr)
+      chain.push_back(at->transform);
     chain_scales(chain, root_scale, g);
   }
   // The same from the node's transform and its parents' (`chain`, the node first).
-  static void chain_scales(const std::vector<aiMatrix4x4>& chain, float root_scale, MeshGroup* g) {
+  static void chain_scales(const std::vector<Mat4f>& chain, float root_scale, MeshGroup* g) {
     float trs[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, mat[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-    for (const aiMatrix4x4& m : chain) {
-      aiVector3D s, t;
-      aiQuaternion q;
-      m.Decompose(s, q, t);
-      const float quat[4] = {q.x, q.y, q.z, q.w}, sc[3] = {s.x, s.y, s.z};
+    for (const Mat4f& m : chain) {
+      Vec3f s, t;
+      std::array<float, 4> q;
+      mat4_decompose(m, &s, &q, &t);  // aiMatrix4x4::Decompose
+      const float quat[4] = {q[0], q[1], q[2], q[3]}, sc[3] = {s.x, s.y, s.z};
       float b[9];
       godot_basis_from_trs(quat, sc, b);
       godot_basis_mul(b, trs, trs);
-      const float r[9] = {m.a1, m.a2, m.a3, m.b1, m.b2, m.b3, m.c1, m.c2, m.c3};
+      const float r[9] = {m[0], m[1], m[2], m[4], m[5], m[6], m[8], m[9], m[10]};
       godot_basis_mul(r, mat, mat);
     }
     const float rs[9] = {root_scale, 0, 0, 0, root_scale, 0, 0, 0, root_scale};
@@ -658,25 +656,27 @@ struct Loader {
     if (b != a) g->scales.push_back(b);
   }
 
-  static MeshArrays mesh_arrays(const aiScene* sc, const std::vector<unsigned>& meshes) {
+  static MeshArrays mesh_arrays(const ImportedScene& sc, const std::vector<unsigned>& meshes) {
     MeshArrays a;
-    a.name = sc->mMeshes[meshes[0]]->mName.C_Str();
+    a.name = sc.meshes[meshes[0]].name;
     for (unsigned mi : meshes) {
-      const aiMesh* m = sc->mMeshes[mi];
-      if (!(m->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
+      const ImportedMesh& m = sc.meshes[mi];
+      if (!(m.primitive_types & kPrimitiveTriangle)) continue;
       const uint32_t base = uint32_t(a.pos.size() / 3);
-      a.all_uv1 = a.all_uv1 && m->GetNumUVChannels() >= 2;
-      a.all_normals = a.all_normals && m->HasNormals();
-      for (unsigned v = 0; v < m->mNumVertices; ++v) {
-        a.pos.insert(a.pos.end(), {m->mVertices[v].x, m->mVertices[v].y, m->mVertices[v].z});
-        const aiVector3D n = m->HasNormals() ? m->mNormals[v] : aiVector3D(0, 0, 0);
-        a.nrm.insert(a.nrm.end(), {n.x, n.y, n.z});
-        const aiVector3D t = m->GetNumUVChannels() >= 2 ? m->mTextureCoords[1][v] : aiVector3D(0, 0, 0);
-        a.uv1.insert(a.uv1.end(), {t.x, t.y});
+      const bool has_uv1 = m.uv_sets >= 2, has_normals = !m.normals.empty();
+      a.all_uv1 = a.all_uv1 && has_uv1;
+      a.all_normals = a.all_normals && has_normals;
+      for (unsigned v = 0; v < m.vertices; ++v) {
+        const float* p = &m.positions[size_t(v) * 3];
+        a.pos.insert(a.pos.end(), {p[0], p[1], p[2]});
+        const float* n = has_normals ? &m.normals[size_t(v) * 3] : nullptr;
+        a.nrm.insert(a.nrm.end(), {n ? n[0] : 0.0f, n ? n[1] : 0.0f, n ? n[2] : 0.0f});
+        const float* t = has_uv1 ? &m.uv[1][size_t(v) * 2] : nullptr;
+        a.uv1.insert(a.uv1.end(), {t ? t[0] : 0.0f, t ? t[1] : 0.0f});
       }
-      for (unsigned f = 0; f < m->mNumFaces; ++f)
-        if (m->mFaces[f].mNumIndices == 3)
-          for (unsigned k = 0; k < 3; ++k) a.idx.push_back(base + m->mFaces[f].mIndices[k]);
+      for (size_t f = 0; f < m.faces(); ++f)
+        if (m.face_size(f) == 3)
+          for (unsigned k = 0; k < 3; ++k) a.idx.push_back(base + m.face(f)[k]);
     }
     return a;
   }

@@ -1,0 +1,37 @@
+// assimp_module (scene/assimp_module.h): libahd_assimp loaded once, or, built with
+// AHD_ASSIMP_MODULE=OFF, the same table from the module's code linked in.
+#include <string>
+
+#include "core/error.h"
+#include "files/modules.h"
+#include "scene/assimp_module.h"
+
+#ifdef AHD_ASSIMP_BUILTIN
+extern "C" const ahd::AssimpModule* ahd_assimp_module();  // src/assimp/module.cpp, linked in
+#endif
+
+namespace ahd {
+
+namespace {
+
+LoadedModule load() {
+#ifdef AHD_ASSIMP_BUILTIN
+  LoadedModule l;
+  const AssimpModule* m = ahd_assimp_module();
+  if (m->abi == kAssimpModuleAbi) l.table = m;
+  else l.error = "built in, ABI " + std::to_string(m->abi) + " instead of " + std::to_string(kAssimpModuleAbi);
+  return l;
+#else
+  return load_module_table("assimp", kAssimpModuleAbi);  // files/modules.h: where it is looked for
+#endif
+}
+
+}  // namespace
+
+const AssimpModule& assimp_module(const std::string& why) {
+  static const LoadedModule loaded = load();  // once, thread safe; a failure is remembered
+  if (!loaded.table) throw Error(why + ": needs Assimp, whose module cannot be loaded (" + loaded.error + ")");
+  return *static_cast<const AssimpModule*>(loaded.table);
+}
+
+}  // namespace ahd
