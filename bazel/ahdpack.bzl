@@ -1,7 +1,7 @@
 """ahdpack_lightmap: one lightmap converted by ahdpack as a Bazel action.
 
-Copy this file into your workspace (say tools/ahdpack.bzl) beside the ahdpack executable and its
-data folder, or reach it through a local_repository; docs/asset-cook.md "Bazel: ahdpack_lightmap"
+Copy this file into your workspace (say tools/ahdpack.bzl) beside the ahdpack executable, its
+modules (libahd_*.so) and its data folder, or reach it through a local_repository; docs/asset-cook.md "Bazel: ahdpack_lightmap"
 describes the setup, the remote cache and what to declare. Tested with Debian's bazel-bootstrap 4.2.3
 by tests/bazel/ahdpack_lightmap_test.sh (test Bazel.AhdpackLightmapRemoteCache).
 
@@ -60,7 +60,9 @@ def _ahdpack_lightmap_impl(ctx):
     ctx.actions.run_shell(
         command = _RUN,
         arguments = [args],
-        tools = [ctx.executable.ahdpack],
+        # The modules (libahd_*.so: Assimp for meshes, OpenImageIO for other image formats,
+        # OpenColorIO for colour spaces) are opened beside the executable: tools of the action too.
+        tools = [ctx.executable.ahdpack] + ctx.files.modules,
         # Every file the conversion reads must be here (`ahdpack convert --depfile` lists them): in
         # the sandbox an undeclared file is absent, and an absent .exr.import or L1 file changes
         # what the input is rather than failing.
@@ -91,6 +93,13 @@ ahdpack_lightmap = rule(
             cfg = "exec",
             allow_files = True,
             doc = "The ahdpack executable (its bytes are part of every action's key)",
+        ),
+        "modules": attr.label(
+            default = "//tools:ahdpack_modules",
+            allow_files = True,
+            cfg = "exec",
+            doc = "ahdpack's modules (libahd_assimp.so, libahd_oiio.so, libahd_ocio.so), beside the " +
+                  "executable: a filegroup of them (part of every action's key, as the executable)",
         ),
         "formats": attr.label(
             default = "//tools:ahdpack_formats",

@@ -50,9 +50,11 @@ a="$tmp/a"; mkdir -p "$a/tools" "$a/maps"
 touch "$a/WORKSPACE"
 cp "$src/bazel/ahdpack.bzl" "$a/tools/"
 cp "$cli" "$a/tools/ahdpack"
+cp "$(dirname "$cli")"/libahd_*.so "$a/tools/"   # the modules: Assimp opens the Godot project's meshes
 cp -r "$src/formats" "$a/tools/formats"
 cat > "$a/tools/BUILD" <<'B'
 exports_files(["ahdpack"])
+filegroup(name = "ahdpack_modules", srcs = glob(["libahd_*.so"]), visibility = ["//visibility:public"])
 filegroup(name = "ahdpack_formats", srcs = glob(["formats/**"]), visibility = ["//visibility:public"])
 B
 cp "$src/golden/inputs/scene13_l1_seed3.exr" "$a/maps/one.exr"
