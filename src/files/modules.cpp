@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <vector>
 
+#include "core/error.h"
 #include "files/os_files.h"
 #include "files/paths.h"
 #include "files/utf8_path.h"
@@ -57,6 +58,12 @@ LoadedModule load_module_table(const std::string& name, int abi) {
   }
   l.table = table;
   return l;
+}
+
+const void* module_table(const LoadedModule& loaded, const std::string& why, const char* dependency) {
+  if (!loaded.table)
+    throw Error(why + ": needs " + dependency + ", whose module cannot be loaded (" + loaded.error + ")");
+  return loaded.table;
 }
 
 }  // namespace ahd

@@ -28,4 +28,8 @@ struct LoadedModule {
 // for. Never throws; call it once per module (callers keep the result in a function-local static).
 LoadedModule load_module_table(const std::string& name, int abi);
 
+// The table `loaded` holds. Throws ahd::Error("<why>: needs <dependency>, whose module cannot be
+// loaded (<loaded.error>)") when it holds none: `why` is the file (or option) that needed it.
+const void* module_table(const LoadedModule& loaded, const std::string& why, const char* dependency);
+
 }  // namespace ahd

@@ -1,6 +1,5 @@
 #include <string>
 
-#include "core/error.h"
 #include "files/modules.h"
 #include "image/oiio_module.h"
 
@@ -22,8 +21,7 @@ LoadedModule load() {
 
 const OiioModule& oiio_module(const std::string& why) {
   static const LoadedModule loaded = load();  // once, thread safe; a failure is remembered
-  if (!loaded.table) throw Error(why + ": needs OpenImageIO, whose module cannot be loaded (" + loaded.error + ")");
-  return *static_cast<const OiioModule*>(loaded.table);
+  return *static_cast<const OiioModule*>(module_table(loaded, why, "OpenImageIO"));
 }
 
 }  // namespace ahd

@@ -2,7 +2,6 @@
 // AHD_ASSIMP_MODULE=OFF, the same table from the module's code linked in.
 #include <string>
 
-#include "core/error.h"
 #include "files/modules.h"
 #include "scene/assimp_module.h"
 
@@ -30,8 +29,7 @@ LoadedModule load() {
 
 const AssimpModule& assimp_module(const std::string& why) {
   static const LoadedModule loaded = load();  // once, thread safe; a failure is remembered
-  if (!loaded.table) throw Error(why + ": needs Assimp, whose module cannot be loaded (" + loaded.error + ")");
-  return *static_cast<const AssimpModule*>(loaded.table);
+  return *static_cast<const AssimpModule*>(module_table(loaded, why, "Assimp"));
 }
 
 }  // namespace ahd
