@@ -203,4 +203,4 @@ const ahd::AssimpModule kModule = {ahd::kAssimpModuleAbi, import_file};
 #else
 #define AHD_ASSIMP_EXPORT __attribute__((visibility("default")))
 #endif
-extern "C" AHD_ASSIMP_EXPORT const ahd::AssimpModule* ahd_assimp_module() { return &kModule; }
+extern "C" AHD_ASSIMP_EXPORT const void* ahd_assimp_module() { return &kModule; }

@@ -1,9 +1,12 @@
 // Optional parts of ahdpack behind dlopen: a dependency that most runs never need (OpenImageIO for
-// formats other than EXR, OpenColorIO for colour spaces other than the working one) lives in a
+// formats other than EXR, OpenColorIO for colour spaces other than the working one, Assimp for
+// meshes) lives in a
 // small module, libahd_<name>.so, opened on first use, so that a process that does not need it
 // never pays for loading it (docs/performance-real.md "Process start"). A module exports one
-// function, `ahd_<name>_module`, returning a table of plain function pointers whose first member is
-// an int ABI number; the table's header (image/oiio_module.h, image/ocio_module.h) is the contract.
+// function, `extern "C" const void* ahd_<name>_module()` (exactly that type: it is called through
+// it, and UBSan's -fsanitize=function checks), returning its table of plain function pointers whose
+// first member is an int ABI number; the table's header (image/oiio_module.h, image/ocio_module.h,
+// scene/assimp_module.h) is the contract.
 #pragma once
 #include <string>
 

@@ -69,4 +69,4 @@ const ahd::OcioModule kModule = {ahd::kOcioModuleAbi, processor, apply_rgb};
 #else
 #define AHD_OCIO_EXPORT __attribute__((visibility("default")))
 #endif
-extern "C" AHD_OCIO_EXPORT const ahd::OcioModule* ahd_ocio_module() { return &kModule; }
+extern "C" AHD_OCIO_EXPORT const void* ahd_ocio_module() { return &kModule; }

@@ -193,4 +193,4 @@ const ahd::OiioModule kModule = {ahd::kOiioModuleAbi, open_image, close_image, s
 #else
 #define AHD_OIIO_EXPORT __attribute__((visibility("default")))
 #endif
-extern "C" AHD_OIIO_EXPORT const ahd::OiioModule* ahd_oiio_module() { return &kModule; }
+extern "C" AHD_OIIO_EXPORT const void* ahd_oiio_module() { return &kModule; }

@@ -6,7 +6,7 @@
 #include "scene/assimp_module.h"
 
 #ifdef AHD_ASSIMP_BUILTIN
-extern "C" const ahd::AssimpModule* ahd_assimp_module();  // src/assimp/module.cpp, linked in
+extern "C" const void* ahd_assimp_module();  // src/assimp/module.cpp, linked in
 #endif
 
 namespace ahd {
@@ -16,7 +16,7 @@ namespace {
 LoadedModule load() {
 #ifdef AHD_ASSIMP_BUILTIN
   LoadedModule l;
-  const AssimpModule* m = ahd_assimp_module();
+  const AssimpModule* m = static_cast<const AssimpModule*>(ahd_assimp_module());
   if (m->abi == kAssimpModuleAbi) l.table = m;
   else l.error = "built in, ABI " + std::to_string(m->abi) + " instead of " + std::to_string(kAssimpModuleAbi);
   return l;
