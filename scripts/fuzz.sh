@@ -9,7 +9,7 @@ cd "$(dirname "$0")/.."
 B=build-asan
 T="${FUZZ_SECONDS:-60}"
 [ -x "$B/fuzz/fuzz_ktx2" ] || bash scripts/sanitize.sh --build-only
-export ASAN_OPTIONS="detect_leaks=1:halt_on_error=1"
+export ASAN_OPTIONS="detect_leaks=1:halt_on_error=1:intercept_tls_get_addr=0"  # as scripts/sanitize.sh
 export LSAN_OPTIONS="suppressions=$PWD/fuzz/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 corpus="$B/fuzz-corpus"

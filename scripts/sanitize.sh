@@ -26,7 +26,13 @@ cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
 cmake --build build-asan -j "$(nproc)"
 [ "${1:-}" = "--build-only" ] && exit 0
 # Leaks are errors; the suppressions name third-party libraries' own one-time allocations only.
-export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:halt_on_error=1"
+# intercept_tls_get_addr=0: LeakSanitizer's tracking of dynamic TLS (what dlopen'd libraries'
+# threads hold) reads a stale block on Debian 12's glibc once a module's threads have exited, and
+# its tracer dies with SIGSEGV at exit ("DTLS 13 at 0x1f2e-0x800003030", then "LeakSanitizer has
+# encountered a fatal error"): `preview` after OpenImageIO's module wrote its PNGs, every run
+# of OutputFaults.PreviewOfADeeplyNestedReportIsOneErrorLine, never from a shell. Dynamic TLS is
+# then not scanned as a root; static TLS, stacks and globals still are.
+export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:halt_on_error=1:intercept_tls_get_addr=0"
 export LSAN_OPTIONS="suppressions=$PWD/fuzz/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 # Label `nosan` (tests/labels.cmake) leaves out: the consumer test, which installs the package and

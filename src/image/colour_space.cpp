@@ -7,6 +7,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 
 #include "core/error.h"
 #include "core/parallel.h"
@@ -277,6 +278,7 @@ Matrix3 working_space_matrix(const SourceSpace& from, const std::string& path) {
   const void* cpu = ocio.processor(to_working(from, path), &why);
   if (!cpu)
     throw file_error(path, "OpenColorIO cannot convert " + from.describe() + " to the working space (" + why + ")");
+  const std::unique_ptr<const void, void (*)(const void*)> owned(cpu, ocio.release);
   // The matrix's columns are the images of the unit primaries; a fourth triple checks it is one: a
   // transform with an offset or a curve is no 3x3 matrix and cannot be applied to SH.
   float v[4][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0.25f, -1.5f, 3.0f}};

@@ -13,7 +13,7 @@
 namespace ahd {
 
 // Bumped whenever OcioModule or OcioStep changes: a module of another build is refused, not called.
-constexpr int kOcioModuleAbi = 1;
+constexpr int kOcioModuleAbi = 2;
 
 // One transform of a chain, on OpenColorIO's raw config (no file, no environment variable read).
 struct OcioStep {
@@ -28,11 +28,12 @@ struct OcioStep {
 struct OcioModule {
   int abi;
   // The F32 CPU processor (no optimisation) of `steps` in order: one step as it is, several as a
-  // GroupTransform. Null with OpenColorIO's message in *err. Never freed: the
-  // process keeps what it builds (one or two per run).
+  // GroupTransform. Null with OpenColorIO's message in *err. Freed by release().
   const void* (*processor)(const std::vector<OcioStep>& steps, std::string* err);
   // Applies a processor to `count` RGB triples in place (applyRGB). Thread safe.
   void (*apply_rgb)(const void* processor, float* rgb, size_t count);
+  // Frees a processor processor() built.
+  void (*release)(const void* processor);
 };
 
 // The module, loaded on first call (thread safe), found as files/modules.h says. Throws

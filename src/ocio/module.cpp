@@ -59,7 +59,9 @@ void apply_rgb(const void* p, float* rgb, size_t count) {
   for (size_t i = 0; i < count; ++i) cpu->applyRGB(rgb + i * 3);
 }
 
-const ahd::OcioModule kModule = {ahd::kOcioModuleAbi, processor, apply_rgb};
+void release(const void* p) { delete static_cast<const OCIO::ConstCPUProcessorRcPtr*>(p); }
+
+const ahd::OcioModule kModule = {ahd::kOcioModuleAbi, processor, apply_rgb, release};
 
 }  // namespace
 
