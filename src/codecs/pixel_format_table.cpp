@@ -70,8 +70,8 @@ void decode_unorm8(const TextureLevel& lvl, ImageF& img) {
 
 // Sanitised (non-finite → 0 or ±max, beyond ±max → ±max) a row of texels at a time, then
 // converted by bc6h::floats_to_half: F16C's eight floats an instruction where the CPU has it, the
-// same bits as Imath::half's (test Bc6h.HalfConversionPathsGiveTheSameBits). A quarter of a plain map's
-// quantise stage was this conversion, one Imath::half at a time.
+// same bits as Imath::half's (test Bc6h.HalfConversionPathsGiveTheSameBits). One Imath::half at a
+// time, this was 39.9 M instructions of a plain 512² conversion; now 15.4 M (callgrind).
 void encode_rgba16f(const ImageF& img, const CodecParams&, TextureLevel& lvl, CodecStats& st) {
   uint16_t* out = reinterpret_cast<uint16_t*>(lvl.data.data());
   const size_t n = img.texels();

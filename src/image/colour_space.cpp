@@ -315,18 +315,18 @@ void srgb_decode(float* values, size_t n, size_t stride) {
   no_ocio("", "decoding an sRGB-encoded plane");
 #else
   // The processor is built once; OpenColorIO's CPU processors are safe to share between threads.
-  static const void* cpu = [] {
+  const OcioModule& ocio = ocio_module("decoding an sRGB-encoded plane");
+  static const void* cpu = [&ocio] {
     OcioStep t;
     t.kind = OcioStep::kExponentWithLinear;
     const double gamma[4] = {2.4, 2.4, 2.4, 1}, offset[4] = {0.055, 0.055, 0.055, 0};
     std::copy_n(gamma, 4, t.gamma);
     std::copy_n(offset, 4, t.offset);  // forward = encoded → linear
     std::string why;
-    const void* p = ocio_module("decoding an sRGB-encoded plane").processor({t}, &why);
+    const void* p = ocio.processor({t}, &why);
     if (!p) throw Error("OpenColorIO cannot build the sRGB decode (" + why + ")");
     return p;
   }();
-  const OcioModule& ocio = ocio_module("decoding an sRGB-encoded plane");
   for (size_t i = 0; i < n; i += 3) {
     float v[3] = {0, 0, 0};
     const size_t m = std::min<size_t>(3, n - i);

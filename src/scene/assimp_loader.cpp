@@ -16,9 +16,7 @@ namespace {
 LoadedModule load() {
 #ifdef AHD_ASSIMP_BUILTIN
   LoadedModule l;
-  const AssimpModule* m = static_cast<const AssimpModule*>(ahd_assimp_module());
-  if (m->abi == kAssimpModuleAbi) l.table = m;
-  else l.error = "built in, ABI " + std::to_string(m->abi) + " instead of " + std::to_string(kAssimpModuleAbi);
+  l.table = ahd_assimp_module();  // compiled into this build: its ABI is this build's
   return l;
 #else
   return load_module_table("assimp", kAssimpModuleAbi);  // files/modules.h: where it is looked for

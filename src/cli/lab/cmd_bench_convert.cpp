@@ -60,10 +60,13 @@ long status_kb(const char* name) {
 
 // CPU seconds (user + system, every thread) this process has used so far: unlike wall time, not
 // inflated by other processes sharing the machine.
+double seconds_of(const rusage& u) {
+  return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
 double cpu_seconds() {
   rusage u{};
   getrusage(RUSAGE_SELF, &u);
-  return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+  return seconds_of(u);
 }
 
 void reset_peak_rss() {
@@ -71,26 +74,35 @@ void reset_peak_rss() {
   if (f) f << "5";
 }
 
+// Starts this executable again with argv_s (argv_s[0] is its name); with `pipe_fds`, its standard
+// output goes to pipe_fds[1] (both ends closed in the child). Returns the child's pid.
+pid_t exec_self(std::vector<std::string> argv_s, const int* pipe_fds = nullptr) {
+  std::vector<char*> argv;
+  for (std::string& a : argv_s) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  std::fflush(stdout);
+  const pid_t pid = fork();
+  if (pid < 0) throw Error("bench convert: fork() failed");
+  if (pid == 0) {
+    if (pipe_fds) {
+      dup2(pipe_fds[1], 1);
+      close(pipe_fds[0]);
+      close(pipe_fds[1]);
+    }
+    execv("/proc/self/exe", argv.data());
+    _exit(127);
+  }
+  return pid;
+}
+
 // Runs `ahdpack bench convert --child MODE FILE OUTDIR --threads N [--full-measure]` and parses the
 // "key=value" lines it prints.
 std::map<std::string, std::string> run_child(const std::vector<std::string>& args) {
-  std::fflush(stdout);
   int fd[2];
   if (pipe(fd) != 0) throw Error("bench convert: pipe() failed");
   std::vector<std::string> argv_s = {"ahdpack", "bench", "convert"};
   argv_s.insert(argv_s.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (std::string& a : argv_s) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  const pid_t pid = fork();
-  if (pid < 0) throw Error("bench convert: fork() failed");
-  if (pid == 0) {
-    dup2(fd[1], 1);
-    close(fd[0]);
-    close(fd[1]);
-    execv("/proc/self/exe", argv.data());
-    _exit(127);
-  }
+  const pid_t pid = exec_self(argv_s, fd);
   close(fd[1]);
   std::string text;
   char buf[4096];
@@ -198,24 +210,15 @@ ProcessCost convert_process(const Case& c, const fs::path& out_dir, int threads,
     std::vector<std::string> argv_s = {"ahdpack", "convert", c.file, "-o", utf8_string(out_dir / "x.ktx2"),
                                        "-q", "--profile", "pc-bc", "--threads", std::to_string(threads)};
     if (!direction_fit.empty()) argv_s.insert(argv_s.end(), {"--direction-fit", direction_fit});
-    std::vector<char*> argv;
-    for (std::string& a : argv_s) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    std::fflush(stdout);
     const auto t0 = Clock::now();
-    const pid_t pid = fork();
-    if (pid < 0) throw Error("bench convert: fork() failed");
-    if (pid == 0) {
-      execv("/proc/self/exe", argv.data());
-      _exit(127);
-    }
+    const pid_t pid = exec_self(argv_s);
     int status = 0;
     rusage u{};
     wait4(pid, &status, 0, &u);
     wall.push_back(since(t0));
     if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
       throw Error("bench convert: `ahdpack convert " + argv_s[2] + "` failed");
-    cpu.push_back(double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec));
+    cpu.push_back(seconds_of(u));
   }
   std::sort(cpu.begin(), cpu.end());
   std::sort(wall.begin(), wall.end());
