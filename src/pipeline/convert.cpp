@@ -307,7 +307,11 @@ void decide_direction(const FittedLevel& level0, const PipelineOptions& opt, Pip
         r->directional = sampled_relative_p99_exceeds(
             level0.sh, [&](size_t i) { return ambient_only_lobe(fitted_texel(level0, i)); }, opt.ambient_threshold);
       }
-      if (opt.measuring())
+      // An L0 image's fit is the ambient lobe itself (ratio 1: C_a = I_z ≥ 0, C_d = 0), so its
+      // measured fit error (measure_fit, which runs first) is this figure, texel for texel.
+      if (opt.measuring() && level0.sh.coeffs == 1 && r->fit_error.population != 0)
+        r->ambient_error = r->fit_error;
+      else if (opt.measuring())
         r->ambient_error = measure_lobes(level0.sh, [&](size_t i) { return ambient_only_lobe(fitted_texel(level0, i)); }, opt);
       std::snprintf(why, sizeof why, "%s: I_z alone differs from the SH by %s threshold %.3g (relative RMSE p99)",
                     r->directional ? "kept" : "dropped", r->directional ? "more than the" : "no more than the",

@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <cmath>
+#include <random>
 #include <sstream>
 
 #include "cli_runner.h"
@@ -17,6 +19,8 @@
 #include "pipeline/manifest.h"
 #include "sample/analytic_baker.h"
 #include "direction_planes_fixture.h"
+#include "fit/hemisphere_error.h"
+#include "mips/mips.h"
 
 namespace fs = std::filesystem;
 using namespace ahd;
@@ -91,4 +95,47 @@ TEST(DirectionPlanes, EarlyExitDecisionEqualsTheMeasuredP99) {
     for (double t : {p99 * 0.5, p99 * 0.999, p99, p99 * 1.001, p99 * 2})
       EXPECT_EQ(relative_p99_exceeds(levels[0].sh, lobes, t), p99 > t) << "scale " << scale << " threshold " << t;
   }
+}
+
+// A plain (L0) lightmap's I_z-alone error is taken from its measured fit (the fit is the ambient lobe
+// itself): the very figures a measure of the ambient lobes gives, with and without normals, sampled
+// and full, negative and uncovered texels included.
+TEST(DirectionPlanes, PlainMapAmbientErrorIsItsFitError) {
+  ShImage sh = make_sh_image(67, 41, 1);
+  std::mt19937 rng(45);
+  std::uniform_real_distribution<float> u(-0.2f, 3.0f);
+  for (size_t i = 0; i < sh.texels(); ++i) {
+    for (int c = 0; c < 3; ++c) sh.texel(i)[c] = i % 13 == 0 ? 0.0f : u(rng);
+    sh.coverage[i] = i % 7 != 3;
+  }
+  ShImage with_normals = sh;
+  with_normals.normals.resize(sh.texels() * 3);
+  for (size_t i = 0; i < sh.texels(); ++i) {
+    const float a = 0.37f * float(i % 17), z = 0.3f + 0.04f * float(i % 11);
+    const float r = std::sqrt(1.0f - z * z);
+    with_normals.normals[i * 3] = r * std::cos(a), with_normals.normals[i * 3 + 1] = r * std::sin(a), with_normals.normals[i * 3 + 2] = z;
+  }
+  const Profile p = load_profile("uncompressed");
+  const auto same = [](const ErrorStat& a, const ErrorStat& b) { return a.mean == b.mean && a.p99 == b.p99 && a.max == b.max; };
+  for (const ShImage* img : {&sh, &with_normals})
+    for (Measure m : {Measure::Estimate, Measure::Full}) {
+      PipelineOptions opt;
+      opt.measure = m;
+      opt.measure_baselines = false;
+      opt.threads = 1;
+      const PipelineResult r = run_conversion(*img, p, opt);
+      EXPECT_FALSE(r.directional);
+      const FittedLevel level = fit_ambient_level(ShImage(*img), opt.fit, 1);
+      const ErrorReport want = m == Measure::Full ? ambient_only_error(level, 1)
+                                                  : estimate_error(level.sh, ambient_only_lobes(level), 1);
+      const ErrorReport& got = r.ambient_error;
+      ASSERT_GT(want.texels, 0u);
+      EXPECT_EQ(got.texels, want.texels);
+      EXPECT_EQ(got.population, want.population);
+      EXPECT_EQ(got.negative, want.negative);
+      EXPECT_TRUE(same(got.rmse, want.rmse) && same(got.relative, want.relative) && same(got.log2, want.log2) &&
+                  same(got.normal_rel, want.normal_rel))
+          << "normals " << !img->normals.empty() << " full " << (m == Measure::Full) << ": relative p99 "
+          << got.relative.p99 << " vs " << want.relative.p99;
+    }
 }
