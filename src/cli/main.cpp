@@ -12,6 +12,8 @@
 #include <cstdlib>
 #endif
 
+#include <ahd/version.h>
+
 #include "cli/commands.h"
 #include "cli/environment.h"
 #include "core/error.h"
@@ -76,6 +78,7 @@ int main(int argc, char** argv) {
   tune_allocator();
   CLI::App app{"ahdpack: turn spherical-harmonics lightmaps into filter-safe AHD directional lightmaps"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", "ahdpack " AHD_VERSION_STRING_LITERAL);
   add_commands(app, argc, argv);
   try {
     ahd::cli::apply_size_limit_from_environment();

@@ -2,6 +2,7 @@
 // and every bad input giving one clear line, a non-zero exit and no output files.
 #include <gtest/gtest.h>
 
+#include <ahd/ahd.h>
 #include <ahd/convert.h>
 
 #include <algorithm>
@@ -342,4 +343,11 @@ TEST(Cli, ProgressOnATerminalOnlyNotInPipes) {
   const std::string quiet = shell("script -qec \"" + convert + " -q\" /dev/null 2>&1");
   EXPECT_EQ(quiet.find("\r\033[K"), std::string::npos) << quiet;
   fs::remove_all(d);
+}
+
+// `ahdpack --version`: one line naming the tool and the library's version, exit 0, nothing else run.
+TEST(Cli, VersionFlagPrintsTheLibraryVersion) {
+  const ahd_test::CliResult r = ahd_test::run_cli({"--version"});
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output, std::string("ahdpack ") + ahd_version() + "\n");
 }
