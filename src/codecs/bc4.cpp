@@ -226,7 +226,7 @@ float errors_scalar(const float v[16], const PaletteTables& t, const int32_t* r0
         bd = d < bd ? d : bd;
       }
       e += bd * bd;
-      if ((i & 3) == 3 && !(e < bound)) break;
+      if ((i & 3) == 3 && i < 15 && !(e < bound)) break;
     }
     err[j] = e;
     m = e < m ? e : m;
@@ -251,7 +251,7 @@ float errors_sse2(const float v[16], const PaletteTables& t, const int32_t* r0, 
       __m128 bd = _mm_andnot_ps(sign, _mm_sub_ps(vi, p[0]));
       for (int k = 1; k < 8; ++k) bd = _mm_min_ps(_mm_andnot_ps(sign, _mm_sub_ps(vi, p[k])), bd);  // d < bd ? d : bd
       e = _mm_add_ps(e, _mm_mul_ps(bd, bd));
-      if ((i & 3) == 3 && _mm_movemask_ps(_mm_cmplt_ps(e, bnd)) == 0) break;
+      if ((i & 3) == 3 && i < 15 && _mm_movemask_ps(_mm_cmplt_ps(e, bnd)) == 0) break;
     }
     _mm_storeu_ps(err + j, e);
     m = _mm_min_ps(e, m);
@@ -294,7 +294,7 @@ __attribute__((target("avx2"))) float errors_avx2(const float v[16], const Palet
       __m256 bd = _mm256_andnot_ps(sign, _mm256_sub_ps(vi, p[0]));
       for (int k = 1; k < 8; ++k) bd = _mm256_min_ps(_mm256_andnot_ps(sign, _mm256_sub_ps(vi, p[k])), bd);
       e = _mm256_add_ps(e, _mm256_mul_ps(bd, bd));
-      if ((i & 3) == 3 && _mm256_movemask_ps(_mm256_cmp_ps(e, bnd, _CMP_LT_OQ)) == 0) break;
+      if ((i & 3) == 3 && i < 15 && _mm256_movemask_ps(_mm256_cmp_ps(e, bnd, _CMP_LT_OQ)) == 0) break;
     }
     _mm256_storeu_ps(err + j, e);
     m = _mm256_min_ps(e, m);
@@ -337,7 +337,7 @@ __attribute__((target("avx512f"))) float errors_avx512(const float v[16], const 
       __m512 bd = _mm512_abs_ps(_mm512_sub_ps(vi, p[0]));
       for (int k = 1; k < 8; ++k) bd = _mm512_min_ps(_mm512_abs_ps(_mm512_sub_ps(vi, p[k])), bd);
       e = _mm512_add_ps(e, _mm512_mul_ps(bd, bd));
-      if ((i & 3) == 3 && _mm512_cmp_ps_mask(e, bnd, _CMP_LT_OQ) == 0) break;
+      if ((i & 3) == 3 && i < 15 && _mm512_cmp_ps_mask(e, bnd, _CMP_LT_OQ) == 0) break;
     }
     _mm512_storeu_ps(err + j, e);
     m = _mm512_min_ps(e, m);
@@ -452,11 +452,17 @@ void bc4_encode_block(const float texels[16], uint8_t out[8], int effort) {
   const int radius = effort <= 0 ? 0 : effort == 1 ? 2 : 4;
   const PaletteTables& tables = palette_tables();
   const NearestFn nearest = nearest_for_cpu();
-  const ErrorPaths errors = errors_for_cpu();
   thread_local TriedPairs tried;
   Candidates c;  // every pair the block evaluates, in order; the batch is [start, n)
   int start = 0, n = 0;
-  // A pair joins the batch the first time it is proposed, in range.
+  // The range searches' pairs are distinct (the two modes never share a pair, and each grid's
+  // pairs differ): those in range join as they come, and are marked in `tried` only when later
+  // searches follow (effort > 0; effort 0 never touches it).
+  auto propose_distinct = [&](int r0, int r1) {
+    if ((unsigned(r0) | unsigned(r1)) > 255) return;
+    c.r0[n] = r0, c.r1[n] = r1, ++n;
+  };
+  // Later pairs join the batch the first time they are proposed, in range.
   auto propose = [&](int r0, int r1) {
     if ((unsigned(r0) | unsigned(r1)) > 255) return;
     c.r0[n] = r0, c.r1[n] = r1;
@@ -488,6 +494,7 @@ void bc4_encode_block(const float texels[16], uint8_t out[8], int effort) {
       return;
     }
     for (int j = batch; j < ((batch + 15) & ~15); ++j) r0[j] = r0[0], r1[j] = r1[0];  // whole SIMD groups
+    const ErrorPaths errors = errors_for_cpu();
     // 16 pairs at a time, each chunk bounded by the best before it (later chunks stop early more
     // often); in each, the first of the smallest below the best is the one trying them in order
     // with `e < best` would keep.
@@ -511,7 +518,7 @@ void bc4_encode_block(const float texels[16], uint8_t out[8], int effort) {
   // 8-value mode: r0 > r1, endpoints near the range (hi, lo).
   for (int a = -radius; a <= radius; ++a)
     for (int b = -radius; b <= radius; ++b)
-      if (qhi + a > qlo + b) propose(qhi + a, qlo + b);
+      if (qhi + a > qlo + b) propose_distinct(qhi + a, qlo + b);
   // 6-value mode (r0 ≤ r1) with exact 0 and 1 available: endpoints span the values strictly
   // inside (0, 1), which helps blocks that touch the ends of the range.
   float ilo = 1.0f, ihi = 0.0f;
@@ -521,11 +528,12 @@ void bc4_encode_block(const float texels[16], uint8_t out[8], int effort) {
     const int plo = int(std::floor(ilo * 255.0f)), phi = int(std::ceil(ihi * 255.0f));
     for (int a = -radius; a <= radius; ++a)
       for (int b = -radius; b <= radius; ++b)
-        if (plo + a <= phi + b) propose(plo + a, phi + b);
+        if (plo + a <= phi + b) propose_distinct(plo + a, phi + b);
   }
   // Ramps and clusters often fit best with endpoints BEYOND the data range, so that the data's
   // min and max land on inner palette entries: try every pair of palette positions for them.
   if (effort > 0) {
+    for (int j = 0; j < n; ++j) tried.mark(c.r0[j], c.r1[j]);
     for (int mode = 0; mode < 2; ++mode) {
       const bool eight = mode == 0;
       const int steps = eight ? 7 : 5;
@@ -580,7 +588,8 @@ void bc4_encode_block(const float texels[16], uint8_t out[8], int effort) {
       if (p0 == b0 && p1 == b1) break;
     }
   }
-  for (int j = 0; j < n; ++j) tried.clear_word(c.r0[j], c.r1[j]);
+  if (effort > 0)
+    for (int j = 0; j < n; ++j) tried.clear_word(c.r0[j], c.r1[j]);
   write_block(b0, b1, best_idx, out);
 }
 
