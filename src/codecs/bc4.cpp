@@ -131,19 +131,18 @@ class TriedPairs {
  public:
   // Marks (r0, r1); true if it was not marked. Without branches (which pairs repeat is
   // data-dependent), and with neighbouring pairs in different words: the searches propose runs
-  // of neighbours, and a run in one word would wait for each store before the next load.
+  // of neighbours, and a run in one word would wait for each store before the next load. The
+  // low 10 bits of key = r0·256 + r1 pick the word (r1 and r0's low 2 bits), the rest the bit.
   bool mark(int r0, int r1) {
-    const uint64_t word = bits_[word_of(r0, r1)], bit = bit_of(r0, r1);
-    bits_[word_of(r0, r1)] = word | bit;
+    const unsigned key = unsigned(r0) << 8 | unsigned(r1);
+    const uint64_t word = bits_[key & 1023], bit = uint64_t(1) << (key >> 10);
+    bits_[key & 1023] = word | bit;
     return (word & bit) == 0;
   }
   // Unmarks every pair in the word of (r0, r1) (the encoder passes every pair it marked).
-  void clear_word(int r0, int r1) { bits_[word_of(r0, r1)] = 0; }
+  void clear_word(int r0, int r1) { bits_[(unsigned(r0) << 8 | unsigned(r1)) & 1023] = 0; }
 
  private:
-  // The low 5 bits of r0 and r1 pick the word, the high 3 bits of each the bit.
-  static unsigned word_of(int r0, int r1) { return unsigned(r0 & 31) << 5 | unsigned(r1 & 31); }
-  static uint64_t bit_of(int r0, int r1) { return uint64_t(1) << (unsigned(r0 >> 5) << 3 | unsigned(r1 >> 5)); }
 
   uint64_t bits_[1024] = {};
 };
@@ -452,19 +451,30 @@ void bc4_encode_block(const float texels[16], uint8_t out[8], int effort) {
   const int radius = effort <= 0 ? 0 : effort == 1 ? 2 : 4;
   const PaletteTables& tables = palette_tables();
   const NearestFn nearest = nearest_for_cpu();
+  // 6-value mode (r0 ≤ r1) with exact 0 and 1 available: endpoints span the values strictly
+  // inside (0, 1), which helps blocks that touch the ends of the range.
+  float ilo = 1.0f, ihi = 0.0f;
+  for (float x : v)
+    if (x > 0.0f && x < 1.0f) ilo = std::min(ilo, x), ihi = std::max(ihi, x);
+  const bool inner = ilo <= ihi;
+  const int plo = inner ? int(std::floor(ilo * 255.0f)) : -1024, phi = inner ? int(std::ceil(ihi * 255.0f)) : -1024;
   thread_local TriedPairs tried;
   Candidates c;  // every pair the block evaluates, in order; the batch is [start, n)
   int start = 0, n = 0;
-  // The range searches' pairs are distinct (the two modes never share a pair, and each grid's
-  // pairs differ): those in range join as they come, and are marked in `tried` only when later
-  // searches follow (effort > 0; effort 0 never touches it).
+  // The range searches' pairs (two grids around the ranges) are distinct: the two modes never
+  // share a pair, and each grid's pairs differ. Those in range join as they come.
   auto propose_distinct = [&](int r0, int r1) {
     if ((unsigned(r0) | unsigned(r1)) > 255) return;
     c.r0[n] = r0, c.r1[n] = r1, ++n;
   };
-  // Later pairs join the batch the first time they are proposed, in range.
+  // Later pairs join the batch the first time they are proposed, in range: the grids' pairs are
+  // recognised by their coordinates, the others marked in `tried` (effort 0 never touches it).
+  const unsigned span = unsigned(2 * radius);
   auto propose = [&](int r0, int r1) {
     if ((unsigned(r0) | unsigned(r1)) > 255) return;
+    const bool grid8 = r0 > r1 && unsigned(r0 - qhi + radius) <= span && unsigned(r1 - qlo + radius) <= span;
+    const bool grid6 = r0 <= r1 && unsigned(r0 - plo + radius) <= span && unsigned(r1 - phi + radius) <= span;
+    if (grid8 | grid6) return;
     c.r0[n] = r0, c.r1[n] = r1;
     n += tried.mark(r0, r1);
   };
@@ -519,21 +529,16 @@ void bc4_encode_block(const float texels[16], uint8_t out[8], int effort) {
   for (int a = -radius; a <= radius; ++a)
     for (int b = -radius; b <= radius; ++b)
       if (qhi + a > qlo + b) propose_distinct(qhi + a, qlo + b);
-  // 6-value mode (r0 ≤ r1) with exact 0 and 1 available: endpoints span the values strictly
-  // inside (0, 1), which helps blocks that touch the ends of the range.
-  float ilo = 1.0f, ihi = 0.0f;
-  for (float x : v)
-    if (x > 0.0f && x < 1.0f) ilo = std::min(ilo, x), ihi = std::max(ihi, x);
-  if (ilo <= ihi) {
-    const int plo = int(std::floor(ilo * 255.0f)), phi = int(std::ceil(ihi * 255.0f));
+  // 6-value mode (above).
+  if (inner) {
     for (int a = -radius; a <= radius; ++a)
       for (int b = -radius; b <= radius; ++b)
         if (plo + a <= phi + b) propose_distinct(plo + a, phi + b);
   }
   // Ramps and clusters often fit best with endpoints BEYOND the data range, so that the data's
   // min and max land on inner palette entries: try every pair of palette positions for them.
+  const int grids = n;  // pairs not marked in `tried`
   if (effort > 0) {
-    for (int j = 0; j < n; ++j) tried.mark(c.r0[j], c.r1[j]);
     for (int mode = 0; mode < 2; ++mode) {
       const bool eight = mode == 0;
       const int steps = eight ? 7 : 5;
@@ -588,8 +593,7 @@ void bc4_encode_block(const float texels[16], uint8_t out[8], int effort) {
       if (p0 == b0 && p1 == b1) break;
     }
   }
-  if (effort > 0)
-    for (int j = 0; j < n; ++j) tried.clear_word(c.r0[j], c.r1[j]);
+  for (int j = grids; j < n; ++j) tried.clear_word(c.r0[j], c.r1[j]);
   write_block(b0, b1, best_idx, out);
 }
 
