@@ -64,8 +64,9 @@ TEST(Bc5, RoundTripAndPartialBlocks) {
 }
 
 TEST(Bc4, SimdAndScalarIndexStepsWriteTheSameBytes) {
-  // The index step runs the 16 texels in one AVX-512 register, two AVX2 ones or four SSE2 ones
-  // (whichever the CPU has); forced below each, the next narrower path, down to the plain loops.
+  // The search evaluates its endpoint pairs 16, 8 or 4 to a register (AVX-512, AVX2, SSE2) and the
+  // winner's index step runs the 16 texels in one AVX-512 register, two AVX2 ones or four SSE2
+  // ones (whichever the CPU has); forced below each, the next narrower path, down to the plain loops.
   // Random blocks of many kinds (ramps, clusters, ties between palette entries, ends of the
   // range), every effort, BC4 and BC5: the same bytes.
   std::mt19937 rng(28);
@@ -82,13 +83,55 @@ TEST(Bc4, SimdAndScalarIndexStepsWriteTheSameBytes) {
         if (kind == 4) v = u(rng) < 0.5f ? 0.0f : 1.0f - 0.001f * float(x % 4);  // ends of the range
         img.at(x, y)[c] = v;
       }
+  // More kinds in the lower half: tiny ranges, NaN / ±inf / out of range, neighbouring 8-bit steps.
+  for (int y = 32; y < 64; ++y)
+    for (int x = 0; x < 64; ++x)
+      for (int c = 0; c < 2; ++c) {
+        const int kind = (x / 4 + y / 4 * 16 + c) % 3;
+        float& v = img.at(x, y)[c];
+        if (kind == 0) v = 0.4f + 1e-3f * u(rng);
+        if (kind == 1 && (x + 2 * y) % 5 == 0) v = (x % 3 == 0) ? NAN : (x % 3 == 1) ? INFINITY : -2.0f;
+        if (kind == 2) v = float(100 + (x * 7 + y * 3) % 5) / 255.0f;
+      }
+  // Each path in turn: the plain loops, SSE2, AVX2 (4-pair batches on SSE2), AVX-512 without AVX2
+  // (its small batches on SSE2), everything the CPU has.
   for (int effort = 0; effort < 3; ++effort) {
     cpu::disable_for_tests(cpu::kAllSimd);
     const std::vector<uint8_t> s4 = bc4_encode_image(img, 1, 1, effort), s5 = bc5_encode_image(img, 1, effort);
-    for (unsigned mask : {cpu::kAboveSse2, cpu::kAboveAvx2, 0u}) {
+    for (unsigned mask : {cpu::kAboveSse2, cpu::kAboveAvx2, unsigned(cpu::kAvx2), 0u}) {
       cpu::disable_for_tests(mask);
       EXPECT_EQ(s4, bc4_encode_image(img, 1, 1, effort)) << effort << " mask " << mask;
       EXPECT_EQ(s5, bc5_encode_image(img, 1, effort)) << effort << " mask " << mask;
+    }
+    cpu::disable_for_tests(0);
+  }
+}
+
+TEST(Bc4, BatchedSearchWritesTheBytesOfTheOneByOneSearch) {
+  // The encoder evaluates its candidate endpoint pairs in batches (SIMD lanes, groups that stop
+  // early once no lane can win, the winner's indices computed once); the reference in
+  // bc4_fixture.h tries them one at a time as the search did before. Same bytes for every block
+  // kind (ties between pairs included: the first of equal errors must win), effort and path.
+  std::mt19937 rng(4);
+  std::vector<float> blocks;
+  for (int b = 0; b < 2400; ++b) {
+    float v[16];
+    make_bc4_test_block(rng, b % 12, v);
+    blocks.insert(blocks.end(), v, v + 16);
+  }
+  for (int effort = 0; effort < 3; ++effort) {
+    std::vector<uint8_t> want(blocks.size() / 2);
+    for (size_t b = 0; b < blocks.size() / 16; ++b) reference_bc4_encode_block(&blocks[b * 16], &want[b * 8], effort);
+    for (unsigned mask : {cpu::kAllSimd, cpu::kAboveSse2, cpu::kAboveAvx2, unsigned(cpu::kAvx2), 0u}) {
+      cpu::disable_for_tests(mask);
+      int differ = 0;
+      for (size_t b = 0; b < blocks.size() / 16; ++b) {
+        uint8_t got[8];
+        bc4_encode_block(&blocks[b * 16], got, effort);
+        if (!std::equal(got, got + 8, &want[b * 8]) && ++differ <= 3)
+          ADD_FAILURE() << "block " << b << " (kind " << b % 12 << "), effort " << effort << ", mask " << mask;
+      }
+      EXPECT_EQ(differ, 0) << "effort " << effort << ", mask " << mask;
     }
     cpu::disable_for_tests(0);
   }
