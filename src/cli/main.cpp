@@ -46,8 +46,11 @@ constexpr Command kCommands[] = {
 // 2048² map's planes) are still mapped on their own and advised for huge pages
 // (core/large_buffer.h). Plain 256²: 9 % less CPU, 0.9 MB more peak (docs/performance-real.md
 // "Small maps"). Memory only: no output byte depends on it.
+// AHD_MALLOC_DEFAULTS=1 leaves glibc's allocator as it is (`bench convert` measures OpenImageIO's
+// read that way: the baseline is an application's read, not one with this tuning).
 void tune_allocator() {
 #if defined(__GLIBC__)
+  if (const char* keep = std::getenv("AHD_MALLOC_DEFAULTS"); keep && *keep && std::strcmp(keep, "0") != 0) return;
   mallopt(M_MMAP_THRESHOLD, 32 << 20);
   mallopt(M_TRIM_THRESHOLD, 64 << 20);
   // The first pages are fresh too, and each 4 KB one costs a fault (10–30 µs on a VM: an L1 256²

@@ -76,7 +76,9 @@ void reset_peak_rss() {
 
 // Starts this executable again with argv_s (argv_s[0] is its name); with `pipe_fds`, its standard
 // output goes to pipe_fds[1] (both ends closed in the child). Returns the child's pid.
-pid_t exec_self(std::vector<std::string> argv_s, const int* pipe_fds = nullptr) {
+// default_malloc: the child leaves glibc's allocator as it is (AHD_MALLOC_DEFAULTS, src/cli/main.cpp),
+// as an application that reads with OpenImageIO would.
+pid_t exec_self(std::vector<std::string> argv_s, const int* pipe_fds = nullptr, bool default_malloc = false) {
   std::vector<char*> argv;
   for (std::string& a : argv_s) argv.push_back(a.data());
   argv.push_back(nullptr);
@@ -89,6 +91,7 @@ pid_t exec_self(std::vector<std::string> argv_s, const int* pipe_fds = nullptr) 
       close(pipe_fds[0]);
       close(pipe_fds[1]);
     }
+    if (default_malloc) setenv("AHD_MALLOC_DEFAULTS", "1", 1);
     execv("/proc/self/exe", argv.data());
     _exit(127);
   }
@@ -102,7 +105,8 @@ std::map<std::string, std::string> run_child(const std::vector<std::string>& arg
   if (pipe(fd) != 0) throw Error("bench convert: pipe() failed");
   std::vector<std::string> argv_s = {"ahdpack", "bench", "convert"};
   argv_s.insert(argv_s.end(), args.begin(), args.end());
-  const pid_t pid = exec_self(argv_s, fd);
+  // OpenImageIO's own read (the baseline) runs with the allocator an application has.
+  const pid_t pid = exec_self(argv_s, fd, args.size() > 1 && args[1] == "read");
   close(fd[1]);
   std::string text;
   char buf[4096];
@@ -225,6 +229,24 @@ ProcessCost convert_process(const Case& c, const fs::path& out_dir, int threads,
   return {cpu[cpu.size() / 2], wall[wall.size() / 2]};
 }
 
+// OpenImageIO's read of one file, `runs` times (each in a fresh child): the median of its CPU and of
+// its wall seconds, the rest (peak, channels) of the first run. One read of a small file varies by
+// ±50 % on a shared VM, and every ratio below is divided by it.
+std::map<std::string, std::string> median_read(const std::string& child, const std::string& file, int runs) {
+  std::map<std::string, std::string> first = run_child({"--child", child, "--child-file", file});
+  std::vector<double> cpu = {std::stod(first.at("cpu"))}, wall = {std::stod(first.at("seconds"))};
+  for (int r = 1; r < runs; ++r) {
+    const auto more = run_child({"--child", child, "--child-file", file});
+    cpu.push_back(std::stod(more.at("cpu")));
+    wall.push_back(std::stod(more.at("seconds")));
+  }
+  std::sort(cpu.begin(), cpu.end());
+  std::sort(wall.begin(), wall.end());
+  first["cpu"] = std::to_string(cpu[cpu.size() / 2]);
+  first["seconds"] = std::to_string(wall[wall.size() / 2]);
+  return first;
+}
+
 // The conversion of one case, in the child: what `ahdpack convert IN -o OUT --profile pc-bc` runs.
 // direction_fit: "linear" or "refined"; empty keeps the conversion's default.
 std::string convert_case(const Case& c, const std::string& out_dir, int threads, bool full_measure,
@@ -324,7 +346,7 @@ void add_bench_convert_command(CLI::App& bench) {
   c->add_option("--threads", a->threads, "Worker threads (0 = all)");
   c->add_option("--dir", a->dir, "Folder for the generated inputs and outputs (default: a fresh temp folder, removed after)");
   c->add_option("--process-runs", a->process_runs,
-                 "Whole `ahdpack convert` processes timed per input, start included (median; 0 = none)")
+                 "Whole `ahdpack convert` processes timed per input, start included (median; 0 = none); as many OpenImageIO reads (at least one)")
       ->check(CLI::Range(0, 100));
   c->add_flag("--full-measure", a->full_measure, "Measure every texel (--measure full) instead of the default estimate");
   c->add_option("--direction-fit", a->direction_fit,
@@ -387,13 +409,14 @@ void add_bench_convert_command(CLI::App& bench) {
                 a->full_measure ? ", full error measurement" : ", error estimate (the default)");
     std::printf("%-12s %8s %9s %9s %7s %9s %10s %8s %9s %10s\n", "input", "MTexels", "total s", "OIIO s", "ratio",
                 "MTexel/s", "peak MB", "B/texel", "x input", "estimate");
-    // One OpenImageIO read per input, then one conversion per requested direction fit (the rows of
-    // one input share the read they are divided by).
+    // OpenImageIO's read of each input (the median of --process-runs reads, at least one), then one
+    // conversion per requested direction fit (the rows of one input share the read they are divided by).
     std::vector<std::string> fits = a->direction_fit;
     if (fits.empty()) fits.push_back("");
     for (const Case& cs : cases) {
-      const auto rd = run_child({"--child", "read", "--child-file", cs.file});
-      const auto rh = run_child({"--child", "read-huge", "--child-file", cs.file});
+      const int read_runs = std::max(1, a->process_runs);
+      const auto rd = median_read("read", cs.file, read_runs);
+      const auto rh = median_read("read-huge", cs.file, read_runs);
       for (const std::string& fit : fits) {
         std::vector<std::string> args = {"--child", cs.plain ? "plain" : "l2", "--child-file", cs.file, "--child-out",
                                          utf8_string(dir / "out"), "--threads", std::to_string(threads)};
