@@ -17,29 +17,6 @@ void sh_basis(double x, double y, double z, int count, double* out) {
   out[8] = kY22 * (x * x - y * y);
 }
 
-IrradiancePoly irradiance_poly(const float* sh, int count, int stride) {
-  IrradiancePoly p;
-  auto c = [&](int k) { return double(sh[k * stride]); };
-  p.e0 = l0_irradiance(c(0));
-  if (count >= 4) {  // L0 images (plain lightmaps) have no L1: e stays 0
-    p.e[0] = kA1 * kY1 * c(3);
-    p.e[1] = kA1 * kY1 * c(1);
-    p.e[2] = kA1 * kY1 * c(2);
-  }
-  if (count >= 9) {
-    // Band 2 times Â2; the constant part of Y20 (−1) goes into e0.
-    const double k = kA2;
-    p.e0 -= k * kY20 * c(6);
-    p.q[0][1] = p.q[1][0] = 0.5 * k * kY2a * c(4);
-    p.q[1][2] = p.q[2][1] = 0.5 * k * kY2a * c(5);
-    p.q[0][2] = p.q[2][0] = 0.5 * k * kY2a * c(7);
-    p.q[2][2] = 3.0 * k * kY20 * c(6);
-    p.q[0][0] = k * kY22 * c(8);
-    p.q[1][1] = -k * kY22 * c(8);
-  }
-  return p;
-}
-
 double eval_irradiance(const IrradiancePoly& p, const double n[3]) {
   double v = p.e0 + p.e[0] * n[0] + p.e[1] * n[1] + p.e[2] * n[2];
   for (int i = 0; i < 3; ++i)

@@ -52,7 +52,29 @@ inline double l0_irradiance(double c0) { return kA0 * kY00 * c0; }
 
 // Converts `count` (4 or 9) radiance-SH coefficients of one channel, read at stride `stride`
 // (coeff k at sh[k * stride]), into the irradiance polynomial.
-IrradiancePoly irradiance_poly(const float* sh, int count, int stride);
+// Inline: every stage asks for a texel's polynomials (local_polys), millions of times a map.
+inline IrradiancePoly irradiance_poly(const float* sh, int count, int stride) {
+  IrradiancePoly p;
+  auto c = [&](int k) { return double(sh[k * stride]); };
+  p.e0 = l0_irradiance(c(0));
+  if (count >= 4) {  // L0 images (plain lightmaps) have no L1: e stays 0
+    p.e[0] = kA1 * kY1 * c(3);
+    p.e[1] = kA1 * kY1 * c(1);
+    p.e[2] = kA1 * kY1 * c(2);
+  }
+  if (count >= 9) {
+    // Band 2 times Â2; the constant part of Y20 (−1) goes into e0.
+    const double k = kA2;
+    p.e0 -= k * kY20 * c(6);
+    p.q[0][1] = p.q[1][0] = 0.5 * k * kY2a * c(4);
+    p.q[1][2] = p.q[2][1] = 0.5 * k * kY2a * c(5);
+    p.q[0][2] = p.q[2][0] = 0.5 * k * kY2a * c(7);
+    p.q[2][2] = 3.0 * k * kY20 * c(6);
+    p.q[0][0] = k * kY22 * c(8);
+    p.q[1][1] = -k * kY22 * c(8);
+  }
+  return p;
+}
 
 // E(n) for a unit normal n.
 double eval_irradiance(const IrradiancePoly& p, const double n[3]);
