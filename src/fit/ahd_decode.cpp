@@ -5,18 +5,6 @@
 
 namespace ahd {
 
-bool tilt_above_horizon(double d[3], double dz_min) {
-  if (d[2] >= dz_min) return false;
-  const double rxy = std::sqrt(d[0] * d[0] + d[1] * d[1]);
-  if (rxy > 1e-12) {
-    const double sxy = std::sqrt(1.0 - dz_min * dz_min);
-    d[0] *= sxy / rxy, d[1] *= sxy / rxy, d[2] = dz_min;
-  } else {
-    d[0] = 0, d[1] = 0, d[2] = 1;
-  }
-  return true;
-}
-
 void decode_colours(const float iz[3], const float d[3], const float ratio[3], double dz_min,
                     double ca[3], double cd[3], double unit_d[3]) {
   const double len = std::sqrt(double(d[0]) * d[0] + double(d[1]) * d[1] + double(d[2]) * d[2]);

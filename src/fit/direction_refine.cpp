@@ -14,28 +14,6 @@ const char* direction_fit_name(DirectionFit f) { return enum_name(kDirectionFits
 
 bool parse_direction_fit(const std::string& s, DirectionFit* out) { return parse_enum(kDirectionFits, s, out); }
 
-double least_squares_ratio(const LuneMoments& m, const double f0[3], const double iz[3], double dz) {
-  return least_squares_ratio_k(m, f0, iz, 1.0 / dz);
-}
-
-double least_squares_ratio_k(const LuneMoments& m, const double f0[3], const double iz[3], double k) {
-  // With C_a = r I, C_d = (1−r) I k (k = 1/d_z), E_c(r) is quadratic in r; summing dE_c/dr = 0
-  // over the channels gives r = num / den.
-  const double g0 = 2.0 * kPi;
-  const double hh = g0 - 2.0 * k * m.g1 + k * k * m.g2;  // ∫ (1 − g/d_z)² ≥ 0
-  double num = 0, den = 0;
-  for (int c = 0; c < 3; ++c) {
-    const double I = iz[c];
-    if (!(I > 0.0)) continue;
-    num += I * (I * (k * k * m.g2 - k * m.g1) + f0[c] - k * m.f1[c]);
-    den += I * I * hh;
-  }
-  if (!(den > 0.0)) return 1.0;
-  const double r = num / den;
-  // r > 0 ? std::min(r, 1.0) : 0 (also maps NaN to 0), without branches (fit/branchless.h).
-  return positive_part(less_or_second(1.0, r));
-}
-
 namespace {
 
 double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "fit/ahd_fit.h"
+#include "fit/branchless.h"
 
 namespace ahd {
 
@@ -38,10 +39,29 @@ double hemisphere_square_integral(const IrradiancePoly& p);
 
 // The luminance-form ratio r ∈ [0,1] minimising Σ_c ∫ (r I_c + (1−r) I_c g/d_z − E_c)², the
 // hemisphere error summed over the three channels (a clamped 1-D least squares). f0[c] = ∫ E_c.
-// Returns 1 when every iz[c] is 0.
-double least_squares_ratio(const LuneMoments& m, const double f0[3], const double iz[3], double dz);
-// The same with k = 1.0 / dz already at hand (the same bytes).
-double least_squares_ratio_k(const LuneMoments& m, const double f0[3], const double iz[3], double k);
+// Returns 1 when every iz[c] is 0. least_squares_ratio_k: the same with k = 1.0 / dz already at
+// hand (the same bytes). Inline: the refinement asks for it at every direction it evaluates.
+inline double least_squares_ratio_k(const LuneMoments& m, const double f0[3], const double iz[3], double k) {
+  // With C_a = r I, C_d = (1−r) I k (k = 1/d_z), E_c(r) is quadratic in r; summing dE_c/dr = 0
+  // over the channels gives r = num / den.
+  const double g0 = 2.0 * kPi;
+  const double hh = g0 - 2.0 * k * m.g1 + k * k * m.g2;  // ∫ (1 − g/d_z)² ≥ 0
+  double num = 0, den = 0;
+  for (int c = 0; c < 3; ++c) {
+    const double I = iz[c];
+    if (!(I > 0.0)) continue;
+    num += I * (I * (k * k * m.g2 - k * m.g1) + f0[c] - k * m.f1[c]);
+    den += I * I * hh;
+  }
+  if (!(den > 0.0)) return 1.0;
+  const double r = num / den;
+  // r > 0 ? std::min(r, 1.0) : 0 (also maps NaN to 0), without branches (fit/branchless.h).
+  return positive_part(less_or_second(1.0, r));
+}
+
+inline double least_squares_ratio(const LuneMoments& m, const double f0[3], const double iz[3], double dz) {
+  return least_squares_ratio_k(m, f0, iz, 1.0 / dz);
+}
 
 // Σ_c ∫_{Ω+} (C_a + C_d max(0,ω·d) − E_c)² minus the d-independent Σ_c ∫ E_c², for the colours the
 // fit of `opt`'s ratio form chooses at the unit direction d (d_z > 0) with irradiance iz along z:
