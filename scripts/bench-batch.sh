@@ -8,7 +8,8 @@
 #   BUILD_DIR  default build/ (its ahdpack);  WORK_DIR  default a fresh folder under /tmp, kept.
 # Prints: the batch's user+sys CPU and wall seconds (/usr/bin/time), the summed CPU and wall of one
 # OpenImageIO read per file (each in its own process, OpenImageIO loaded before the clock starts:
-# `ahdpack bench convert --child read`), and the ratios. ENV: AHD_BATCH_THREADS (default 0 = all),
+# `ahdpack bench convert --child read`, with glibc's allocator as an application has it:
+# AHD_MALLOC_DEFAULTS=1), and the ratios. ENV: AHD_BATCH_THREADS (default 0 = all),
 # AHD_BATCH_EXTRA (more `convert` options, e.g. "--measure off").
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -42,7 +43,7 @@ echo "bench-batch: $n maps in $work/in ($(du -sh "$work/in" | cut -f1)), load: $
 read_cpu=0
 read_wall=0
 for f in "${files[@]}"; do
-  out=$("$ahdpack" bench convert --child read --child-file "$f")
+  out=$(AHD_MALLOC_DEFAULTS=1 "$ahdpack" bench convert --child read --child-file "$f")
   c=$(sed -n 's/^cpu=//p' <<<"$out")
   w=$(sed -n 's/^seconds=//p' <<<"$out")
   [ -n "$c" ] || { echo "bench-batch: read of $f failed: $out" >&2; exit 1; }
