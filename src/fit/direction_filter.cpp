@@ -43,7 +43,7 @@ void window_local_polys(const ShImage& sh, size_t i, int radius, IrradiancePoly 
   const int count = n == 27 ? window_sums<27>(sh, i, radius, sum)
                     : n == 12 ? window_sums<12>(sh, i, radius, sum)
                               : window_sums<0>(sh, i, radius, sum);
-  float mean[kShCoeffsL2 * 3];
+  float mean[kShCoeffsL2 * 3] = {};  // only the first n are read (zeroed: GCC 12 cannot see it)
   for (int k = 0; k < n; ++k) mean[k] = float(sum[k] / count);
   for (int c = 0; c < 3; ++c) out[c] = irradiance_poly(mean + c, sh.coeffs, 3);
   if (sh.normals.empty()) return;

@@ -63,7 +63,7 @@ void reference_window_polys(const ShImage& sh, size_t i, int radius, IrradianceP
       ++count;
     }
   }
-  float mean[kShCoeffsL2 * 3];
+  float mean[kShCoeffsL2 * 3] = {};  // only the first n are read (zeroed: GCC 12 cannot see it)
   for (int k = 0; k < n; ++k) mean[k] = float(sum[k] / count);
   for (int c = 0; c < 3; ++c) out[c] = irradiance_poly(mean + c, sh.coeffs, 3);
   if (sh.normals.empty()) return;
