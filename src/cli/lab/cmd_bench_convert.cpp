@@ -199,6 +199,12 @@ std::string fmt(const char* f, double v) {
   return b;
 }
 
+// The middle value of v (the upper one of an even count), which it reorders; v not empty.
+double median(std::vector<double>& v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
 // `ahdpack convert` itself, as a user runs it: a new process each time, its start included (the
 // dynamic loader, the command line, the thread pool, the files written). Median of `runs` runs of
 // CPU (user + system, from wait4) and wall seconds.
@@ -224,9 +230,7 @@ ProcessCost convert_process(const Case& c, const fs::path& out_dir, int threads,
       throw Error("bench convert: `ahdpack convert " + argv_s[2] + "` failed");
     cpu.push_back(seconds_of(u));
   }
-  std::sort(cpu.begin(), cpu.end());
-  std::sort(wall.begin(), wall.end());
-  return {cpu[cpu.size() / 2], wall[wall.size() / 2]};
+  return {median(cpu), median(wall)};
 }
 
 // OpenImageIO's read of one file, `runs` times (each in a fresh child): the median of its CPU and of
@@ -240,10 +244,8 @@ std::map<std::string, std::string> median_read(const std::string& child, const s
     cpu.push_back(std::stod(more.at("cpu")));
     wall.push_back(std::stod(more.at("seconds")));
   }
-  std::sort(cpu.begin(), cpu.end());
-  std::sort(wall.begin(), wall.end());
-  first["cpu"] = std::to_string(cpu[cpu.size() / 2]);
-  first["seconds"] = std::to_string(wall[wall.size() / 2]);
+  first["cpu"] = std::to_string(median(cpu));
+  first["seconds"] = std::to_string(median(wall));
   return first;
 }
 
