@@ -13,6 +13,7 @@ HemisphereSums hemisphere_sums_plain(const IrradiancePoly p[3], const AhdLobe& l
 }
 
 HemisphereSums hemisphere_sums(const IrradiancePoly p[3], const AhdLobe& l, const double* dirs, int n, bool with_log) {
+  if (n >= 8 && cpu::has(cpu::kAvx2 | cpu::kAvx512)) return hemisphere_sums_avx512(p, l, dirs, n, with_log);
   if (n >= 4 && cpu::has(cpu::kAvx2)) return hemisphere_sums_avx2(p, l, dirs, n, with_log);
   return hemisphere_sums_plain(p, l, dirs, n, with_log);
 }

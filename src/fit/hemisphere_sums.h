@@ -1,8 +1,8 @@
 // The inner loop of every error figure (fit/hemisphere_error.h): one texel's lobe against its SH
 // over the hemisphere directions — squared error, squared log2 ratio and luminance, summed. Internal
-// to src/fit. Two paths, the plain one and AVX2 (four directions at a time); both run the same IEEE
-// operations in the same order for every direction and sum in the same four lanes, so they give
-// the same bits (test HemisphereSums.PathsGiveTheSameBits).
+// to src/fit. Three paths, the plain one, AVX2 (four directions at a time) and AVX-512 (eight); all
+// run the same IEEE operations in the same order for every direction and sum in the same four
+// lanes, so they give the same bits (test HemisphereSums.PathsGiveTheSameBits).
 #pragma once
 #include <algorithm>
 #include <cfloat>
@@ -27,11 +27,14 @@ struct HemisphereSums {
 };
 HemisphereSums hemisphere_sums(const IrradiancePoly p[3], const AhdLobe& l, const double* dirs, int n, bool with_log);
 
-// The two paths (tests force each): plain, and AVX2 (call only when cpu::has(cpu::kAvx2)).
+// The three paths (tests force each): plain, AVX2 (call only when cpu::has(cpu::kAvx2)) and
+// AVX-512 (only when cpu::has(cpu::kAvx2 | cpu::kAvx512)).
 HemisphereSums hemisphere_sums_plain(const IrradiancePoly p[3], const AhdLobe& l, const double* dirs, int n,
                                      bool with_log);
 HemisphereSums hemisphere_sums_avx2(const IrradiancePoly p[3], const AhdLobe& l, const double* dirs, int n,
                                     bool with_log);
+HemisphereSums hemisphere_sums_avx512(const IrradiancePoly p[3], const AhdLobe& l, const double* dirs, int n,
+                                      bool with_log);
 
 // log2(x) as 2·atanh((m − 1)/(m + 1))·log2(e) + k for x = m·2^k, m in (√½, √2], the series to s¹⁹:
 // within a few units in the last place of std::log2, and the same bits in every path (plain

@@ -48,11 +48,13 @@ TEST(HemisphereSums, PathsGiveTheSameBits) {
   std::mt19937_64 rng(9);
   std::uniform_real_distribution<double> u(-1, 1);
   std::vector<double> dirs;
+  // AVX-512 where the CPU has it (the wider path is compared with the plain one too).
+  const bool avx512 = cpu::has(cpu::kAvx2 | cpu::kAvx512);
   for (int k = 0; k < 67; ++k) {  // not a multiple of four: the AVX2 path's tail too
     const double z = (k + 0.5) / 67, r = std::sqrt(1 - z * z), a = 2.399963 * k;
     dirs.insert(dirs.end(), {r * std::cos(a), r * std::sin(a), z});
   }
-  int checked = 0;
+  int checked = 0, checked512 = 0;
   for (int t = 0; t < 3000; ++t) {
     IrradiancePoly p[3];
     for (IrradiancePoly& q : p) {
@@ -65,7 +67,7 @@ TEST(HemisphereSums, PathsGiveTheSameBits) {
     for (int c = 0; c < 3; ++c) l.ca[c] = 0.5 + u(rng), l.cd[c] = (t % 7 == 0 ? -1 : 1) * (0.5 + u(rng)), l.d[c] = u(rng);
     if (t % 11 == 0) l.ca[0] = 1e300 * (1 + u(rng));  // ratios far out: the log of huge values
     if (t % 13 == 0) l.ca[1] = std::numeric_limits<double>::infinity();  // std::log2's cases: the plain path
-    for (int n : {1, 4, 5, 64, 67}) {
+    for (int n : {1, 4, 5, 8, 13, 64, 67}) {  // 13, 67: a group of four and a tail after the eights
       for (bool with_log : {false, true}) {
         const HemisphereSums a = hemisphere_sums_plain(p, l, dirs.data(), n, with_log);
         const HemisphereSums b = hemisphere_sums_avx2(p, l, dirs.data(), n, with_log);
@@ -73,8 +75,15 @@ TEST(HemisphereSums, PathsGiveTheSameBits) {
         ASSERT_EQ(bits_of(a.sl), bits_of(b.sl)) << t << " " << n;
         ASSERT_EQ(bits_of(a.lum), bits_of(b.lum)) << t << " " << n;
         ++checked;
+        if (!avx512) continue;
+        const HemisphereSums c = hemisphere_sums_avx512(p, l, dirs.data(), n, with_log);
+        ASSERT_EQ(bits_of(a.se), bits_of(c.se)) << "AVX-512 " << t << " " << n;
+        ASSERT_EQ(bits_of(a.sl), bits_of(c.sl)) << "AVX-512 " << t << " " << n;
+        ASSERT_EQ(bits_of(a.lum), bits_of(c.lum)) << "AVX-512 " << t << " " << n;
+        ++checked512;
       }
     }
   }
-  EXPECT_EQ(checked, 3000 * 10);
+  EXPECT_EQ(checked, 3000 * 14);
+  EXPECT_EQ(checked512, avx512 ? 3000 * 14 : 0);
 }
