@@ -8,6 +8,7 @@
 #include "bakers/scene_export.h"
 #include "core/error.h"
 #include "files/input_record.h"
+#include "image/image_io.h"
 
 namespace ahd {
 
@@ -23,6 +24,7 @@ BakeRead read_bake(const BakeSource& source, int threads) {
   {
     // The same steps, in the same order, as the cook (cook/cook.cpp): every file read is noted.
     const RecordInputs recording(&record);
+    const ImageInfoScope headers;  // the input's header read once (image/image_io.h)
     resolve_auto_layout(&in);
     find_scene_for_input(&in);
     check_bake_input(in);

@@ -19,6 +19,7 @@
 #include "cook/depfile.h"
 #include "core/error.h"
 #include "files/input_record.h"
+#include "image/image_io.h"
 #include "files/output_set.h"
 #include "files/profile_file.h"
 #include "image/ahd_intermediate.h"
@@ -202,6 +203,7 @@ CookResult cook_conversion(const CookRequest& request, const CookHooks& hooks) {
   const auto t0 = std::chrono::steady_clock::now();
   {
     const RecordInputs recording(&record);
+    const ImageInfoScope headers;  // the input's header read once (image/image_io.h)
     resolve_auto_layout(&a);
     find_scene_for_input(&a);
     detection_notes = a.notes.size();  // why this path was taken: told even on failure

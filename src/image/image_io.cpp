@@ -137,7 +137,45 @@ ImageFileInfo info_of(OpenedImage& f, int part) {
 
 }  // namespace
 
+struct ImageInfoScope::Memo {
+  struct Entry {
+    std::string path;
+    int part;
+    ImageFileInfo info;
+  };
+  std::vector<Entry> entries;  // a conversion reads a few files: a linear scan is fine
+};
+
+namespace {
+thread_local ImageInfoScope::Memo* current_memo = nullptr;
+
+ImageFileInfo read_image_info_uncached(const std::string& path, int part);
+}  // namespace
+
+ImageInfoScope::ImageInfoScope() : previous_(current_memo), memo_(new Memo) { current_memo = memo_; }
+
+ImageInfoScope::~ImageInfoScope() {
+  current_memo = previous_;
+  delete memo_;
+}
+
 ImageFileInfo read_image_info(const std::string& path, int part) {
+  ImageInfoScope::Memo* m = current_memo;
+  if (!m) return read_image_info_uncached(path, part);
+  for (const ImageInfoScope::Memo::Entry& e : m->entries)
+    if (e.part == part && e.path == path) {
+      if (!input_exists(path)) throw file_error(path, "file not found");
+      note_input_file(path);
+      return e.info;
+    }
+  ImageFileInfo info = read_image_info_uncached(path, part);
+  m->entries.push_back({path, part, info});
+  return info;
+}
+
+namespace {
+
+ImageFileInfo read_image_info_uncached(const std::string& path, int part) {
   // An EXR's headers (and chunk tables) are at its start: the first 256 KB answer for any lightmap
   // seen, where the whole file is read several times per conversion otherwise (the layout's
   // detection, the batch's schedule: 113 MB each for a 1024² L2 canonical EXR). Anything the head
@@ -160,6 +198,8 @@ ImageFileInfo read_image_info(const std::string& path, int part) {
   OpenedImage f = open_input(path, std::move(bytes));
   return info_of(f, part);
 }
+
+}  // namespace
 
 ImageF read_image(const std::string& path, ImageFileInfo* info_out, int part) {
   std::vector<uint8_t> bytes = read_image_bytes(path);

@@ -29,6 +29,25 @@ struct ImageFileInfo {
 // header from one and pixels from the other.
 ImageFileInfo read_image_info(const std::string& path, int part = 0);
 
+// A scope on this thread (as files/input_record.h's RecordInputs) in which read_image_info
+// answers each (path, part) from its first answer: one conversion asks for its input's header
+// several times (the layout's detection, the bake's pages), each a read and a parse of the file's
+// head. A repeated answer still checks that the file exists and notes it as read (the same
+// record, the same "file not found" if it went away); errors are never kept. Scopes nest, the
+// inner one starting empty. Not copyable.
+class ImageInfoScope {
+ public:
+  ImageInfoScope();
+  ~ImageInfoScope();
+  ImageInfoScope(const ImageInfoScope&) = delete;
+  ImageInfoScope& operator=(const ImageInfoScope&) = delete;
+  struct Memo;  // image_io.cpp
+
+ private:
+  Memo* previous_;
+  Memo* memo_;
+};
+
 // Reads every channel of one part (subimage) / mip 0 as floats (8-bit data is scaled to [0,1]; no
 // colour conversion). Throws ahd::Error on failure.
 ImageF read_image(const std::string& path, ImageFileInfo* info = nullptr, int part = 0);
