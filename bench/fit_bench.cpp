@@ -7,6 +7,8 @@
 #include "files/profile_file.h"
 #include "fit/ahd_fit.h"
 #include "fit/fit_image.h"
+#include "fit/hemisphere_sums.h"
+#include "core/cpu.h"
 #include "pipeline/convert.h"
 #include "sample/analytic_baker.h"
 #include "lab/hard_cases.h"
@@ -56,6 +58,37 @@ void BM_FitTexel(benchmark::State& state) {
 BENCHMARK(BM_FitTexel)
     ->ArgsProduct({{4, 9}, {0, 1}, {0, 1}})
     ->ArgNames({"coeffs", "refined", "rgb"});
+
+// One texel's error terms over the estimate's 64 hemisphere directions, with the log figure, by
+// path (0 plain, 1 AVX2, 2 AVX-512; a path the CPU lacks is skipped): fit/hemisphere_sums.h.
+void BM_HemisphereSums(benchmark::State& state) {
+  const int path = int(state.range(0));
+  if ((path == 1 && !cpu::has(cpu::kAvx2)) || (path == 2 && !cpu::has(cpu::kAvx2 | cpu::kAvx512))) {
+    state.SkipWithError("this CPU lacks the path's instructions");
+    return;
+  }
+  const size_t n = 1024;
+  const auto polys = random_polys(4, n);
+  std::vector<AhdLobe> lobes(n);
+  for (size_t i = 0; i < n; ++i) {
+    const AhdFit f = fit_texel(&polys[i * 3], FitOptions{});
+    for (int c = 0; c < 3; ++c) lobes[i].ca[c] = fitted_ca(f, c), lobes[i].cd[c] = fitted_cd(f, c), lobes[i].d[c] = f.d[c];
+  }
+  const std::vector<double> dirs = hemisphere_directions(64);
+  size_t i = 0;
+  for (auto _ : state) {
+    const IrradiancePoly* p = &polys[(i % n) * 3];
+    const AhdLobe& l = lobes[i % n];
+    const HemisphereSums h = path == 0   ? hemisphere_sums_plain(p, l, dirs.data(), 64, true)
+                             : path == 1 ? hemisphere_sums_avx2(p, l, dirs.data(), 64, true)
+                                         : hemisphere_sums_avx512(p, l, dirs.data(), 64, true);
+    benchmark::DoNotOptimize(h);
+    ++i;
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()));
+  state.SetLabel(path == 0 ? "plain" : path == 1 ? "AVX2" : "AVX-512");
+}
+BENCHMARK(BM_HemisphereSums)->DenseRange(0, 2)->ArgName("path");
 
 // BM_FitTexel's texels through fit_texels in groups of 4, as fit_image hands them (the refined
 // searches run in lockstep; the same bytes as fit_texel one at a time). Time per texel.
