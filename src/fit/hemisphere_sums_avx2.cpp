@@ -15,13 +15,7 @@ AHD_AVX2 HemisphereSums hemisphere_sums_avx2(const IrradiancePoly p[3], const Ah
   bool normal = true;
   const int full = n / 4 * 4;
   for (int k = 0; k < full; k += 4) add_group4(p, l, dirs + size_t(k) * 3, with_log, se, sl, lum, &normal);
-  // A ratio outside the normal doubles (std::log2's cases): the plain path, whose sums are the same.
-  if (!normal) return hemisphere_sums_plain(p, l, dirs, n, with_log);
-  alignas(32) double a[4], b[4], c[4];
-  _mm256_store_pd(a, se);
-  _mm256_store_pd(b, sl);
-  _mm256_store_pd(c, lum);
-  return finish(p, l, dirs, full, n, with_log, a, b, c);
+  return finish(p, l, dirs, full, n, with_log, normal, se, sl, lum);
 }
 
 }  // namespace ahd

@@ -101,12 +101,7 @@ AHD_AVX512 HemisphereSums hemisphere_sums_avx512(const IrradiancePoly p[3], cons
   }
   const int full4 = n / 4 * 4;
   if (full4 > full8) add_group4(p, l, dirs + size_t(full8) * 3, with_log, se, sl, lum, &normal);
-  if (!normal) return hemisphere_sums_plain(p, l, dirs, n, with_log);
-  alignas(32) double a[4], b[4], c[4];
-  _mm256_store_pd(a, se);
-  _mm256_store_pd(b, sl);
-  _mm256_store_pd(c, lum);
-  return finish(p, l, dirs, full4, n, with_log, a, b, c);
+  return finish(p, l, dirs, full4, n, with_log, normal, se, sl, lum);
 }
 
 }  // namespace ahd

@@ -73,11 +73,15 @@ AHD_AVX2 inline void add_group4(const IrradiancePoly p[3], const AhdLobe& l, con
   }
 }
 
-// The lanes' sums and the directions past the last group of four (add_direction), combined.
-inline HemisphereSums finish(const IrradiancePoly p[3], const AhdLobe& l, const double* dirs, int from, int n,
-                             bool with_log, const double se[4], const double sl[4], const double lum[4]) {
-  double a[4], b[4], c[4];
-  for (int i = 0; i < 4; ++i) a[i] = se[i], b[i] = sl[i], c[i] = lum[i];
+// The four lanes' sums and the directions from `from` on (add_direction), combined; the plain
+// path's sums instead when a lane's ratio left the normal doubles (std::log2's cases there).
+AHD_AVX2 inline HemisphereSums finish(const IrradiancePoly p[3], const AhdLobe& l, const double* dirs, int from,
+                                      int n, bool with_log, bool normal, __m256d se, __m256d sl, __m256d lum) {
+  if (!normal) return hemisphere_sums_plain(p, l, dirs, n, with_log);
+  alignas(32) double a[4], b[4], c[4];
+  _mm256_store_pd(a, se);
+  _mm256_store_pd(b, sl);
+  _mm256_store_pd(c, lum);
   for (int k = from; k < n; ++k) add_direction(p, l, dirs + size_t(k) * 3, with_log, a[k & 3], b[k & 3], c[k & 3]);
   return combine_lanes(a, b, c);
 }
