@@ -16,9 +16,12 @@
 namespace ahd {
 
 // Every failure the library reports is an ahd::Error whose what() is one line fit for a terminal:
-// "<file>: <cause>" when a file is involved, otherwise the cause.
+// "<file>: <cause>" when a file is involved, otherwise the cause. The constructors write control
+// characters of the text (a newline in a name a file gave) as \n, \r, \t or \xNN, so the line
+// stays one whatever a message quotes.
 struct AHD_API Error : std::runtime_error {
-  using std::runtime_error::runtime_error;
+  explicit Error(const std::string& what);
+  explicit Error(const char* what);
 };
 
 // Thrown (an ahd::Error) when a conversion stops because its cancel flag was raised.
