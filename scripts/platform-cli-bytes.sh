@@ -43,8 +43,19 @@ run() {  # OUTDIR RUNNER... AHDPACK
     mkdir -p "$out/$name"
     start=$(date +%s)
     # shellcheck disable=SC2086  # opts: several words
-    if ! "${cmd[@]}" convert $input -o "$out/$name/$file" $opts >"$log" 2>&1; then
-      echo "platform-cli-bytes: $name failed: ${cmd[*]} convert $input -o $out/$name/$file $opts" >&2
+    local rc=0
+    "${cmd[@]}" convert $input -o "$out/$name/$file" $opts >"$log" 2>&1 || rc=$?
+    # A run that failed without a word (no report, no error line: Wine's process start failed
+    # once in a CI check on 2026-12-05, and the same command then passed three times) is run
+    # again once, saying so; a conversion's own failure always prints its error line.
+    if [ $rc != 0 ] && [ ! -s "$log" ]; then
+      echo "platform-cli-bytes: $name exited $rc without output: running it again" >&2
+      rm -rf "${out:?}/$name" && mkdir -p "$out/$name"
+      # shellcheck disable=SC2086
+      rc=0 && "${cmd[@]}" convert $input -o "$out/$name/$file" $opts >"$log" 2>&1 || rc=$?
+    fi
+    if [ $rc != 0 ]; then
+      echo "platform-cli-bytes: $name failed (exit $rc): ${cmd[*]} convert $input -o $out/$name/$file $opts" >&2
       cat "$log" >&2; rm -f "$log"; return 1
     fi
     rm -f "$out/$name"/*.report.json
