@@ -51,18 +51,34 @@ constexpr Command kCommands[] = {
 void tune_allocator() {
 #if defined(__GLIBC__)
   if (const char* keep = std::getenv("AHD_MALLOC_DEFAULTS"); keep && *keep && std::strcmp(keep, "0") != 0) return;
-  mallopt(M_MMAP_THRESHOLD, 32 << 20);
   mallopt(M_TRIM_THRESHOLD, 64 << 20);
   // The first pages are fresh too, and each 4 KB one costs a fault (10–30 µs on a VM: an L1 256²
   // conversion took 2 800). So the heap grows in 64 MB steps and its first step is advised for
   // 2 MB pages, one heap serving every thread: L1/L2 256² ~1 200 faults, 5–8 % less CPU, +1 MB peak.
   mallopt(M_ARENA_MAX, 1);
   mallopt(M_TOP_PAD, 64 << 20);
-  if (void* p = std::malloc(4 << 20)) {  // from the heap: it grows by 4 + 64 MB (address space only)
+  // The heap is grown by one block of kGrow (from the heap: the mapping threshold is raised for
+  // it), advised, and given back. Two stretches of 2 MB would otherwise stay 4 KB pages:
+  // - the one the heap's top header lands in when it grows (written before the advice, its page
+  //   table then rules out a huge page there): at p + kGrow, past the 64 MB the heap keeps when the
+  //   block is freed, so that stretch is unmapped again;
+  // - the one from p to the first 2 MB boundary: a block that fills it, kept for the process and
+  //   never written, starts the next blocks at the boundary.
+  // Faults of a whole conversion on the project's VM: L1 256² 1 380 → 380, plain 256² 370–840
+  // (where the heap happened to start) → 380–420 (docs/performance-real.md "Small maps, round 9").
+  constexpr size_t kGrow = size_t(68) << 20, kHuge = size_t(2) << 20;
+  mallopt(M_MMAP_THRESHOLD, 128 << 20);
+  if (void* p = std::malloc(kGrow)) {  // the heap grows by kGrow + 64 MB (address space only)
     const uintptr_t from = reinterpret_cast<uintptr_t>(p), top = reinterpret_cast<uintptr_t>(sbrk(0));
-    if (top > from && top - from <= (size_t(80) << 20)) ahd::advise_huge_pages(p, size_t(top - from));
+    if (top > from && top - from <= kGrow + (size_t(80) << 20)) ahd::advise_huge_pages(p, size_t(top - from));
     std::free(p);
+    const uintptr_t gap = ((from + kHuge - 1) & ~(kHuge - 1)) - from;
+    if (gap >= 4096) {
+      void* fill = std::malloc(gap - 2 * sizeof(size_t));
+      if (fill != p) std::free(fill);  // not where the heap's top was: no gain, give it back
+    }
   }
+  mallopt(M_MMAP_THRESHOLD, 32 << 20);
 #endif
 }
 
