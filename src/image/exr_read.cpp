@@ -126,9 +126,9 @@ std::vector<std::string> ordered_channels(const Imf::ChannelList& list) {
   return names;
 }
 
-// OpenEXR's process-wide settings, once: a decoding pool of up to 4 threads
-// (chunks decode independently: the values never depend on the count).
-void configure_openexr() {
+// OpenEXR's decoding pool of up to 4 threads, started by the first file big enough to gain from it
+// (chunks decode independently: the values never depend on the count). Process-wide.
+void start_openexr_pool() {
   static std::once_flag once;
   std::call_once(once, [] {
     const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
@@ -137,6 +137,26 @@ void configure_openexr() {
   // OpenEXR's own header bound (Header::setMaxImageSize) is left unset, as OpenImageIO left it:
   // it is process-wide, so it would also refuse OpenImageIO's writes and replace our
   // check_declared_image message; our check runs before any pixel buffer is sized.
+}
+
+// Below this many bytes of decoded pixels a file is decoded on the calling thread: handing its few
+// chunks to pool threads (and starting them) cost more than it saved. Plain 256² (0.4 MB as half):
+// 6 % less CPU and 8 % less wall time; L1 256² (3 MB) and plain 1024² (6 MB) keep the pool, which
+// shortens their wall time (docs/performance-real.md "Small maps, round 9").
+constexpr double kPoolFromBytes = 2.0 * 1024 * 1024;
+
+// The decoded size of every part's pixels, as the header declares them.
+double declared_pixel_bytes(const Imf::MultiPartInputFile& f) {
+  double bytes = 0;
+  for (int p = 0; p < f.parts(); ++p) {
+    const Imf::Header& h = f.header(p);
+    const Imath::Box2i dw = h.dataWindow();
+    const double area = (double(dw.max.x) - dw.min.x + 1) * (double(dw.max.y) - dw.min.y + 1);
+    for (auto it = h.channels().begin(); it != h.channels().end(); ++it)
+      bytes += area * (it.channel().type == Imf::HALF ? 2 : 4) /
+               (double(std::max(1, it.channel().xSampling)) * std::max(1, it.channel().ySampling));
+  }
+  return bytes;
 }
 
 std::string first_line(const char* what) {
@@ -167,9 +187,15 @@ ExrReader::ExrReader(const std::string& path, const std::vector<uint8_t>& bytes)
 
 ExrReader::ExrReader(const std::string& path, const std::vector<uint8_t>& bytes, uint64_t file_bytes)
     : impl_(std::make_unique<Impl>(path, bytes, file_bytes)) {
-  configure_openexr();
   try {
     impl_->file = std::make_unique<Imf::MultiPartInputFile>(impl_->stream, Imf::globalThreadCount());
+    if (Imf::globalThreadCount() == 0 && declared_pixel_bytes(*impl_->file) >= kPoolFromBytes) {
+      // The first big file: the pool starts, and the file is opened again to use it (its header
+      // parsed twice, from memory).
+      start_openexr_pool();
+      impl_->stream.seekg(0);
+      impl_->file = std::make_unique<Imf::MultiPartInputFile>(impl_->stream, Imf::globalThreadCount());
+    }
   } catch (const std::bad_alloc&) {
     throw file_error(path, "out of memory reading the header");
   } catch (const std::exception& e) {
