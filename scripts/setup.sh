@@ -6,7 +6,7 @@ set -euo pipefail
 PKGS=(
   build-essential cmake ninja-build pkg-config
   libopenimageio-dev openimageio-tools libopenexr-dev libimath-dev libopencolorio-dev
-  libglm-dev libcli11-dev nlohmann-json3-dev libzstd-dev libassimp-dev
+  libglm-dev libcli11-dev nlohmann-json3-dev libzstd-dev libassimp-dev libdeflate-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libosmesa6-dev libgl1-mesa-dri libgl-dev
   glslang-tools spirv-cross

@@ -12,7 +12,10 @@
 #include <OpenEXR/ImfThreading.h>
 #include <OpenEXR/ImfTileDescription.h>
 
+#include <Imath/half.h>
+
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <cstring>
 #include <mutex>
@@ -20,6 +23,8 @@
 
 #include "containers/limits.h"
 #include "core/error.h"
+#include "core/parallel.h"
+#include "image/exr_zip.h"
 
 namespace ahd {
 
@@ -139,17 +144,36 @@ void start_openexr_pool() {
   // check_declared_image message; our check runs before any pixel buffer is sized.
 }
 
-// Below this many bytes of decoded pixels a file is decoded on the calling thread: handing its few
-// chunks to pool threads (and starting them) cost more than it saved. Plain 256² (0.4 MB as half):
-// 6 % less CPU and 8 % less wall time; L1 256² (3 MB) and plain 1024² (6 MB) keep the pool, which
-// shortens their wall time (docs/performance-real.md "Small maps, round 9").
+// Below this many bytes of pixels for OpenEXR to decode, a file is decoded on the calling thread:
+// handing its few chunks to pool threads (and starting them) cost more than it saved. Plain 256²
+// (0.4 MB as half): 6 % less CPU and 8 % less wall time; plain 1024² (6 MB) keeps the pool, which
+// shortens its wall time (docs/performance-real.md "Small maps, round 9"). ZIP parts do not count:
+// read_zip_rows decodes them on ahd's own pool.
 constexpr double kPoolFromBytes = 2.0 * 1024 * 1024;
 
-// The decoded size of every part's pixels, as the header declares them.
+// Whether read_rows decodes `h`'s chunks itself (image/exr_zip.h): ZIP or ZIPS scanlines of half
+// and float channels sampled at every texel, on a little-endian machine (the chunks' byte order).
+bool zip_part(const Imf::Header& h) {
+  if (!exr_zip_available() || h.hasTileDescription() || (h.hasType() && h.type() != Imf::SCANLINEIMAGE)) return false;
+  if (h.compression() != Imf::ZIP_COMPRESSION && h.compression() != Imf::ZIPS_COMPRESSION) return false;
+  const uint16_t one = 1;
+  uint8_t low = 0;
+  std::memcpy(&low, &one, 1);
+  if (low != 1) return false;
+  for (auto it = h.channels().begin(); it != h.channels().end(); ++it) {
+    const Imf::Channel& c = it.channel();
+    if (c.xSampling != 1 || c.ySampling != 1 || (c.type != Imf::HALF && c.type != Imf::FLOAT)) return false;
+  }
+  return true;
+}
+
+// The decoded size of the pixels OpenEXR would decode (the parts zip_part leaves to it), as the
+// headers declare them.
 double declared_pixel_bytes(const Imf::MultiPartInputFile& f) {
   double bytes = 0;
   for (int p = 0; p < f.parts(); ++p) {
     const Imf::Header& h = f.header(p);
+    if (zip_part(h)) continue;
     const Imath::Box2i dw = h.dataWindow();
     const double area = (double(dw.max.x) - dw.min.x + 1) * (double(dw.max.y) - dw.min.y + 1);
     for (auto it = h.channels().begin(); it != h.channels().end(); ++it)
@@ -265,6 +289,90 @@ int ExrReader::band_rows(int part) const {
   return h.hasTileDescription() ? int(std::min<unsigned>(h.tileDescription().ySize, 1u << 20)) : 64;
 }
 
+namespace {
+
+// Rows y0..y1−1 of a zip_part part decoded here, chunk by chunk on the thread pool, into dst as
+// read_rows lays them out. False when a chunk is not what OpenEXR would decode without complaint
+// (a chunk table or stream it refuses, a stream of another length): read_rows then asks OpenEXR
+// for the whole band, so every value and every error is OpenEXR's.
+bool read_zip_rows(Imf::InputPart& in, const Imf::Header& h, const std::vector<std::string>& names, int y0, int y1,
+                   float* dst) {
+  const Imath::Box2i dw = h.dataWindow();
+  const size_t w = size_t(int64_t(dw.max.x) - dw.min.x + 1), nch = names.size();
+  const int lines = h.compression() == Imf::ZIPS_COMPRESSION ? 1 : 16;
+  // The channels in the file's order (the chunk's): their type and their place in a dst texel.
+  struct Slot {
+    bool half;
+    size_t at;
+  };
+  std::vector<Slot> slots;
+  size_t line_bytes = 0;
+  for (auto it = h.channels().begin(); it != h.channels().end(); ++it) {
+    const bool half = it.channel().type == Imf::HALF;
+    const size_t at = size_t(std::find(names.begin(), names.end(), std::string(it.name())) - names.begin());
+    if (at >= nch) return false;
+    slots.push_back({half, at});
+    line_bytes += w * (half ? 2 : 4);
+  }
+  const int height = dw.max.y - dw.min.y + 1;
+  const int c0 = y0 / lines, c1 = (y1 - 1) / lines;
+  struct Chunk {
+    const uint8_t* raw = nullptr;
+    size_t n = 0;
+  };
+  std::vector<Chunk> chunks(size_t(c1 - c0 + 1));
+  try {
+    for (int c = c0; c <= c1; ++c) {
+      const char* raw = nullptr;
+      int n = 0;
+      in.rawPixelData(dw.min.y + c * lines, raw, n);  // the stream is memory-mapped: a pointer into the file's bytes
+      if (!raw || n <= 0) return false;
+      chunks[size_t(c - c0)] = {reinterpret_cast<const uint8_t*>(raw), size_t(n)};
+    }
+  } catch (const std::exception&) {
+    return false;
+  }
+  std::atomic<bool> failed{false};
+  parallel_for(chunks.size(), 0, 1, [&](size_t k) {
+    if (failed.load(std::memory_order_relaxed)) return;
+    const int c = c0 + int(k);
+    const int first = c * lines, count = std::min(lines, height - first);
+    thread_local std::vector<uint8_t> bytes;
+    const size_t size = line_bytes * size_t(count);
+    if (bytes.size() < size) bytes.resize(size);
+    if (!exr_unzip_chunk(chunks[k].raw, chunks[k].n, bytes.data(), size)) {
+      failed.store(true, std::memory_order_relaxed);
+      return;
+    }
+    // Each line: every channel's w values in turn, little-endian, as OpenEXR converts them to float.
+    const uint8_t* src = bytes.data();
+    for (int l = 0; l < count; ++l) {
+      const int y = first + l;
+      const bool wanted = y >= y0 && y < y1;
+      float* row = dst + size_t(y - y0) * w * nch;
+      for (const Slot& s : slots) {
+        if (!wanted) {
+          src += w * (s.half ? 2 : 4);
+          continue;
+        }
+        float* o = row + s.at;
+        if (s.half) {
+          for (size_t x = 0; x < w; ++x, src += 2, o += nch) {
+            Imath::half v;
+            v.setBits(uint16_t(src[0] | src[1] << 8));
+            *o = float(v);
+          }
+        } else {
+          for (size_t x = 0; x < w; ++x, src += 4, o += nch) std::memcpy(o, src, 4);
+        }
+      }
+    }
+  });
+  return !failed.load();
+}
+
+}  // namespace
+
 void ExrReader::read_rows(int part, int y0, int y1, float* dst) {
   const Imf::Header& h = impl_->header(part);
   const std::string& path = impl_->path;
@@ -275,6 +383,7 @@ void ExrReader::read_rows(int part, int y0, int y1, float* dst) {
   try {
     auto& in = impl_->parts[size_t(part)];
     if (!in) in = std::make_unique<Imf::InputPart>(*impl_->file, part);
+    if (zip_part(h) && read_zip_rows(*in, h, names, y0, y1, dst)) return;
     // The band's own window: its first texel is dst[0] (no pointer before the buffer is formed).
     Imath::Box2i band(Imath::V2i(dw.min.x, dw.min.y + y0), Imath::V2i(dw.max.x, dw.min.y + y1 - 1));
     Imf::FrameBuffer fb;

@@ -15,7 +15,8 @@ namespace ahd {
 bool is_exr_bytes(const std::vector<uint8_t>& bytes);
 
 // One EXR file opened from memory. `bytes` must outlive the reader. Not thread safe (one caller);
-// decoding itself runs on OpenEXR's thread pool, whose count changes no decoded value.
+// decoding itself runs on thread pools (ZIP chunks on ahd's, image/exr_zip.h; the other codecs on
+// OpenEXR's, for files big enough), whose counts change no decoded value.
 class ExrReader {
  public:
   // Opens the file's headers (every part). Throws ahd::Error("<path>: cannot read image (…)") on a
