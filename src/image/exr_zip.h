@@ -20,4 +20,8 @@ void set_exr_zip_enabled(bool on);
 // `size` bytes or libdeflate is missing. Thread safe (a decompressor per thread).
 bool exr_unzip_chunk(const uint8_t* raw, size_t n, uint8_t* out, size_t size);
 
+// The step after inflating: `t` (`size` inflated bytes, overwritten) to the lines' bytes `out` —
+// the predictor undone, the two halves interleaved. SSE2 and plain loops, the same bytes.
+void exr_zip_unpack(uint8_t* t, uint8_t* out, size_t size);
+
 }  // namespace ahd

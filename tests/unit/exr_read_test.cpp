@@ -11,6 +11,7 @@
 
 #include <unistd.h>
 
+#include "core/cpu.h"
 #include "core/error.h"
 #include "image/exr_zip.h"
 #include "image/image_io.h"
@@ -253,6 +254,33 @@ TEST(ExrRead, ZipChunksDecodeAsOpenExrDecodesThem) {
         ++checked;
       }
   EXPECT_EQ(checked, 12);
+}
+
+}  // namespace
+
+namespace {
+
+// exr_zip_unpack against the definition (OpenEXR's ZIP: running sums of the stored bytes minus
+// 128, then the first half's bytes at even places and the second half's at odd ones), with SSE2
+// and with the plain loops, at sizes around the sixteen-byte steps.
+TEST(ExrZip, SimdAndPlainLoopsGiveTheSameBytes) {
+  uint32_t seed = 12345;
+  for (size_t size : {size_t(0), size_t(1), size_t(2), size_t(15), size_t(16), size_t(17), size_t(18), size_t(31),
+                      size_t(32), size_t(33), size_t(34), size_t(63), size_t(100), size_t(1000), size_t(4097)}) {
+    std::vector<uint8_t> stored(size);
+    for (uint8_t& b : stored) b = uint8_t((seed = seed * 1664525u + 1013904223u) >> 24);
+    std::vector<uint8_t> t = stored, ref(size);
+    for (size_t i = 1; i < size; ++i) t[i] = uint8_t(t[i - 1] + t[i] - 128);
+    for (size_t i = 0; i < size; ++i) ref[i] = i % 2 == 0 ? t[i / 2] : t[(size + 1) / 2 + i / 2];
+    for (unsigned off : {0u, ahd::cpu::kAllSimd}) {
+      SCOPED_TRACE("size " + std::to_string(size) + (off ? " plain loops" : " SIMD"));
+      ahd::cpu::disable_for_tests(off);
+      std::vector<uint8_t> work = stored, out(size, 0xee);
+      ahd::exr_zip_unpack(work.data(), out.data(), size);
+      ahd::cpu::disable_for_tests(0);
+      EXPECT_EQ(out, ref);
+    }
+  }
 }
 
 }  // namespace
