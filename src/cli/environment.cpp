@@ -16,7 +16,7 @@ void apply_size_limit_from_environment() {
   const unsigned long long v = std::strtoull(s, &end, 10);
   // A typo must not pass unnoticed (the user meant to change the limit): one error line.
   if (*end != '\0' || !(*s >= '0' && *s <= '9') || v == 0 || v > 0xFFFFFFFFull)
-    throw Error(std::string("AHDPACK_MAX_SIZE is '") + printable_path(s) +
+    throw Error(std::string("AHDPACK_MAX_SIZE is '") + s +
                 "', not a whole number from 1 to 4294967295 (the largest width and height of a level)");
   set_max_image_size(uint32_t(v));
 }
@@ -27,7 +27,7 @@ void apply_cpu_disable_from_environment() {
   char* end = nullptr;
   const unsigned long long v = std::strtoull(s, &end, 10);
   if (*end != '\0' || !(*s >= '0' && *s <= '9') || v > cpu::kAllSimd)
-    throw Error(std::string("AHD_CPU_DISABLE is '") + printable_path(s) + "', not a mask from 0 to " +
+    throw Error(std::string("AHD_CPU_DISABLE is '") + s + "', not a mask from 0 to " +
                 std::to_string(cpu::kAllSimd) + " (a test hook: src/cli/environment.h)");
   cpu::disable_for_tests(unsigned(v));
 }

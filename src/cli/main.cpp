@@ -109,8 +109,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "\nahdpack: cancelled: nothing was written\n");
     return 130;
   } catch (const ahd::Error& e) {
-    // printable_path: a control character anywhere (a file name with a newline) must not split the line.
-    std::fprintf(stderr, "ahdpack: error: %s\n", ahd::printable_path(e.what()).c_str());
+    // One line: ahd::Error's constructor escaped any control character (a file name with a newline).
+    std::fprintf(stderr, "ahdpack: error: %s\n", e.what());
     return 1;
   } catch (const std::bad_alloc&) {
     // Readers bound every allocation by the file and the size limit; this is a machine short of memory.

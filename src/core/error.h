@@ -31,10 +31,10 @@ inline std::string printable_path(const std::string& path) {
   return out;
 }
 
-// Builds "<path>: <cause>" (or just the cause when path is empty); the path through
-// printable_path, so the error stays one line whatever the file is called.
+// Builds "<path>: <cause>" (or just the cause when path is empty); Error's constructor escapes
+// both, so the error stays one line whatever the file is called.
 inline Error file_error(const std::string& path, const std::string& cause) {
-  return Error(path.empty() ? cause : printable_path(path) + ": " + cause);
+  return Error(path.empty() ? cause : path + ": " + cause);
 }
 
 }  // namespace ahd

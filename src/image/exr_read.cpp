@@ -151,20 +151,25 @@ void start_openexr_pool() {
 // read_zip_rows decodes them on ahd's own pool.
 constexpr double kPoolFromBytes = 2.0 * 1024 * 1024;
 
-// Whether read_rows decodes `h`'s chunks itself (image/exr_zip.h): ZIP or ZIPS scanlines of half
-// and float channels sampled at every texel, on a little-endian machine (the chunks' byte order).
+// Every channel half or float and sampled at every texel: what this reader decodes (handles()).
+bool flat_half_or_float(const Imf::Header& h) {
+  for (auto it = h.channels().begin(); it != h.channels().end(); ++it) {
+    const Imf::Channel& c = it.channel();
+    if (c.xSampling != 1 || c.ySampling != 1) return false;
+    if (c.type != Imf::HALF && c.type != Imf::FLOAT) return false;
+  }
+  return true;
+}
+
+// Whether read_rows decodes `h`'s chunks itself (image/exr_zip.h): ZIP or ZIPS scanlines of
+// flat_half_or_float channels, on a little-endian machine (the chunks' byte order).
 bool zip_part(const Imf::Header& h) {
   if (!exr_zip_available() || h.hasTileDescription() || (h.hasType() && h.type() != Imf::SCANLINEIMAGE)) return false;
   if (h.compression() != Imf::ZIP_COMPRESSION && h.compression() != Imf::ZIPS_COMPRESSION) return false;
   const uint16_t one = 1;
   uint8_t low = 0;
   std::memcpy(&low, &one, 1);
-  if (low != 1) return false;
-  for (auto it = h.channels().begin(); it != h.channels().end(); ++it) {
-    const Imf::Channel& c = it.channel();
-    if (c.xSampling != 1 || c.ySampling != 1 || (c.type != Imf::HALF && c.type != Imf::FLOAT)) return false;
-  }
-  return true;
+  return low == 1 && flat_half_or_float(h);
 }
 
 // The decoded size of the pixels OpenEXR would decode (the parts zip_part leaves to it), as the
@@ -242,12 +247,7 @@ std::vector<std::string> ExrReader::part_names() const {
 bool ExrReader::handles(int part) const {
   const Imf::Header& h = impl_->header(part);
   if (h.hasType() && Imf::isDeepData(h.type())) return true;  // info() refuses it with OIIO's words
-  for (auto it = h.channels().begin(); it != h.channels().end(); ++it) {
-    const Imf::Channel& c = it.channel();
-    if (c.xSampling != 1 || c.ySampling != 1) return false;
-    if (c.type != Imf::HALF && c.type != Imf::FLOAT) return false;
-  }
-  return true;
+  return flat_half_or_float(h);
 }
 
 ImageFileInfo ExrReader::info(int part) const {

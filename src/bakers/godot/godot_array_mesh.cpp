@@ -353,7 +353,7 @@ class TextParser {
         fail("unexpected identifier '" + id + "'");
       }
     } else {
-      fail(at_ < t_.size() ? "unexpected '" + printable_path(std::string(1, c)) + "'" : "unexpected end of text");
+      fail(at_ < t_.size() ? "unexpected '" + std::string(1, c) + "'" : "unexpected end of text");
     }
     return v;
   }
@@ -560,7 +560,7 @@ MeshTriangles mesh_of_binary(const std::string& bytes, const std::string& source
   const GodotBinaryResource res =
       parse_godot_binary_resource(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), source);
   if (res.type != "ArrayMesh")
-    throw file_error(source, "the resource is a " + printable_path(res.type) + ", not an ArrayMesh");
+    throw file_error(source, "the resource is a " + res.type + ", not an ArrayMesh");
   const GodotBinaryValue* surfaces = nullptr;
   for (const auto& p : res.properties)
     if (p.first == "_surfaces") surfaces = &p.second;
@@ -627,7 +627,7 @@ MeshTriangles godot_mesh_resource_file(const std::string& bytes, const std::stri
           const TextValue* t = field(fields, "type");
           type = t && t->kind == TextValue::kString ? t->s : "";
           if (type != "ArrayMesh")
-            throw file_error(source, "the resource is a " + printable_path(type) + ", not an ArrayMesh");
+            throw file_error(source, "the resource is a " + type + ", not an ArrayMesh");
         }
         first = false;
         in_main = tag == "resource";
@@ -652,15 +652,15 @@ MeshTriangles godot_text_sub_resource_mesh(const std::string& text, const std::s
         if (in_it) {
           const TextValue* t = field(fields, "type");
           if (!t || t->kind != TextValue::kString || t->s != "ArrayMesh")
-            throw file_error(source, "sub_resource " + printable_path(id) + " is not an ArrayMesh");
+            throw file_error(source, "sub_resource " + id + " is not an ArrayMesh");
           seen = true;
         }
       },
       [&](const std::string& key, size_t b, size_t e) {
         if (in_it && key == "_surfaces") begin = b, end = e, found = true;
       });
-  if (!seen) throw file_error(source, "no [sub_resource type=\"ArrayMesh\" id=\"" + printable_path(id) + "\"]");
-  if (!found) throw file_error(source, "ArrayMesh " + printable_path(id) + " has no _surfaces property");
+  if (!seen) throw file_error(source, "no [sub_resource type=\"ArrayMesh\" id=\"" + id + "\"]");
+  if (!found) throw file_error(source, "ArrayMesh " + id + " has no _surfaces property");
   return godot_array_mesh_text(text.substr(begin, end - begin), source);
 }
 

@@ -116,10 +116,10 @@ GodotTscn parse_godot_tscn(const std::string& text, const std::string& source) {
   std::istringstream in(text);
   std::string line, section;
   size_t n = 0;
-  // A cause may quote the file's text (a token of a multi-line value): its control characters are
-  // escaped, so the error stays one line (found by fuzz_godot_scene).
+  // A cause may quote the file's text (a token of a multi-line value): ahd::Error escapes its
+  // control characters, so the error stays one line (found by fuzz_godot_scene).
   const auto fail = [&](const std::string& why) {
-    return file_error(source, "line " + std::to_string(n) + ": " + printable_path(why));
+    return file_error(source, "line " + std::to_string(n) + ": " + why);
   };
   const size_t kMaxValue = size_t(64) << 20;
   while (std::getline(in, line)) {
