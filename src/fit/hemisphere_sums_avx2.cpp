@@ -14,7 +14,8 @@ AHD_AVX2 HemisphereSums hemisphere_sums_avx2(const IrradiancePoly p[3], const Ah
   __m256d se = _mm256_setzero_pd(), sl = _mm256_setzero_pd(), lum = _mm256_setzero_pd();
   bool normal = true;
   const int full = n / 4 * 4;
-  for (int k = 0; k < full; k += 4) add_group4(p, l, dirs + size_t(k) * 3, with_log, se, sl, lum, &normal);
+  const bool l2 = has_l2(p);
+  for (int k = 0; k < full; k += 4) add_group4(p, l, dirs + size_t(k) * 3, with_log, l2, se, sl, lum, &normal);
   return finish(p, l, dirs, full, n, with_log, normal, se, sl, lum);
 }
 

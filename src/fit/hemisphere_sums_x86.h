@@ -39,10 +39,24 @@ AHD_AVX2 inline __m256d log2_lanes(__m256d x, bool* normal) {
 // std::max(0.0, v): (0 < v) ? v : 0, NaN and −0 giving +0, as MAXPD(v, 0) does.
 AHD_AVX2 inline __m256d max0(__m256d v) { return _mm256_max_pd(v, _mm256_setzero_pd()); }
 
+// Whether any channel has an L2 band (a nonzero q). Without one, eval_irradiance's nine terms
+// (w_i·q_ij)·w_j are each ±0, and adding ±0 leaves every sum's bits as they are: ref may come out
+// −0 where the plain path has +0, but ref enters the sums only through max(0, ref) (+0 either
+// way), got − ref (squared: +0 either way) and luma·ref added to a lane that is +0 or nonzero
+// (±0 added keeps it). So the wide paths skip them for L1 texels (test
+// HemisphereSums.PathsGiveTheSameBits).
+inline bool has_l2(const IrradiancePoly p[3]) {
+  for (int c = 0; c < 3; ++c)
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        if (p[c].q[i][j] != 0.0) return true;
+  return false;
+}
+
 // One group of four directions w[0..11] added to the four lanes' sums, each lane running
-// add_direction's operations in its order (both wide paths' step of four).
+// add_direction's operations in its order (both wide paths' step of four); l2 = has_l2(p).
 AHD_AVX2 inline void add_group4(const IrradiancePoly p[3], const AhdLobe& l, const double* w, bool with_log,
-                                __m256d& se, __m256d& sl, __m256d& lum, bool* normal) {
+                                bool l2, __m256d& se, __m256d& sl, __m256d& lum, bool* normal) {
   const __m256d w0 = _mm256_setr_pd(w[0], w[3], w[6], w[9]);
   const __m256d w1 = _mm256_setr_pd(w[1], w[4], w[7], w[10]);
   const __m256d w2 = _mm256_setr_pd(w[2], w[5], w[8], w[11]);
@@ -57,9 +71,10 @@ AHD_AVX2 inline void add_group4(const IrradiancePoly p[3], const AhdLobe& l, con
     __m256d ref = _mm256_add_pd(_mm256_set1_pd(q.e0), _mm256_mul_pd(_mm256_set1_pd(q.e[0]), w0));
     ref = _mm256_add_pd(ref, _mm256_mul_pd(_mm256_set1_pd(q.e[1]), w1));
     ref = _mm256_add_pd(ref, _mm256_mul_pd(_mm256_set1_pd(q.e[2]), w2));
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j)
-        ref = _mm256_add_pd(ref, _mm256_mul_pd(_mm256_mul_pd(wv[i], _mm256_set1_pd(q.q[i][j])), wv[j]));
+    if (l2)
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          ref = _mm256_add_pd(ref, _mm256_mul_pd(_mm256_mul_pd(wv[i], _mm256_set1_pd(q.q[i][j])), wv[j]));
     const __m256d got = _mm256_add_pd(_mm256_set1_pd(l.ca[c]), _mm256_mul_pd(cosine, _mm256_set1_pd(l.cd[c])));
     const __m256d d = _mm256_sub_pd(got, ref);
     se = _mm256_add_pd(se, _mm256_mul_pd(d, d));

@@ -63,6 +63,13 @@ TEST(HemisphereSums, PathsGiveTheSameBits) {
       for (auto& row : q.q)
         for (double& v : row) v = 0.3 * u(rng);
     }
+    // A third of the texels L1 (q = ±0: the wide paths skip those terms), one in nine of them with a
+    // channel of signed zeros (ref = −0 on some directions, +0 on the plain path's).
+    if (t % 3 == 1)
+      for (IrradiancePoly& q : p)
+        for (auto& row : q.q)
+          for (double& v : row) v = t % 2 ? 0.0 : -0.0;
+    if (t % 9 == 4) p[0].e0 = -0.0, p[0].e[0] = p[0].e[1] = p[0].e[2] = -0.0;
     AhdLobe l{};
     for (int c = 0; c < 3; ++c) l.ca[c] = 0.5 + u(rng), l.cd[c] = (t % 7 == 0 ? -1 : 1) * (0.5 + u(rng)), l.d[c] = u(rng);
     if (t % 11 == 0) l.ca[0] = 1e300 * (1 + u(rng));  // ratios far out: the log of huge values
