@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace ahd {
 
@@ -121,7 +122,7 @@ struct DirectionStage {
 };
 
 void direction_stage(const IrradiancePoly* p, int n, const FitOptions& opt, AhdFit* out, float* linear_d,
-                     DirectionStage& s) {
+                     DirectionStage& s, double* linear_value = nullptr) {
   const IrradiancePoly* lp[kRefineLanes];
   const double* liz[kRefineLanes];
   double* ld[kRefineLanes];
@@ -150,14 +151,19 @@ void direction_stage(const IrradiancePoly* p, int n, const FitOptions& opt, AhdF
     s.refine[k] = directional && opt.direction_fit == DirectionFit::Refined;
     if (s.refine[k]) lp[nl] = pk, liz[nl] = s.iz[k], ld[nl] = s.d[k], s.lane_of[k] = nl++;
   }
-  if (nl) refine_direction_lanes(nl, lp, liz, opt, ld, s.m);
+  double start_value[kRefineLanes];
+  if (nl) refine_direction_lanes(nl, lp, liz, opt, ld, s.m, linear_value ? start_value : nullptr);
+  if (linear_value)
+    for (int k = 0; k < n; ++k)
+      linear_value[k] = s.refine[k] ? start_value[s.lane_of[k]] : std::numeric_limits<double>::quiet_NaN();
 }
 
 }  // namespace
 
-void fit_texels(const IrradiancePoly* p, int n, const FitOptions& opt, AhdFit* out, float* linear_d) {
+void fit_texels(const IrradiancePoly* p, int n, const FitOptions& opt, AhdFit* out, float* linear_d,
+                double* linear_value) {
   DirectionStage s;
-  direction_stage(p, n, opt, out, linear_d, s);
+  direction_stage(p, n, opt, out, linear_d, s, linear_value);
   for (int k = 0; k < n; ++k) {
     if (s.done[k]) continue;
     const IrradiancePoly* pk = p + 3 * k;

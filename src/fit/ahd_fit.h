@@ -121,8 +121,11 @@ AhdFit fit_texel(const IrradiancePoly p[3], const FitOptions& opt, float linear_
 // fit_texel for n ≤ 4 texels at once (kRefineLanes of direction_refine.h): texel k's polynomials
 // are p[3k..3k+3), its fit goes to out[k] and, when linear_d is not null, its linear d to
 // linear_d[3k..3k+3). The same bytes as n fit_texel calls; the refined fit runs the texels'
-// searches in lockstep (faster per texel).
-void fit_texels(const IrradiancePoly* p, int n, const FitOptions& opt, AhdFit* out, float* linear_d);
+// searches in lockstep (faster per texel). With `linear_value`, texel k's refinement objective at
+// its linear d (refine_direction_lanes' start_value) into linear_value[k], NaN where the texel was
+// not refined (no direction, constant irradiance, or the linear fit).
+void fit_texels(const IrradiancePoly* p, int n, const FitOptions& opt, AhdFit* out, float* linear_d,
+                double* linear_value = nullptr);
 
 // What fit_texels decides before the colours: the direction, I_z and the direction stage's flags of
 // each texel, without solving its colours (the windowed fit, fit_image.cpp, solves them on other

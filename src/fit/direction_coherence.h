@@ -12,6 +12,11 @@ namespace ahd {
 // error and no worse than the linear d's; the colours are then refitted there (fit_colours). Reads
 // only the first pass's output, so the result does not depend on `threads`. Constraints hold as
 // for any d (I_z exact, C ≥ 0, d_z ≥ dz_min).
-void smooth_directions(const ShImage& sh, const FitOptions& opt, int threads, AhdImage* fit);
+// `linear_value` (null, or one float a texel): the first pass's objective at each texel's linear d
+// (fit_texels' linear_value) rounded to float. The comparison with it is decided from that float
+// where the float's neighbours bracket the exact value clear of the mean's; elsewhere (and without
+// it) the linear d's objective is computed again. The same bytes either way.
+void smooth_directions(const ShImage& sh, const FitOptions& opt, int threads, AhdImage* fit,
+                       const float* linear_value = nullptr);
 
 }  // namespace ahd

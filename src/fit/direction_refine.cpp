@@ -173,6 +173,7 @@ struct Lane {
   double* d;
   int* winner;
   LuneMoments* moments;
+  double* start_value;  // the given d's objective, when not null
   double cand[6][3];
   int ids[6], n;
   double best[3], fbest;
@@ -236,6 +237,7 @@ void pick_starts(Lane* lanes, int n, const FitOptions& opt, const RefineSearch& 
     at += l.n;
     for (int i = 0; i < 3; ++i) l.best[i] = l.d[i];
     l.fbest = fs[0];
+    if (l.start_value) *l.start_value = fs[0];
     int ib = 0;
     if (l.winner) *l.winner = 0;
     l.active = true;
@@ -344,7 +346,7 @@ void line_search(Lane* lanes, int n, const FitOptions& opt, const RefineSearch& 
 }  // namespace
 
 void refine_direction_lanes(int n, const IrradiancePoly* const* p, const double* const* iz, const FitOptions& opt,
-                            double* const* d, LuneMoments* moments) {
+                            double* const* d, LuneMoments* moments, double* start_value) {
   const RefineSearch search;
   Lane lanes[kRefineLanes];
   for (int k = 0; k < n; ++k) {
@@ -353,6 +355,7 @@ void refine_direction_lanes(int n, const IrradiancePoly* const* p, const double*
     lanes[k].d = d[k];
     lanes[k].winner = nullptr;
     lanes[k].moments = moments ? &moments[k] : nullptr;
+    lanes[k].start_value = start_value ? &start_value[k] : nullptr;
   }
   pick_starts(lanes, n, opt, search);
   line_search(lanes, n, opt, search);
@@ -369,6 +372,7 @@ void refine_direction(const IrradiancePoly p[3], const double iz[3], const FitOp
   l.d = d;
   l.winner = winner;
   l.moments = moments;
+  l.start_value = nullptr;
   pick_starts(&l, 1, opt, search);
   if (!l.active) return;
   if (search.line) {

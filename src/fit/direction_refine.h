@@ -100,9 +100,11 @@ void refine_direction(const IrradiancePoly p[3], const double iz[3], const FitOp
 // refine_direction with the default RefineSearch for n ≤ kRefineLanes texels at once, in lockstep
 // (one texel's steps wait on each other's square roots and divisions; several texels' overlap):
 // lane k (polynomials p[k], irradiance iz[k], direction d[k] in/out, and with `moments` their
-// moments into moments[k]) gets the same bytes as refine_direction alone.
+// moments into moments[k]) gets the same bytes as refine_direction alone. With `start_value`, lane
+// k's objective at the d it was given, the first start's, into start_value[k]: the bits
+// RefineObjective(p[k], iz[k], opt.ratio_form).value(d[k]) returns (direction_coherence.h reuses it).
 constexpr int kRefineLanes = 4;
 void refine_direction_lanes(int n, const IrradiancePoly* const* p, const double* const* iz, const FitOptions& opt,
-                            double* const* d, LuneMoments* moments);
+                            double* const* d, LuneMoments* moments, double* start_value = nullptr);
 
 }  // namespace ahd

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstring>
 #include <functional>
+#include <limits>
 
 #include "core/error.h"
 #include "core/large_buffer.h"
@@ -71,6 +72,12 @@ AhdImage fit_image(const ShImage& sh, const FitOptions& opt, int threads, FitSta
   std::vector<float> linear_d(guard ? sh.texels() * 3 : 0);
   const bool windowed = refined && opt.direction_window > 0 && sh.width > 1 && sh.height > 1;
   std::vector<float> own_linear_d(guard && windowed ? sh.texels() * 3 : 0);  // the windowed guard's second field
+  // The coherence pass's comparison with the linear d: that d's objective, which the first pass
+  // evaluates as its first start, kept as a float (4 bytes a texel) for the pass to decide on
+  // (direction_coherence.h).
+  const bool smooth = refined && !windowed && opt.coherence_tolerance > 0;
+  std::vector<float> linear_value;
+  if (smooth) assign_large(linear_value, sh.texels(), std::numeric_limits<float>::quiet_NaN());
   // Texels in groups of kGroup: fit_texels runs a group's refinements in lockstep (the same bytes
   // as one at a time, so the grouping and the threads' chunks do not change the output). With
   // skip_uncovered a group gathers the next covered texels of its block.
@@ -90,8 +97,11 @@ AhdImage fit_image(const ShImage& sh, const FitOptions& opt, int threads, FitSta
       float lin[3 * kGroup], own_lin[3 * kGroup];
       if (!windowed) {
         AhdFit f[kGroup];
-        fit_texels(p, n, opt, f, guard ? lin : nullptr);
+        double lv[kGroup];
+        fit_texels(p, n, opt, f, guard ? lin : nullptr, smooth ? lv : nullptr);
         for (int k = 0; k < n; ++k) out.set_texel(at[k], f[k]);
+        if (smooth)
+          for (int k = 0; k < n; ++k) linear_value[at[k]] = float(lv[k]);
       } else {
         // Only the directions of the window's refined fit and of the texel's own linear fit are kept
         // (windowed_texel): their colours are not solved.
@@ -108,7 +118,10 @@ AhdImage fit_image(const ShImage& sh, const FitOptions& opt, int threads, FitSta
         for (int k = 0; k < n; ++k) std::copy_n(lin + 3 * k, 3, &linear_d[at[k] * 3]);
     }
   });
-  if (refined && !windowed && opt.coherence_tolerance > 0) smooth_directions(sh, opt, threads, &out);
+  if (smooth) {
+    smooth_directions(sh, opt, threads, &out, linear_value.data());
+    std::vector<float>().swap(linear_value);
+  }
   size_t reverted = 0;
   // Windowed: a reverted texel takes the window's linear d (the field linear_d holds) with its own
   // colours; a pair may turn as far as either linear field does (the window's, or the texels' own:

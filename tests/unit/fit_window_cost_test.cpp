@@ -9,6 +9,7 @@
 
 #include "core/option_enums.h"
 #include "fit_bits.h"
+#include "fit/direction_coherence.h"
 #include "fit/direction_filter.h"
 #include "fit/fit_image.h"
 #include "lab/hard_cases.h"
@@ -18,9 +19,10 @@
 namespace ahd {
 namespace {
 
-ShImage window_scene(int coeffs, bool normals) {
+ShImage window_scene(int coeffs, bool normals, int width = 48, int height = 48) {
   BakerOptions bo;
-  bo.width = bo.height = 48;
+  bo.width = width;
+  bo.height = height;
   bo.coeffs = coeffs;
   ShImage sh = bake_analytic_scene(bo);
   // Multiplicative noise (a Monte-Carlo bake's), so that neighbours differ and the window matters.
@@ -162,6 +164,35 @@ TEST(FitWindowCost, SkippingUncoveredTexelsGivesTheSameDilatedLevel) {
     for (size_t i = 0; i < sh.texels(); ++i)
       ASSERT_TRUE(same_fit_bits(a.texel(i), b.texel(i))) << "variant " << variant << ", texel " << i;
   }
+}
+
+TEST(FitWindowCost, CoherencePassFromTheFirstPassValuesGivesTheSameBytes) {
+  // fit_image hands the coherence pass the first pass's objective at each linear d (as floats):
+  // its fit is, byte for byte, the first pass followed by the pass that computes them all again —
+  // L1 and L2, both ratio forms, on 1 and 2 threads, 4 bands of rows (the pass works in place).
+  for (int coeffs : {4, 9})
+    for (RatioForm form : {RatioForm::Luminance, RatioForm::Rgb}) {
+      const ShImage sh = window_scene(coeffs, false, 160, 100);
+      FitOptions opt;
+      opt.direction_fit = DirectionFit::Refined;
+      opt.ratio_form = form;
+      ASSERT_GT(opt.coherence_tolerance, 0.0);
+      ASSERT_EQ(opt.direction_window, 0);
+      FitOptions first_only = opt;
+      first_only.coherence_tolerance = 0;
+      AhdImage recomputed = fit_image(sh, first_only, 1);
+      const AhdImage first = recomputed;
+      smooth_directions(sh, opt, 1, &recomputed);  // no values at hand: every one computed
+      size_t moved = 0;
+      for (size_t i = 0; i < sh.texels(); ++i) moved += !same_fit_bits(first.texel(i), recomputed.texel(i));
+      EXPECT_GT(moved, sh.texels() / 20) << "the pass should move directions (coeffs " << coeffs << ")";
+      for (int threads : {1, 2}) {
+        const AhdImage reused = fit_image(sh, opt, threads);
+        for (size_t i = 0; i < sh.texels(); ++i)
+          ASSERT_TRUE(same_fit_bits(recomputed.texel(i), reused.texel(i)))
+              << "coeffs " << coeffs << ", texel " << i << ", " << threads << " thread(s)";
+      }
+    }
 }
 
 }  // namespace
