@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <functional>
 
 #include "core/parallel.h"
 #include "fit/covered_slots.h"
@@ -12,18 +13,36 @@
 namespace ahd {
 namespace {
 
-// Mean, max and p99 (the value at sorted index ceil(0.99·n) − 1) of v, which it reorders: a
-// selection, not a sort (a conversion summarises four figures of every level).
+// Mean, max and p99 (the value at sorted index ceil(0.99·n) − 1) of v, which it may reorder: a
+// selection, not a sort (a conversion summarises four figures of every level). The p99 is the m-th
+// largest value, m = n − that index (41 of a 4096-texel sample): kept in a min-heap of m in one
+// pass, where nth_element made several over the whole sample. With a NaN among the values (no
+// order to rank them by), nth_element as before.
 ErrorStat summarise(std::vector<double>& v) {
   ErrorStat s;
   if (v.empty()) return s;
   double sum = 0;
-  for (double x : v) sum += x;
+  bool nan = false;
+  for (double x : v) sum += x, nan |= x != x;
   s.mean = sum / double(v.size());
   s.max = *std::max_element(v.begin(), v.end());
   const size_t k = std::min(v.size() - 1, size_t(std::ceil(0.99 * double(v.size()))) - 1);
-  std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(k), v.end());
-  s.p99 = v[k];
+  const size_t m = v.size() - k;
+  if (nan || m > 256) {
+    std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(k), v.end());
+    s.p99 = v[k];
+    return s;
+  }
+  // heap[0..m): the m largest so far, smallest on top (std::greater: a min-heap).
+  std::vector<double> heap(v.begin(), v.begin() + std::ptrdiff_t(m));
+  std::make_heap(heap.begin(), heap.end(), std::greater<double>());
+  for (size_t i = m; i < v.size(); ++i)
+    if (v[i] > heap.front()) {
+      std::pop_heap(heap.begin(), heap.end(), std::greater<double>());
+      heap.back() = v[i];
+      std::push_heap(heap.begin(), heap.end(), std::greater<double>());
+    }
+  s.p99 = heap.front();
   return s;
 }
 

@@ -70,6 +70,34 @@ TEST(ErrorEstimate, SmallImagesAreMeasuredExactly) {
   EXPECT_EQ(est.normal_rel.p99, full.normal_rel.p99);
 }
 
+TEST(ErrorEstimate, FiguresAreThoseOfTheSortedTexels) {
+  // Every figure of a report against texel_error's values sorted: the mean in raster order, the max,
+  // and the p99 = the value at sorted index ceil(0.99·n) − 1 (a selection picks it, not a sort) —
+  // on 64² (4 096 texels: 41 above it), 30² (one: the max) and 101² (103).
+  for (int size : {64, 30, 101}) {
+    const ShImage sh = estimate_scene(size);
+    const auto lobes = fit_lobes(sh);
+    const ErrorReport r = measure_error(sh, lobes, 2);
+    const std::vector<double> dirs = hemisphere_directions(64);
+    std::vector<double> rel, lg;
+    double sum = 0;
+    for (size_t i = 0; i < sh.texels(); ++i) {
+      if (!sh.coverage[i]) continue;
+      const TexelError e = texel_error(sh, i, lobes[i], dirs.data(), 64);
+      rel.push_back(e.rel), lg.push_back(e.lg), sum += e.rel;
+    }
+    ASSERT_EQ(r.texels, rel.size());
+    std::sort(rel.begin(), rel.end());
+    std::sort(lg.begin(), lg.end());
+    const size_t k = size_t(std::ceil(0.99 * double(rel.size()))) - 1;
+    EXPECT_EQ(r.relative.mean, sum / double(rel.size())) << size;
+    EXPECT_EQ(r.relative.max, rel.back()) << size;
+    EXPECT_EQ(r.relative.p99, rel[k]) << size;
+    EXPECT_EQ(r.log2.p99, lg[k]) << size;
+    EXPECT_LT(r.relative.p99, r.relative.max) << size;  // a p99 that is not simply the max
+  }
+}
+
 TEST(ErrorEstimate, DirectionDecisionShortcuts) {
   const ShImage sh = estimate_scene(64);
   const ShImage p = plain_of(sh);
