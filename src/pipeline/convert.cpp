@@ -265,16 +265,19 @@ ErrorReport measure_lobes(const ShImage& sh, const LobeAt& lobe, const PipelineO
 }
 
 // One level's coded planes against the level's SH. Full: the whole level decoded; Estimate: only
-// the blocks of the sampled texels (the same values: blocks decode on their own).
+// the blocks of the sampled texels (the same values: blocks decode on their own), or the whole
+// level where the sample holds a quarter of its texels or more (from 128² down at the default
+// sample: each sampled texel would decode its blocks again, 16 times a block at 64²).
 ErrorReport measure_coded(const ShImage& sh, const CodedLevel& coded, const PipelineOptions& opt) {
   const bool rgb = opt.fit.ratio_form == RatioForm::Rgb;
-  if (opt.measure == Measure::Full) {
+  if (opt.measure == Measure::Full || size_t(kErrorSampleSize) * 4 >= sh.texels()) {
     const DecodedPlanes p = decode_level(coded, rgb);
-    return measure_error(sh, [&](size_t i) {
+    const LobeAt lobe = [&](size_t i) {
       AhdLobe l;
       decode_colours(&p.iz[i * 3], &p.d[i * 3], &p.ratio[i * 3], opt.fit.dz_min, l.ca, l.cd, l.d);
       return l;
-    }, opt.threads);
+    };
+    return measure_lobes(sh, lobe, opt);
   }
   return estimate_error(sh, [&](size_t i) {
     float iz[3], d[3], ratio[3];
