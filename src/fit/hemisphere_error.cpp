@@ -81,14 +81,25 @@ uint64_t mix(uint64_t x) {
 
 }  // namespace
 
+namespace {
+
+// Texel i's sums over the directions (fit/hemisphere_sums.h), its polynomials into p. An L0 texel
+// (plain lightmaps) against a pure ambient lobe: both are the same for every direction, so one
+// direction stands for all and its terms are counted `directions` times.
+HemisphereSums texel_sums(const ShImage& sh, size_t i, const AhdLobe& l, const double* dirs, int directions,
+                          bool with_log, IrradiancePoly p[3]) {
+  local_polys(sh, i, p);
+  const bool constant = sh.coeffs == 1 && l.cd[0] == 0 && l.cd[1] == 0 && l.cd[2] == 0;
+  HemisphereSums h = hemisphere_sums(p, l, dirs, constant ? 1 : directions, with_log);
+  if (constant) h.se *= directions, h.sl *= directions, h.lum *= directions;
+  return h;
+}
+
+}  // namespace
+
 TexelError texel_error(const ShImage& sh, size_t i, const AhdLobe& l, const double* dirs, int directions) {
   IrradiancePoly p[3];
-  local_polys(sh, i, p);
-  // An L0 texel (plain lightmaps) against a pure ambient lobe: both are the same for every
-  // direction, so one direction stands for all and its terms are counted `directions` times.
-  const bool constant = sh.coeffs == 1 && l.cd[0] == 0 && l.cd[1] == 0 && l.cd[2] == 0;
-  HemisphereSums h = hemisphere_sums(p, l, dirs, constant ? 1 : directions, true);  // fit/hemisphere_sums.h
-  if (constant) h.se *= directions, h.sl *= directions, h.lum *= directions;
+  const HemisphereSums h = texel_sums(sh, i, l, dirs, directions, true, p);
   const double se = h.se, sl = h.sl, lum_sum = h.lum;
   TexelError e;
   e.rmse = std::sqrt(se / (3.0 * directions));
@@ -274,8 +285,12 @@ bool sampled_relative_p99_exceeds(const ShImage& sh, const LobeAt& lobe, double 
   const size_t needed = idx.size() - (size_t(std::ceil(0.99 * double(idx.size()))) - 1);
   const std::vector<double> dirs = hemisphere_directions(directions);
   size_t above = 0;
-  for (size_t i : idx)
-    if (texel_error(sh, i, lobe(i), dirs.data(), directions).rel > threshold && ++above >= needed) return true;
+  for (size_t i : idx) {
+    // texel_error's `rel` without the log figure it does not need (the same bits: rel is se and lum's).
+    IrradiancePoly p[3];
+    const HemisphereSums h = texel_sums(sh, i, lobe(i), dirs.data(), directions, false, p);
+    if (texel_relative(h.se, h.lum, directions) > threshold && ++above >= needed) return true;
+  }
   return false;
 }
 
