@@ -205,8 +205,10 @@ void pick_starts(Lane* lanes, int n, const FitOptions& opt, const RefineSearch& 
   bool has_axis[kRefineLanes] = {};
   if (l2) {
     for (int k = 0; k < n; ++k) {
-      luminance_l2_form(lanes[k].p, opt, Q[k]);
       axis[k][0] = 0, axis[k][1] = 0, axis[k][2] = 1;
+      // An L1 texel (every q ±0) has a zero form, which begin() finds has no axis: not built.
+      if (!has_l2(lanes[k].p)) continue;
+      luminance_l2_form(lanes[k].p, opt, Q[k]);
       has_axis[k] = solve[k].begin(Q[k]);
     }
     for (bool more = true; more;) {

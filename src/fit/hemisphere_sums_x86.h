@@ -39,19 +39,11 @@ AHD_AVX2 inline __m256d log2_lanes(__m256d x, bool* normal) {
 // std::max(0.0, v): (0 < v) ? v : 0, NaN and −0 giving +0, as MAXPD(v, 0) does.
 AHD_AVX2 inline __m256d max0(__m256d v) { return _mm256_max_pd(v, _mm256_setzero_pd()); }
 
-// Whether any channel has an L2 band (a nonzero q). Without one, eval_irradiance's nine terms
-// (w_i·q_ij)·w_j are each ±0, and adding ±0 leaves every sum's bits as they are: ref may come out
-// −0 where the plain path has +0, but ref enters the sums only through max(0, ref) (+0 either
-// way), got − ref (squared: +0 either way) and luma·ref added to a lane that is +0 or nonzero
-// (±0 added keeps it). So the wide paths skip them for L1 texels (test
-// HemisphereSums.PathsGiveTheSameBits).
-inline bool has_l2(const IrradiancePoly p[3]) {
-  for (int c = 0; c < 3; ++c)
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j)
-        if (p[c].q[i][j] != 0.0) return true;
-  return false;
-}
+// Without an L2 band (has_l2 of sh/sh.h), eval_irradiance's nine terms (w_i·q_ij)·w_j are each ±0,
+// and adding ±0 leaves every sum's bits as they are: ref may come out −0 where the plain path has
+// +0, but ref enters the sums only through max(0, ref) (+0 either way), got − ref (squared: +0
+// either way) and luma·ref added to a lane that is +0 or nonzero (±0 added keeps it). So the wide
+// paths skip them for L1 texels (test HemisphereSums.PathsGiveTheSameBits).
 
 // One group of four directions w[0..11] added to the four lanes' sums, each lane running
 // add_direction's operations in its order (both wide paths' step of four); l2 = has_l2(p).

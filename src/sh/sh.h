@@ -46,6 +46,16 @@ struct IrradiancePoly {
   double q[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
 };
 
+// Whether any of the three channels has an L2 band: a q entry other than ±0 (L1 texels have none,
+// whatever their frame). Code that skips the L2 terms for the others asks this.
+inline bool has_l2(const IrradiancePoly p[3]) {
+  for (int c = 0; c < 3; ++c)
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        if (p[c].q[i][j] != 0.0) return true;
+  return false;
+}
+
 // The constant part of the irradiance from the L0 coefficient c0: IrradiancePoly::e0 of an L0 or
 // L1 texel (an L0 texel's irradiance for every normal).
 inline double l0_irradiance(double c0) { return kA0 * kY00 * c0; }
